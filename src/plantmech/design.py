@@ -1,0 +1,169 @@
+"""Design files (TOML) and their validation.
+
+Every error names the file, the field (dotted path) and what was expected.
+Units at this boundary: mm, degrees, degrees per second.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+SECTION_LETTERS = ("a", "b", "c", "d", "e", "f")
+
+
+class DesignError(ValueError):
+    """A design file could not be read or is invalid (message names file and field)."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+PositiveMM = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+
+class Sections(_Strict):
+    """Type-value point indices (0-based, q0 = 0) of the section boundaries of the
+    "8" trajectory: picking ab, transport bcd, seeding de, return efca (seed 000 §2)."""
+
+    a: int = Field(ge=0)
+    b: int = Field(ge=0)
+    c: int = Field(ge=0)
+    d: int = Field(ge=0)
+    e: int = Field(ge=0)
+    f: int = Field(ge=0)
+
+
+class Trajectory(_Strict):
+    points: list[tuple[FiniteFloat, FiniteFloat]] = Field(
+        description="type-value points q_i (x, y) in mm, origin at the carrier axis")
+    sections: Sections
+    samples: int = Field(3600, ge=90, le=200_000, description="samples per carrier turn")
+
+    @field_validator("points")
+    @classmethod
+    def _enough_points(cls, v):
+        if len(v) < 6:
+            raise ValueError(f"need at least 6 type-value points, got {len(v)}")
+        return v
+
+    @model_validator(mode="after")
+    def _sections_in_range(self):
+        n = len(self.points)
+        for letter in SECTION_LETTERS:
+            idx = getattr(self.sections, letter)
+            if idx >= n:
+                raise ValueError(
+                    f"sections.{letter} = {idx} but there are only {n} points (q0..q{n - 1})")
+        return self
+
+
+class Range(_Strict):
+    min: FiniteFloat | None = None
+    max: FiniteFloat | None = None
+
+
+class PlanningLimits(_Strict):
+    """Table 1 of seed 000 (mm, degrees)."""
+
+    small_ring_height_mm: Range = Range(min=130)
+    small_ring_width_mm: Range = Range(min=180, max=220)
+    large_ring_height_mm: Range = Range(min=400)
+    large_ring_width_mm: Range = Range(min=250)
+    cd_central_angle_deg: Range = Range(min=40)
+    sowing_height_difference_mm: Range = Range(min=60, max=100)
+    centre_to_trench_bottom_mm: Range = Range(min=260)
+
+
+class Dwell(_Strict):
+    """Toothless sector of the sun gear (seed 000 Eq. 5): the arm is held in the
+    carrier between two section points."""
+
+    enabled: bool = True
+    start: Literal["a", "b", "c", "d", "e", "f"] = "c"
+    end: Literal["a", "b", "c", "d", "e", "f"] = "d"
+    anchor: Literal["a", "b", "c", "d", "e", "f"] = Field(
+        "e", description="section point whose attitude is kept exactly")
+    edge_radius_mm: PositiveMM | None = Field(None, description="R2 of Eq. 5")
+
+
+class GearTrain(_Strict):
+    a1_mm: PositiveMM | None = Field(None, description="sun-gear 2 centre distance (L1/2)")
+    a2_mm: PositiveMM | None = Field(None, description="gear 3-planet centre distance (L1/2)")
+    split_exponent: float = Field(0.5, gt=0, lt=1, allow_inf_nan=False)
+    min_pitch_radius_mm: PositiveMM = 5.0
+    carrier_speed_deg_s: PositiveMM = Field(360.0, description="clockwise carrier speed")
+    dwell: Dwell | None = None
+
+
+class Attitude(_Strict):
+    """Section 4.1 limits on the cane attitude (degrees)."""
+
+    picking_swing_max_deg: PositiveMM = 30.0
+    seeding_swing_max_deg: PositiveMM = 20.0
+    sowing_angle_max_deg: PositiveMM = 30.0
+
+
+class SeederDesign(_Strict):
+    mechanism: Literal["sugarcane_seeder"]
+    name: str = "unnamed design"
+    description: str = ""
+    trajectory: Trajectory
+    planning_limits: PlanningLimits = PlanningLimits()
+    gear_train: GearTrain = GearTrain()
+    attitude: Attitude = Attitude()
+
+
+def _format_error(path: Path, err: ValidationError) -> str:
+    lines = [f"{path}: invalid design file"]
+    for e in err.errors():
+        loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
+        msg = e["msg"]
+        if e["type"] == "missing":
+            msg = "required field is missing"
+        elif e["type"] == "extra_forbidden":
+            msg = "unknown field (check the spelling)"
+        got = e.get("input")
+        tail = "" if e["type"] in ("missing",) or isinstance(got, dict) else f" (got {got!r})"
+        lines.append(f"  field '{loc}': {msg}{tail}")
+    return "\n".join(lines)
+
+
+def load_design(path: str | Path) -> SeederDesign:
+    """Read and validate a design file; raise DesignError naming file and field."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DesignError(f"{path}: no such design file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise DesignError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise DesignError(f"{path}: not a UTF-8 text file") from None
+    mech = raw.get("mechanism")
+    if mech is None:
+        raise DesignError(f"{path}: field 'mechanism' is missing "
+                          "(expected \"sugarcane_seeder\")")
+    if mech != "sugarcane_seeder":
+        raise DesignError(f"{path}: field 'mechanism': unknown mechanism {mech!r} "
+                          "(expected \"sugarcane_seeder\")")
+    try:
+        design = SeederDesign.model_validate(raw)
+    except ValidationError as exc:
+        raise DesignError(_format_error(path, exc)) from None
+    pts = design.trajectory.points
+    for i, (x, y) in enumerate(pts):
+        if math.hypot(x, y) < 1e-9:
+            raise DesignError(f"{path}: field 'trajectory.points.{i}': q{i} is at the "
+                              "rotation centre; the tip cannot pass through the carrier axis")
+    for i in range(len(pts)):
+        j = (i + 1) % len(pts)
+        if pts[i] == pts[j]:
+            raise DesignError(f"{path}: field 'trajectory.points': q{i} and q{j} coincide")
+    return design

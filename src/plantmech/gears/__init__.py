@@ -1,0 +1,1 @@
+"""Gear pairs: ratio laws, pitch curves, closure, toothless sectors."""

@@ -1,0 +1,1 @@
+"""Curves: closed trajectories and periodic radius functions."""

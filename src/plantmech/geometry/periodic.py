@@ -1,0 +1,82 @@
+"""Radius functions of pitch curves over a body angle (rad -> mm).
+
+``RadiusCurve`` wraps an interpolant of r(theta) on one turn starting at
+``theta0``. Periodic curves are C2 (periodic cubic spline) or C1 (periodic
+Hermite with centred-difference tangents, seed 000 §4.3); a curve with a break
+(the lock point of an intermittent gear) is a plain cubic on [theta0, theta0+2pi].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicHermiteSpline, CubicSpline
+
+TWO_PI = 2.0 * np.pi
+
+
+class PitchCurveError(ValueError):
+    """A pitch curve is not a valid closed radius function."""
+
+
+@dataclass(frozen=True)
+class RadiusCurve:
+    theta0: float
+    spline: object
+    periodic: bool
+
+    @classmethod
+    def from_samples(cls, theta, radius, kind: str = "spline", periodic: bool = True,
+                     theta0: float | None = None, name: str = "pitch curve") -> RadiusCurve:
+        """Interpolate radii ``radius`` (mm) at body angles ``theta`` (rad).
+
+        kind: "spline" (periodic cubic spline, C2) or "hermite" (periodic cubic
+        Hermite, C1, tangents from centred differences).
+        """
+        th = np.asarray(theta, dtype=float)
+        r = np.asarray(radius, dtype=float)
+        if th.shape != r.shape or th.ndim != 1:
+            raise PitchCurveError(f"{name}: angles and radii must be 1-D of equal length")
+        if len(th) < 3:
+            raise PitchCurveError(f"{name}: need at least 3 interpolation points")
+        if not (np.all(np.isfinite(th)) and np.all(np.isfinite(r))):
+            k = int(np.flatnonzero(~(np.isfinite(th) & np.isfinite(r)))[0])
+            raise PitchCurveError(f"{name}: point {k} is not a finite number")
+        if np.any(r <= 0):
+            k = int(np.flatnonzero(r <= 0)[0])
+            raise PitchCurveError(f"{name}: radius {r[k]:g} mm at {np.degrees(th[k]):.2f} deg "
+                                  "is not positive")
+        t0 = float(th.min()) if theta0 is None else float(theta0)
+        x = t0 + np.mod(th - t0, TWO_PI)
+        order = np.argsort(x, kind="stable")
+        x, r = x[order], r[order]
+        if np.any(np.diff(x) <= 1e-12):
+            k = int(np.flatnonzero(np.diff(x) <= 1e-12)[0])
+            raise PitchCurveError(f"{name}: two points share the angle "
+                                  f"{np.degrees(np.mod(x[k], TWO_PI)):.3f} deg")
+        if periodic:
+            xx, rr = np.r_[x, x[0] + TWO_PI], np.r_[r, r[0]]
+            if kind == "spline":
+                spl = CubicSpline(xx, rr, bc_type="periodic")
+            elif kind == "hermite":
+                xe = np.r_[x[-1] - TWO_PI, x, x[0] + TWO_PI]
+                re = np.r_[r[-1], r, r[0]]
+                slope = (re[2:] - re[:-2]) / (xe[2:] - xe[:-2])
+                spl = CubicHermiteSpline(xx, rr, np.r_[slope, slope[0]])
+            else:
+                raise PitchCurveError(f"{name}: unknown interpolation {kind!r} "
+                                      "(expected 'spline' or 'hermite')")
+        else:
+            spl = CubicSpline(x, r)
+        return cls(t0, spl, periodic)
+
+    def __call__(self, theta, nu: int = 0) -> np.ndarray:
+        x = self.theta0 + np.mod(np.asarray(theta, dtype=float) - self.theta0, TWO_PI)
+        return self.spline(x, nu)
+
+
+def cumulative_integral(values: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Integral of the cubic spline through (x, values) from x[0] to each x (exact
+    for the interpolant; 4th-order accurate for smooth data)."""
+    return CubicSpline(x, values).antiderivative()(x)

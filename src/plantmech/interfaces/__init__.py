@@ -1,0 +1,1 @@
+"""User interfaces (CLI, later the app). They hold no physics."""

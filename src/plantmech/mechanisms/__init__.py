@@ -1,0 +1,1 @@
+"""Mechanisms: one module per train type, inverse and forward kinematics."""

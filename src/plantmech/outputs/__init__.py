@@ -1,0 +1,1 @@
+"""Outputs: reports (JSON, CSV) and plots. Units on every column and axis."""

@@ -1,0 +1,140 @@
+"""Plots of a seeder inverse design (PNG, units on every axis)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from plantmech.outputs.seeder_report import gear_body_angles  # noqa: E402
+
+DEG = 180.0 / np.pi
+SECTION_COLOURS = {"picking_ab": "tab:green", "transport_bc": "tab:blue",
+                   "transport_cd": "tab:purple", "seeding_de": "tab:red",
+                   "return_efca": "0.6"}
+SECTION_BOUNDS = {"picking_ab": ("a", "b"), "transport_bc": ("b", "c"),
+                  "transport_cd": ("c", "d"), "seeding_de": ("d", "e"),
+                  "return_efca": ("e", "a")}
+
+
+def _section_spans(res, sections):
+    pp = {k: res.point_carrier_angle[v] for k, v in sections.items()}
+    for name, (s, e) in SECTION_BOUNDS.items():
+        yield name, pp[s], pp[e]
+
+
+def _mask(psi, p0, p1):
+    return np.mod(psi - p0, 2 * np.pi) <= np.mod(p1 - p0, 2 * np.pi)
+
+
+def plot_trajectory(path: Path, traj, res, sections: dict[str, int]) -> None:
+    fig, ax = plt.subplots(figsize=(8, 8))
+    uu = np.linspace(0, traj.period, 3000)
+    ax.plot(*traj(uu).T, color="0.8", lw=6, label="planned trajectory", zorder=1)
+    if res is not None and res.tip_realized is not None:
+        psi = res.carrier_angle
+        for name, p0, p1 in _section_spans(res, sections):
+            m = _mask(psi, p0, p1)
+            ax.plot(*res.tip_realized[m].T, ".", ms=1.5, color=SECTION_COLOURS[name],
+                    label=f"{name.replace('_', ' ')} (gear train)")
+        b = res.L1 * np.c_[np.cos(res.carrier_abs[0]), np.sin(res.carrier_abs[0])][0]
+        ax.plot([0, b[0], res.tip[0, 0]], [0, b[1], res.tip[0, 1]], "k-o", ms=4,
+                label="carrier OB and arm BA at start")
+    pts = traj.points
+    ax.plot(pts[:, 0], pts[:, 1], "ko", ms=3)
+    for i, p in enumerate(pts):
+        ax.annotate(f"q{i}", p, textcoords="offset points", xytext=(4, 4), fontsize=7)
+    for letter, idx in sections.items():
+        ax.annotate(letter, pts[idx], textcoords="offset points", xytext=(-12, -12),
+                    fontsize=12, color="tab:red", weight="bold")
+    ax.plot(0, 0, "k+", ms=12)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / mm")
+    ax.set_ylabel("y / mm")
+    ax.set_title("Tip trajectory (origin: carrier axis)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_attitude(path: Path, res, sections) -> None:
+    psi = res.carrier_angle * DEG
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    ref = res.arm_angle[0] * DEG
+    ax.plot(psi, res.arm_angle * DEG - ref, color="0.6", lw=3, label="planned")
+    ax.plot(psi, res.arm_angle_realized * DEG - ref, "k", lw=1, label="gear train")
+    for name, p0, p1 in _section_spans(res, sections):
+        a, b = p0 * DEG, p1 * DEG
+        spans = [(a, b)] if b >= a else [(a, 360), (0, b)]
+        for lo, hi in spans:
+            ax.axvspan(lo, hi, color=SECTION_COLOURS[name], alpha=0.15)
+        ax.text(a, 0, " " + name.split("_")[0], fontsize=7, rotation=90, va="bottom")
+    ax.set_xlabel("carrier angle (clockwise from start) / deg")
+    ax.set_ylabel("cane attitude change / deg")
+    ax.set_xlim(0, 360)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title("Cane seed attitude relative to the initial attitude")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_ratios(path: Path, res) -> None:
+    psi = res.carrier_angle * DEG
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    with np.errstate(divide="ignore"):
+        for v, lab in ((res.total_ratio, "total 1/i0 = dpsi4/dpsi"),
+                       (res.stage1_ratio, "stage 1 1/i1 = dpsi2/dpsi"),
+                       (res.stage2_ratio, "stage 2 1/i2 = dpsi4/dpsi2")):
+            ax.plot(psi, v, label=lab)
+    ax.set_xlabel("carrier angle / deg")
+    ax.set_ylabel("speed ratio (relative to the carrier) / -")
+    ax.set_xlim(0, 360)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title("Ratio laws of the second-order train (0 in the toothless dwell)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_pitch_curves(path: Path, res) -> None:
+    """The four pitch curves drawn at their centres in the initial configuration."""
+    ang = gear_body_angles(res)
+    off = res.shaft_offset
+    centres = {"sun": (0.0, 0.0), "gear2": (res.a1 * np.cos(off), res.a1 * np.sin(off)),
+               "gear3": (res.a1 * np.cos(off), res.a1 * np.sin(off)),
+               "planet": (res.L1, 0.0)}
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    for key, r, col in (("sun", res.r1, "tab:orange"), ("gear2", res.r2, "tab:blue"),
+                        ("gear3", res.r3, "tab:green"), ("planet", res.r4, "tab:red")):
+        ok = np.isfinite(r)
+        a = ang[key][ok]
+        order = np.argsort(np.mod(a, 2 * np.pi))
+        a, rr = np.mod(a, 2 * np.pi)[order], r[ok][order]
+        cx, cy = centres[key]
+        ls = "--" if key == "gear3" else "-"
+        ax.plot(cx + rr * np.cos(a), cy + rr * np.sin(a), ls, color=col,
+                label=f"{key} ({np.nanmin(r):.1f}-{np.nanmax(r):.1f} mm)")
+        ax.plot(cx, cy, "+", color=col)
+    if res.dwell is not None and "edge_radius" in res.dwell:
+        th = off - np.linspace(res.dwell["carrier_end"], res.dwell["carrier_start"], 50)
+        e = res.dwell["edge_radius"]
+        ax.plot(e * np.cos(th), e * np.sin(th), ":", color="tab:orange", lw=2,
+                label=f"sun toothless sector, R2 = {e:.1f} mm")
+    ax.set_aspect("equal")
+    ax.set_xlabel("carrier frame x / mm")
+    ax.set_ylabel("carrier frame y / mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("Pitch curves at the initial position (gear 3 dashed, on gear 2's shaft)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
