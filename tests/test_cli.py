@@ -1,0 +1,56 @@
+import json
+
+from plantmech.interfaces.cli import main
+from tests.conftest import EXAMPLES
+
+
+def test_feasible_example_writes_everything(tmp_path, capsys):
+    out = tmp_path / "o"
+    rc = main(["inverse", str(EXAMPLES / "sugarcane_seeder.toml"), "--out", str(out),
+               "--verify"])
+    assert rc == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["feasible"] is True
+    for key in ("L1_mm", "L2_mm", "a1_mm", "a2_mm", "closure_error_rad", "trajectory_checks",
+                "attitude_deg", "diagnostics"):
+        assert key in s
+    assert abs(s["L1_mm"] - 254) < 1 and abs(s["L2_mm"] - 498) < 1
+    assert s["round_trip_max_deviation_mm"] < 0.01
+    header = (out / "pitch_curves.csv").read_text().splitlines()[0]
+    assert header == "angle_deg,r1_mm,r2_mm,r3_mm,r4_mm"
+    motion = (out / "motion.csv").read_text().splitlines()
+    assert motion[0].startswith("carrier_angle_deg,tip_x_mm,tip_y_mm")
+    assert len(motion) == 3601
+    for png in ("trajectory", "attitude", "ratios", "pitch_curves"):
+        assert (out / f"{png}.png").stat().st_size > 10_000
+
+
+def test_infeasible_example_exit_3(tmp_path, capsys):
+    out = tmp_path / "o"
+    rc = main(["inverse", str(EXAMPLES / "sugarcane_table2_as_printed.toml"), "--out",
+               str(out), "--no-plots"])
+    assert rc == 3
+    s = json.loads((out / "summary.json").read_text())
+    assert s["feasible"] is False
+    assert s["diagnostics"][0]["between_points"] == [3, 4]
+    assert s["L1_mm"] > 250
+    assert not (out / "pitch_curves.csv").exists()
+    assert "between q3 and q4" in capsys.readouterr().out
+
+
+def test_invalid_file_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('mechanism = "sugarcane_seeder"\n')
+    rc = main(["inverse", str(bad), "--out", str(tmp_path / "o")])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert "field 'trajectory'" in err and "Traceback" not in err
+
+
+def test_out_dir_never_holds_the_input(tmp_path, capsys):
+    design = tmp_path / "d.toml"
+    design.write_text((EXAMPLES / "sugarcane_seeder.toml").read_text())
+    rc = main(["inverse", str(design), "--out", str(tmp_path)])
+    assert rc == 2
+    assert "would hold or overwrite the input" in capsys.readouterr().err
+    assert design.read_text() == (EXAMPLES / "sugarcane_seeder.toml").read_text()

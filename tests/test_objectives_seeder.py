@@ -1,0 +1,52 @@
+import numpy as np
+import pytest
+
+from plantmech.design import PlanningLimits
+from plantmech.geometry.trajectory import ClosedTrajectory
+from plantmech.objectives.seeder import attitude_by_section, planning_checks
+
+
+def figure_eight(W=200.0, H=150.0, H2=450.0, W2=300.0, n=200):
+    """Upper loop (t in 0..pi) W wide, H high; lower loop W2 wide, H2 high, crossing at
+    (500, 100)."""
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False) + 1e-3
+    upper = np.sin(t) >= 0
+    x = 500 + np.where(upper, W / 2, W2 / 2) * np.sin(2 * t)
+    y = 100 + np.where(upper, H, H2) * np.sin(t)
+    return np.c_[x, y], t
+
+
+def test_ring_extents_of_an_eight():
+    pts, t = figure_eight()
+    tr = ClosedTrajectory.through(pts)
+    k = lambda tt: int(np.argmin(np.abs(t - tt)))  # noqa: E731
+    sections = {"a": k(np.pi / 4), "b": k(np.pi / 2), "c": k(np.pi - 0.05),
+                "d": k(np.pi + 0.3), "e": k(3 * np.pi / 2), "f": k(1.8 * np.pi)}
+    checks = {c.name: c for c in planning_checks(tr, sections, PlanningLimits())}
+    assert checks["small_ring_height"].value == pytest.approx(150.0, rel=5e-3)
+    assert checks["small_ring_width"].value == pytest.approx(200.0, rel=5e-3)
+    assert checks["large_ring_height"].value == pytest.approx(450.0, rel=5e-3)
+    assert checks["large_ring_width"].value == pytest.approx(300.0, rel=5e-3)
+    assert checks["centre_to_trench_bottom"].value == pytest.approx(350.0, rel=5e-3)
+    assert checks["small_ring_height"].ok and checks["large_ring_width"].ok
+
+
+def test_no_crossing_is_reported_not_guessed():
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    tr = ClosedTrajectory.through(np.c_[500 + 100 * np.cos(t), 100 * np.sin(t)])
+    sections = dict(a=0, b=5, c=10, d=15, e=20, f=30)
+    checks = {c.name: c for c in planning_checks(tr, sections, PlanningLimits())}
+    assert checks["small_ring_height"].value is None
+    assert not checks["small_ring_height"].ok
+    assert "crosses itself 0 times" in checks["small_ring_height"].note
+
+
+def test_attitude_sections():
+    psi = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    arm = 10 + 20 * np.sin(psi)  # degrees
+    pts = np.radians([0, 60, 120, 180, 240, 300])
+    att = attitude_by_section(psi, arm, pts, dict(a=0, b=1, c=2, d=3, e=4, f=5))
+    assert att["initial_attitude"] == pytest.approx(10)
+    # ab: 0..60 deg, max of 20 sin at 60 deg (values are reported to 4 decimals)
+    assert att["picking_ab"]["max"] == pytest.approx(20 * np.sin(np.radians(60)), abs=1e-4)
+    assert att["sowing_angle"] == pytest.approx(20 * np.sin(np.radians(240)), abs=1e-4)

@@ -1,0 +1,56 @@
+import numpy as np
+import pytest
+
+from plantmech.geometry.periodic import PitchCurveError, RadiusCurve
+from plantmech.geometry.trajectory import ClosedTrajectory
+from plantmech.mechanisms.seeder_forward import SeederTrain, simulate
+from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
+from plantmech.verification import train_from_inverse
+
+
+def circular_train(r2=60.0, r3=60.0, a=120.0, L1=240.0, L2=400.0):
+    th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    return SeederTrain(L1=L1, L2=L2, a1=a, a2=a,
+                       gear2=RadiusCurve.from_samples(th, np.full(8, r2)),
+                       gear3=RadiusCurve.from_samples(th, np.full(8, r3)),
+                       gear2_contact0=np.pi, gear3_contact0=0.0, carrier0=0.4, arm0=1.0)
+
+
+def test_circular_train_is_the_analytic_epicycle():
+    # equal circles: the planet turns +psi relative to the carrier, the arm keeps its
+    # absolute orientation: tip = L1 e^{i(phi0 - psi)} + L2 e^{i arm0}
+    tr = circular_train()
+    f = simulate(tr, samples=720)
+    psi = f.carrier_angle
+    exp = np.c_[240 * np.cos(0.4 - psi) + 400 * np.cos(1.0),
+                240 * np.sin(0.4 - psi) + 400 * np.sin(1.0)]
+    assert np.abs(f.tip - exp).max() < 1e-9
+    assert f.closure_error["stage1"] < 1e-12 and f.closure_error["stage2"] < 1e-12
+
+
+def test_unequal_circles_do_not_close():
+    f = simulate(circular_train(r2=50.0), samples=90)
+    assert f.closure_error["stage1"] > 0.1
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_round_trip_three_trajectories(seed):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    A, B = rng.uniform(0.1, 0.35), rng.uniform(-0.15, 0.15)
+    L1, L2 = rng.uniform(80, 200), rng.uniform(300, 500)
+    c = 0.3 - t
+    a = c + t + A * np.sin(t) + B * np.sin(2 * t) + rng.uniform(0, 6)
+    pts = np.c_[L1 * np.cos(c) + L2 * np.cos(a), L1 * np.sin(c) + L2 * np.sin(a)]
+    res = inverse_design(ClosedTrajectory.through(pts), InverseSettings(samples=3600))
+    assert res.feasible
+    fwd = simulate(train_from_inverse(res), samples=3600)
+    assert np.hypot(*(fwd.tip - res.tip).T).max() < 0.01
+
+
+def test_radius_curve_refuses_bad_input():
+    th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    with pytest.raises(PitchCurveError, match="not positive"):
+        RadiusCurve.from_samples(th, np.r_[np.ones(7), -1.0], name="gear 2")
+    with pytest.raises(PitchCurveError, match="share the angle"):
+        RadiusCurve.from_samples(np.r_[th[:7], th[0]], np.ones(8))
