@@ -21,6 +21,10 @@ def test_feasible_example_writes_everything(tmp_path, capsys):
     motion = (out / "motion.csv").read_text().splitlines()
     assert motion[0].startswith("carrier_angle_deg,tip_x_mm,tip_y_mm")
     assert len(motion) == 3601
+    traj = (out / "trajectory.csv").read_text().splitlines()
+    assert traj[0] == "arc_length_mm,x_mm,y_mm,curvature_1_per_mm,point_index"
+    s_col = [float(r.split(",")[0]) for r in traj[1:]]
+    assert len(s_col) == 3600 and abs((s_col[2] - s_col[1]) - (s_col[-1] - s_col[-2])) < 1e-3
     for png in ("trajectory", "attitude", "ratios", "pitch_curves"):
         assert (out / f"{png}.png").stat().st_size > 10_000
 

@@ -40,7 +40,8 @@ def _inverse(args) -> int:
 
         job.summary.update(round_trip(job))
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
-    written = write_inverse_outputs(out, res, job.summary)
+    written = write_inverse_outputs(out, res, job.summary, job.trajectory,
+                                    design.trajectory.samples)
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
 

@@ -9,15 +9,30 @@ from plantmech.geometry.trajectory import ClosedTrajectory, segment_self_interse
 from plantmech.objectives import Check, range_check
 
 
-def _loops(traj: ClosedTrajectory, n: int = 2000):
-    """Split the "8" at its self-crossing: (crossing point, [(u0, u1), (u1, u0+period)])."""
+def _loops(traj: ClosedTrajectory, n: int = 600):
+    """Split the "8" at its self-crossing: (crossing point, [(u0, u1), (u1, u0+period)]).
+
+    Crossings are found on an n-gon and refined on the curve by Newton's method on
+    traj(u_i) = traj(u_j).
+    """
     u = np.linspace(0.0, traj.period, n, endpoint=False)
-    xy = traj(u)
-    hits = segment_self_intersections(xy)
+    hits = segment_self_intersections(traj(u))
     if len(hits) != 1:
         return None, len(hits)
-    i, j, point = hits[0]
-    return (point, [(u[i], u[j]), (u[j], u[i] + traj.period)]), 1
+    i, j, _ = hits[0]
+    h = u[1] - u[0]
+    ui, uj = u[i] + 0.5 * h, u[j] + 0.5 * h
+    for _ in range(20):
+        f = traj(ui) - traj(uj)
+        jac = np.c_[traj(ui, 1), -traj(uj, 1)]
+        step = np.linalg.solve(jac, f)
+        ui, uj = ui - step[0], uj - step[1]
+        if np.abs(step).max() < 1e-12:
+            break
+    ui, uj = np.mod(ui, traj.period), np.mod(uj, traj.period)
+    if uj < ui:
+        ui, uj = uj, ui
+    return (traj(ui), [(ui, uj), (uj, ui + traj.period)]), 1
 
 
 def _contains(span, u, period):

@@ -118,10 +118,29 @@ def motion_table(res: InverseResult) -> dict[str, np.ndarray]:
         }
 
 
-def write_inverse_outputs(out: Path, res: InverseResult, summ: dict) -> list[Path]:
-    """Write summary.json always; tables and pitch curves only for feasible designs."""
+def trajectory_table(traj, samples: int) -> dict[str, np.ndarray]:
+    """The planned curve sampled uniformly in arc length (start at q0)."""
+    u = traj.sample_by_arc_length(samples)
+    u_tab, s_tab = traj.arc_length_table()
+    xy = traj(u)
+    return {
+        "arc_length_mm": np.interp(u, u_tab, s_tab),
+        "x_mm": xy[:, 0],
+        "y_mm": xy[:, 1],
+        "curvature_1_per_mm": traj.curvature(u),
+        "point_index": traj.point_index_of(u),
+    }
+
+
+def write_inverse_outputs(out: Path, res: InverseResult, summ: dict, traj=None,
+                          samples: int = 3600) -> list[Path]:
+    """Write summary.json and trajectory.csv always; motion and pitch curves only for
+    feasible designs."""
     written = [out / "summary.json"]
     write_json(written[0], summ)
+    if traj is not None:
+        write_csv(out / "trajectory.csv", trajectory_table(traj, samples))
+        written.append(out / "trajectory.csv")
     if res.feasible:
         write_csv(out / "motion.csv", motion_table(res))
         write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f")
