@@ -54,3 +54,42 @@ def test_radius_curve_refuses_bad_input():
         RadiusCurve.from_samples(th, np.r_[np.ones(7), -1.0], name="gear 2")
     with pytest.raises(PitchCurveError, match="share the angle"):
         RadiusCurve.from_samples(np.r_[th[:7], th[0]], np.ones(8))
+
+
+def test_velocity_matches_finite_differences():
+    rng = np.random.default_rng(5)
+    th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    g2 = RadiusCurve.from_samples(th, 60 + rng.uniform(-6, 6, 8), kind="hermite")
+    g3 = RadiusCurve.from_samples(th, 60 + rng.uniform(-6, 6, 8))
+    from plantmech.mechanisms.seeder_forward import solve_centre_distance
+
+    a1, a2 = solve_centre_distance(g2), solve_centre_distance(g3)
+    tr = SeederTrain(L1=a1 + a2, L2=450.0, a1=a1, a2=a2, gear2=g2, gear3=g3,
+                     gear2_contact0=np.pi, gear3_contact0=0.0, carrier0=0.3, arm0=0.3)
+    n = 7200
+    f = simulate(tr, samples=n)
+    assert f.closure_error["stage1"] < 1e-9 and f.closure_error["stage2"] < 1e-9
+    h = 2 * np.pi / n
+    fd = (np.roll(f.tip, -1, axis=0) - np.roll(f.tip, 1, axis=0)) / (2 * h)
+    assert np.abs(fd - f.tip_rate).max() / np.abs(f.tip_rate).max() < 1e-5
+    # m/s at 360 deg/s: one carrier turn per second
+    v = f.velocity(360.0)
+    assert np.allclose(v, f.tip_rate * 2 * np.pi / 1000)
+    assert np.allclose(f.speed(360.0, 0.5), np.hypot(v[:, 0] - 0.5, v[:, 1]))
+
+
+def test_centre_distance_of_circles_and_ellipse():
+    from plantmech.mechanisms.seeder_forward import solve_centre_distance
+
+    th = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    assert solve_centre_distance(RadiusCurve.from_samples(th, np.full(16, 40.0))) == \
+        pytest.approx(80.0, rel=1e-10)
+    # a 3:2 circular pair: mate turns 2/3 turn per turn of a 40 mm gear -> mate r = 60
+    assert solve_centre_distance(RadiusCurve.from_samples(th, np.full(16, 40.0)),
+                                 turn=2 * np.pi * 2 / 3) == pytest.approx(100.0, rel=1e-10)
+    # ellipse about its focus meshing with its twin: a = 2 * semi-major axis
+    A, e = 50.0, 0.35
+    t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    r = A * (1 - e**2) / (1 - e * np.cos(t))
+    a = solve_centre_distance(RadiusCurve.from_samples(t, r))
+    assert a == pytest.approx(2 * A, rel=1e-6)

@@ -49,6 +49,17 @@ class ForwardResult:
     arm_angle: np.ndarray
     total_ratio: np.ndarray  # d psi_4 / d psi
     closure_error: dict
+    tip_rate: np.ndarray  # d tip / d psi (mm/rad), analytic (Eq. 16)
+
+    def velocity(self, carrier_speed_deg_s: float = 360.0) -> np.ndarray:
+        """Static tip velocity (m/s) for a clockwise carrier speed (deg/s)."""
+        return self.tip_rate * np.radians(carrier_speed_deg_s) / 1000.0
+
+    def speed(self, carrier_speed_deg_s: float = 360.0, travel_m_s: float = 0.0):
+        """Tip speed (m/s); with the machine travelling at ``travel_m_s`` along -x of the
+        mechanism frame's horizontal this is the dynamic speed of Eq. 17."""
+        v = self.velocity(carrier_speed_deg_s)
+        return np.hypot(v[:, 0] - travel_m_s, v[:, 1])
 
 
 def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> ForwardResult:
@@ -92,4 +103,29 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
     arm = carrier_abs + planet_rel + (train.arm0 - train.carrier0)
     elbow = train.L1 * np.c_[np.cos(carrier_abs), np.sin(carrier_abs)]
     tip = elbow + train.L2 * np.c_[np.cos(arm), np.sin(arm)]
-    return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure)
+    # d/dpsi: carrier direction turns -1, the arm turns (ratio - 1)
+    rate = (train.L1 * np.c_[np.sin(carrier_abs), -np.cos(carrier_abs)]
+            + train.L2 * (ratio - 1.0)[:, None] * np.c_[-np.sin(arm), np.cos(arm)])
+    return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure, rate)
+
+
+def solve_centre_distance(curve: RadiusCurve, turn: float = TWO_PI, dense: int = 8192) -> float:
+    """Centre distance a (mm) at which the mate of ``curve`` (external pair, r_mate =
+    a - r) turns ``turn`` rad while ``curve`` turns once (Eq. 8 closure).
+
+    The mate's turn  int r/(a - r) dtheta  falls monotonically with a, so the root is
+    unique; it is bracketed above max r.
+    """
+    from scipy.optimize import brentq
+
+    t = np.linspace(0.0, TWO_PI, dense, endpoint=False)
+    r = curve(curve.theta0 + t)
+    rmax = float(r.max())
+
+    def excess(a):
+        return float(np.mean(r / (a - r)) * TWO_PI - turn)
+
+    lo, hi = rmax * (1 + 1e-9), rmax * 2.0 + 1.0
+    while excess(hi) > 0:
+        hi *= 2.0
+    return float(brentq(excess, lo, hi, xtol=1e-12, rtol=1e-14))
