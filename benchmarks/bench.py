@@ -37,6 +37,20 @@ def main() -> None:
     t = timeit(lambda: simulate(train, samples=3600))
     print(f"forward simulation from pitch curves, 3600 samples: {t * 1e3:.1f} ms")
 
+    from plantmech.mechanisms.seeder_batch import simulate_population
+
+    nodes = np.radians(np.arange(8) * 45.0)
+    rng = np.random.default_rng(0)
+    P = 1000
+    R2 = 60 + rng.uniform(-5, 5, (P, 8))
+    R3 = 60 + rng.uniform(-5, 5, (P, 8))
+    for samples, dense in ((360, 1024), (3600, 4096)):
+        t = timeit(lambda s=samples, d=dense: simulate_population(
+            nodes, R2, R3, 240.0, 450.0, 120.0, 120.0, 0.3, 0.3, samples=s, dense=d),
+            repeat=2)
+        print(f"population forward simulation, {P} designs x {samples} samples: "
+              f"{t:.2f} s ({P / t:.0f} designs/s)")
+
 
 if __name__ == "__main__":
     main()
