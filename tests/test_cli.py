@@ -16,6 +16,8 @@ def test_feasible_example_writes_everything(tmp_path, capsys):
         assert key in s
     assert abs(s["L1_mm"] - 254) < 1 and abs(s["L2_mm"] - 498) < 1
     assert s["round_trip_max_deviation_mm"] < 0.01
+    assert set(s["convexity"]) == {"gear2", "gear3"}
+    assert isinstance(s["convexity"]["gear2"]["convex"], bool)
     header = (out / "pitch_curves.csv").read_text().splitlines()[0]
     assert header == "angle_deg,r1_mm,r2_mm,r3_mm,r4_mm"
     motion = (out / "motion.csv").read_text().splitlines()

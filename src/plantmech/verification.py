@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from plantmech.geometry.periodic import RadiusCurve
+from plantmech.geometry.periodic import RadiusCurve, convexity
 from plantmech.mechanisms.seeder_forward import SeederTrain, simulate
 from plantmech.outputs.seeder_report import gear_body_angles
 
@@ -49,4 +49,5 @@ def round_trip(job) -> dict:
         "round_trip_max_deviation_mm": float(dev_plan.max()),
         "round_trip_vs_gear_train_mm": float(dev_real.max()),
         "round_trip_closure_error_rad": fwd.closure_error,
+        "convexity": {"gear2": convexity(train.gear2), "gear3": convexity(train.gear3)},
     }

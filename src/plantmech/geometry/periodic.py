@@ -80,3 +80,33 @@ def cumulative_integral(values: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Integral of the cubic spline through (x, values) from x[0] to each x (exact
     for the interpolant; 4th-order accurate for smooth data)."""
     return CubicSpline(x, values).antiderivative()(x)
+
+
+def convexity(curve: RadiusCurve, samples: int = 3600) -> dict:
+    """Convexity of the closed polar curve r(theta) (a pitch curve).
+
+    Radius of curvature rho = (r^2 + r'^2)^(3/2) / (r^2 + 2 r'^2 - r r''); the curve is
+    concave where the denominator is negative. Returns {convex, concave_spans_deg
+    ([start, end] body angles), min_concave_radius_mm, min_convex_radius_mm}.
+    """
+    th = curve.theta0 + np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    r, r1, r2 = curve(th), curve(th, 1), curve(th, 2)
+    den = r**2 + 2 * r1**2 - r * r2
+    rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
+    concave = den < 0
+    spans = []
+    if concave.any():
+        edges = np.flatnonzero(np.diff(np.r_[concave[-1], concave].astype(int)))
+        starts = [i for i in edges if concave[i]]
+        for s in starts:
+            e = s
+            while concave[(e + 1) % samples] and (e + 1) % samples != s:
+                e += 1
+            spans.append([float(np.degrees(np.mod(th[s], TWO_PI))),
+                          float(np.degrees(np.mod(th[e % samples], TWO_PI)))])
+    return {
+        "convex": not concave.any(),
+        "concave_spans_deg": spans,
+        "min_concave_radius_mm": float(np.nanmin(-rho[concave])) if concave.any() else None,
+        "min_convex_radius_mm": float(np.nanmin(rho[~concave])) if (~concave).any() else None,
+    }
