@@ -15,6 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from plantmech.mechanisms.three_bar import tip_position, tip_rate
+
 TWO_PI = 2.0 * np.pi
 
 
@@ -94,8 +96,6 @@ def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
     ratio = (a1 - r2s) / r2s * r3s / (a2 - r3s)
     carrier_abs = carrier0 - psi[None, :]
     arm = carrier_abs + planet_rel + (arm0 - carrier0)
-    tip = np.stack([L1 * np.cos(carrier_abs) + L2 * np.cos(arm),
-                    L1 * np.sin(carrier_abs) + L2 * np.sin(arm)], axis=-1)
-    rate = np.stack([L1 * np.sin(carrier_abs) - L2 * (ratio - 1) * np.sin(arm),
-                     -L1 * np.cos(carrier_abs) + L2 * (ratio - 1) * np.cos(arm)], axis=-1)
+    tip = tip_position(L1, L2, carrier_abs, arm)
+    rate = tip_rate(L1, L2, carrier_abs, arm, ratio)
     return PopulationMotion(psi, tip, arm, ratio, rate, closure)

@@ -18,6 +18,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from plantmech.geometry.periodic import RadiusCurve
+from plantmech.mechanisms.three_bar import tip_position, tip_rate
 
 TWO_PI = 2.0 * np.pi
 
@@ -101,11 +102,8 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
     ratio = np.where(in_dwell, 0.0, (train.a1 - r2s) / r2s * r3s / (train.a2 - r3s))
     carrier_abs = train.carrier0 - psi
     arm = carrier_abs + planet_rel + (train.arm0 - train.carrier0)
-    elbow = train.L1 * np.c_[np.cos(carrier_abs), np.sin(carrier_abs)]
-    tip = elbow + train.L2 * np.c_[np.cos(arm), np.sin(arm)]
-    # d/dpsi: carrier direction turns -1, the arm turns (ratio - 1)
-    rate = (train.L1 * np.c_[np.sin(carrier_abs), -np.cos(carrier_abs)]
-            + train.L2 * (ratio - 1.0)[:, None] * np.c_[-np.sin(arm), np.cos(arm)])
+    tip = tip_position(train.L1, train.L2, carrier_abs, arm)
+    rate = tip_rate(train.L1, train.L2, carrier_abs, arm, ratio)
     return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure, rate)
 
 

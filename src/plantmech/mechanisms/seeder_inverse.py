@@ -27,6 +27,7 @@ from plantmech.gears.pitch import (
     toothless_sector_follower_angle,
 )
 from plantmech.geometry.trajectory import ClosedTrajectory
+from plantmech.mechanisms.three_bar import tip_position
 
 TWO_PI = 2.0 * np.pi
 
@@ -331,7 +332,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     shift = TWO_PI * np.round((arm_real[anchor_k] - arm[anchor_k]) / TWO_PI)
     arm_real, train_rel = arm_real - shift, train_rel - shift
     res.arm_angle_realized = arm_real
-    res.tip_realized = elbow + L2 * np.c_[np.cos(arm_real), np.sin(arm_real)]
+    res.tip_realized = tip_position(L1, L2, phi, arm_real)
     for name, ok in (("stage1", res.closure_error["stage1"] < 1e-9),
                      ("stage2", res.closure_error["stage2"] < 1e-9)):
         if not ok:
