@@ -30,3 +30,12 @@ def test_ellipse_about_focus_is_convex():
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     c = convexity(RadiusCurve.from_samples(t, A * (1 - e**2) / (1 - e * np.cos(t))))
     assert c["convex"]
+
+
+def test_cyclic_runs_wrap_and_edges():
+    from plantmech.geometry.periodic import cyclic_runs
+
+    m = np.array([1, 1, 0, 0, 1, 0, 1, 1], dtype=bool)
+    assert cyclic_runs(m) == [(4, 4), (6, 1)]  # last run wraps through index 0
+    assert cyclic_runs(np.zeros(4, bool)) == []
+    assert cyclic_runs(np.ones(4, bool)) == [(0, 3)]

@@ -76,10 +76,22 @@ class RadiusCurve:
         return self.spline(x, nu)
 
 
-def cumulative_integral(values: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Integral of the cubic spline through (x, values) from x[0] to each x (exact
-    for the interpolant; 4th-order accurate for smooth data)."""
-    return CubicSpline(x, values).antiderivative()(x)
+def cyclic_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Contiguous True runs of a cyclic boolean array as (first, last) indices; a run
+    that wraps past the end has last < first."""
+    if not mask.any():
+        return []
+    if mask.all():
+        return [(0, len(mask) - 1)]
+    idx = np.flatnonzero(np.diff(np.r_[mask[-1], mask].astype(int)))
+    starts = [i for i in idx if mask[i]]
+    ends = [i - 1 for i in idx if not mask[i]]
+    runs = []
+    for s in starts:
+        later = [e for e in ends if e >= s]
+        e = later[0] if later else (ends[0] % len(mask) if ends else len(mask) - 1)
+        runs.append((int(s), int(e)))
+    return runs
 
 
 def convexity(curve: RadiusCurve, samples: int = 3600) -> dict:
@@ -94,16 +106,8 @@ def convexity(curve: RadiusCurve, samples: int = 3600) -> dict:
     den = r**2 + 2 * r1**2 - r * r2
     rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
     concave = den < 0
-    spans = []
-    if concave.any():
-        edges = np.flatnonzero(np.diff(np.r_[concave[-1], concave].astype(int)))
-        starts = [i for i in edges if concave[i]]
-        for s in starts:
-            e = s
-            while concave[(e + 1) % samples] and (e + 1) % samples != s:
-                e += 1
-            spans.append([float(np.degrees(np.mod(th[s], TWO_PI))),
-                          float(np.degrees(np.mod(th[e % samples], TWO_PI)))])
+    spans = [[float(np.degrees(np.mod(th[a], TWO_PI))), float(np.degrees(np.mod(th[b], TWO_PI)))]
+             for a, b in cyclic_runs(concave)]
     return {
         "convex": not concave.any(),
         "concave_spans_deg": spans,

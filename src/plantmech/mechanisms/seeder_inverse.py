@@ -26,6 +26,7 @@ from plantmech.gears.pitch import (
     radii_from_speed_ratio,
     toothless_sector_follower_angle,
 )
+from plantmech.geometry.periodic import cyclic_runs
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.three_bar import tip_position
 
@@ -148,23 +149,6 @@ def _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner):
     return beta3 + np.arctan2(signed_sin, cos_b1), xy
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """Contiguous True runs of a cyclic boolean array as (first, last) indices."""
-    if not mask.any():
-        return []
-    if mask.all():
-        return [(0, len(mask) - 1)]
-    idx = np.flatnonzero(np.diff(np.r_[mask[-1], mask].astype(int)))
-    starts = [i for i in idx if mask[i]]
-    ends = [i - 1 for i in idx if not mask[i]]
-    runs = []
-    for s in starts:
-        later = [e for e in ends if e >= s]
-        e = later[0] if later else (ends[0] % len(mask) if ends else len(mask) - 1)
-        runs.append((int(s), int(e)))
-    return runs
-
-
 def _bracket_points(traj: ClosedTrajectory, u0: float, u1: float) -> list[int]:
     """Type-value points enclosing the parameter span u0..u1 (traversal order)."""
     n = len(traj.points)
@@ -221,7 +205,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     psi_dense = phi_dense[0] - phi_dense  # clockwise carrier rotation
     backwards = np.diff(psi_dense) <= 0
     if backwards.any():
-        for s, e in _runs(backwards):
+        for s, e in cyclic_runs(backwards):
             diags.append(Diagnostic(
                 "carrier_not_monotonic",
                 "the carrier would have to turn back (counter-clockwise) here: the planned "
@@ -283,7 +267,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
             return res
     # Feasibility of the ratio law outside the dwell.
     bad = (g_real <= 0) & ~in_dwell
-    for s, e in _runs(bad):
+    for s, e in cyclic_runs(bad):
         i0 = int(np.floor(traj.point_index_of(u[s]))) % len(traj.points)
         i1 = int(np.ceil(traj.point_index_of(u[e]))) % len(traj.points)
         diags.append(Diagnostic(
@@ -343,7 +327,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
                              ("r3", r3, a2, np.ones(n, bool)), ("r4 (planet)", r4, a2,
                                                                 np.ones(n, bool))):
         small = mask & ~in_dwell & (r < settings.min_pitch_radius)
-        for s, e in _runs(small):
+        for s, e in cyclic_runs(small):
             diags.append(Diagnostic(
                 "pitch_radius",
                 f"pitch radius {name} falls to {r[s:e + 1].min():.2f} mm, below the minimum "
