@@ -82,11 +82,15 @@ class ClosedTrajectory:
         """Total arc length of the closed curve (mm)."""
         return float(self.arc_length_table()[1][-1])
 
-    def sample_by_arc_length(self, n: int) -> np.ndarray:
-        """Parameters u of ``n`` points equally spaced in arc length (start at q0)."""
+    def arc_length_samples(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(s, u): ``n`` arc lengths equally spaced from q0 (mm) and their parameters."""
         u_tab, s_tab = self.arc_length_table()
         s = np.linspace(0.0, s_tab[-1], n, endpoint=False)
-        return np.interp(s, s_tab, u_tab)
+        return s, np.interp(s, s_tab, u_tab)
+
+    def sample_by_arc_length(self, n: int) -> np.ndarray:
+        """Parameters u of ``n`` points equally spaced in arc length (start at q0)."""
+        return self.arc_length_samples(n)[1]
 
     def curvature(self, u) -> np.ndarray:
         """Signed curvature (1/mm), positive where the curve turns counter-clockwise."""

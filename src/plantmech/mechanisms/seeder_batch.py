@@ -49,6 +49,12 @@ def _hermite(y0, y1, d0, d1, h, s):
     return h00 * y0 + h10 * h * d0 + h01 * y1 + h11 * h * d1
 
 
+def _hermite_slope(y0, y1, d0, d1, h, s):
+    """d/ds of ``_hermite``."""
+    return ((6 * s**2 - 6 * s) * (y0 - y1) + (3 * s**2 - 4 * s + 1) * h * d0
+            + (3 * s**2 - 2 * s) * h * d1)
+
+
 def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
                         contact2_0=np.pi, contact3_0=0.0, samples: int = 3600,
                         dense: int = 4096) -> PopulationMotion:
@@ -87,8 +93,7 @@ def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
     s = (psi[None, :] - y0) / np.maximum(y1 - y0, 1e-300)
     for _ in range(3):  # Newton on the Hermite cubic of psi(psi_2) within the interval
         val = _hermite(y0, y1, d0, d1, h, s) - psi[None, :]
-        der = (_hermite(y0, y1, d0, d1, h, s + 1e-7) - _hermite(y0, y1, d0, d1, h, s)) / 1e-7
-        s = np.clip(s - val / der, 0.0, 1.0)
+        s = np.clip(s - val / _hermite_slope(y0, y1, d0, d1, h, s), 0.0, 1.0)
     planet_rel = _hermite(planet[rows, k], planet[rows, k + 1], f_pl[rows, k],
                           f_pl[rows, k + 1], h, s)
     r2s = _hermite(r2[rows, k], r2[rows, k + 1], dr2[rows, k], dr2[rows, k + 1], h, s)

@@ -120,11 +120,10 @@ def motion_table(res: InverseResult) -> dict[str, np.ndarray]:
 
 def trajectory_table(traj, samples: int) -> dict[str, np.ndarray]:
     """The planned curve sampled uniformly in arc length (start at q0)."""
-    u = traj.sample_by_arc_length(samples)
-    u_tab, s_tab = traj.arc_length_table()
+    s, u = traj.arc_length_samples(samples)
     xy = traj(u)
     return {
-        "arc_length_mm": np.interp(u, u_tab, s_tab),
+        "arc_length_mm": s,
         "x_mm": xy[:, 0],
         "y_mm": xy[:, 1],
         "curvature_1_per_mm": traj.curvature(u),
@@ -132,15 +131,13 @@ def trajectory_table(traj, samples: int) -> dict[str, np.ndarray]:
     }
 
 
-def write_inverse_outputs(out: Path, res: InverseResult, summ: dict, traj=None,
-                          samples: int = 3600) -> list[Path]:
+def write_inverse_outputs(out: Path, res: InverseResult, summ: dict, traj,
+                          samples: int) -> list[Path]:
     """Write summary.json and trajectory.csv always; motion and pitch curves only for
     feasible designs."""
-    written = [out / "summary.json"]
+    written = [out / "summary.json", out / "trajectory.csv"]
     write_json(written[0], summ)
-    if traj is not None:
-        write_csv(out / "trajectory.csv", trajectory_table(traj, samples))
-        written.append(out / "trajectory.csv")
+    write_csv(written[1], trajectory_table(traj, samples))
     if res.feasible:
         write_csv(out / "motion.csv", motion_table(res))
         write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f")
