@@ -22,13 +22,20 @@ def _loops(traj: ClosedTrajectory, n: int = 600):
     i, j, _ = hits[0]
     h = u[1] - u[0]
     ui, uj = u[i] + 0.5 * h, u[j] + 0.5 * h
+    start = (ui, uj)
     for _ in range(20):
         f = traj(ui) - traj(uj)
         jac = np.c_[traj(ui, 1), -traj(uj, 1)]
-        step = np.linalg.solve(jac, f)
+        try:
+            step = np.linalg.solve(jac, f)
+        except np.linalg.LinAlgError:  # tangential crossing: keep the polygon estimate
+            ui, uj = start
+            break
         ui, uj = ui - step[0], uj - step[1]
         if np.abs(step).max() < 1e-12:
             break
+    if not (abs(ui - start[0]) < h and abs(uj - start[1]) < h):
+        ui, uj = start  # Newton wandered off this crossing
     ui, uj = np.mod(ui, traj.period), np.mod(uj, traj.period)
     if uj < ui:
         ui, uj = uj, ui
