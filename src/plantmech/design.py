@@ -98,7 +98,6 @@ class GearTrain(_Strict):
     a2_mm: PositiveMM | None = Field(None, description="gear 3-planet centre distance (L1/2)")
     split_exponent: float = Field(0.5, gt=0, lt=1, allow_inf_nan=False)
     min_pitch_radius_mm: PositiveMM = 5.0
-    carrier_speed_deg_s: PositiveMM = Field(360.0, description="clockwise carrier speed")
     dwell: Dwell | None = None
 
 
@@ -110,21 +109,151 @@ class Attitude(_Strict):
     sowing_angle_max_deg: PositiveMM = 30.0
 
 
+class GearPointsSpec(_Strict):
+    """Interpolation points of one intermediate gear (seed 000 Table 4)."""
+
+    radii_mm: list[PositiveMM] = Field(description="pitch radii at the interpolation angles")
+    angles_deg: list[FiniteFloat] | None = Field(
+        None, description="body angles, increasing, spanning less than 360 deg; "
+        "default: uniform 0, 360/N, ...")
+    contact_angle_deg: FiniteFloat = Field(
+        0.0, description="body angle at the contact point (gear 2: with the sun; "
+        "gear 3: with the planet) at carrier angle 0")
+
+    @field_validator("radii_mm")
+    @classmethod
+    def _enough(cls, v):
+        if len(v) < 4:
+            raise ValueError(f"need at least 4 interpolation radii, got {len(v)}")
+        return v
+
+    @model_validator(mode="after")
+    def _angles(self):
+        if self.angles_deg is None:
+            return self
+        a = self.angles_deg
+        if len(a) != len(self.radii_mm):
+            raise ValueError(f"angles_deg has {len(a)} values but radii_mm has "
+                             f"{len(self.radii_mm)}")
+        for k in range(1, len(a)):
+            if a[k] <= a[k - 1]:
+                raise ValueError(
+                    f"angles_deg must increase: point {k} at {a[k]:g} deg follows "
+                    f"{a[k - 1]:g} deg (out-of-order angles make the polar pitch curve "
+                    "cross itself)")
+        if a[-1] - a[0] >= 360.0:
+            raise ValueError(f"angles_deg span {a[-1] - a[0]:g} deg; a closed pitch curve "
+                             "takes each body angle once (span < 360 deg), more would make "
+                             "it cross itself")
+        return self
+
+    def angles(self) -> list[float]:
+        n = len(self.radii_mm)
+        return self.angles_deg if self.angles_deg is not None else [360.0 * k / n
+                                                                    for k in range(n)]
+
+
+class TrainDwell(_Strict):
+    """Toothless sector of the sun gear (seed 000 Eq. 5) in carrier angles."""
+
+    start_deg: float = Field(ge=0, lt=360, allow_inf_nan=False,
+                             description="carrier angle (clockwise from the start) "
+                             "where gears 2-3 stop")
+    sector_deg: float = Field(gt=0, lt=360, allow_inf_nan=False,
+                              description="theta_1: carrier turn during the stop")
+
+    @model_validator(mode="after")
+    def _inside(self):
+        if self.start_deg + self.sector_deg > 360.0:
+            raise ValueError(f"the dwell ({self.start_deg:g} + {self.sector_deg:g} deg) runs "
+                             "past the end of the carrier turn; shift the start angle "
+                             "(the cycle starts at carrier angle 0)")
+        return self
+
+
+class SectionAngles(_Strict):
+    """Carrier angles (deg, clockwise from the start) of the section points a-f."""
+
+    a: float = Field(ge=0, lt=360, allow_inf_nan=False)
+    b: float = Field(ge=0, lt=360, allow_inf_nan=False)
+    c: float = Field(ge=0, lt=360, allow_inf_nan=False)
+    d: float = Field(ge=0, lt=360, allow_inf_nan=False)
+    e: float = Field(ge=0, lt=360, allow_inf_nan=False)
+    f: float = Field(ge=0, lt=360, allow_inf_nan=False)
+
+
+class Train(_Strict):
+    """A second-order train given directly by its pitch curves (seed 000 §4.3, Table 4)."""
+
+    L1_mm: PositiveMM = Field(description="carrier length, sun axis to planet axis")
+    L2_mm: PositiveMM = Field(description="arm length, planet axis to tip")
+    a1_mm: PositiveMM = Field(description="centre distance sun - gear 2")
+    a2_mm: PositiveMM = Field(description="centre distance gear 3 - planet")
+    gear2: GearPointsSpec
+    gear3: GearPointsSpec
+    interpolation: Literal["hermite", "spline"] = "hermite"
+    closure: Literal["check", "centre_distance", "radial_offset", "scale"] = Field(
+        "check", description="how an unclosed pair is restored (check = refuse)")
+    closure_tolerance_deg: PositiveMM = 0.01
+    initial_carrier_angle_deg: FiniteFloat = Field(
+        description="absolute carrier angle phi_10 at the start, CCW from +x")
+    initial_arm_angle_deg: FiniteFloat = Field(
+        description="absolute angle of planet axis -> tip at the start, CCW from +x")
+    dwell: TrainDwell | None = None
+    sections_deg: SectionAngles | None = Field(
+        None, description="carrier angles of a-f; default: located on the trajectory's "
+        "section points")
+    samples: int = Field(3600, ge=90, le=200_000, description="samples per carrier turn")
+    min_pitch_radius_mm: PositiveMM = 5.0
+
+
+class Operation(_Strict):
+    carrier_speed_deg_s: PositiveMM = Field(360.0, description="clockwise carrier speed")
+    travel_speed_m_s: FiniteFloat | None = Field(
+        None, description="machine travel speed v_c; default: zero-speed seeding (Eq. 18)")
+
+
+class SpeedLimits(_Strict):
+    """Section 4.1 objectives 4-5 (m/s)."""
+
+    seeding_max_m_s: PositiveMM = 1.5
+    return_min_m_s: PositiveMM = 1.1
+
+
+class GearChecks(_Strict):
+    tool_pressure_angle_deg: float = Field(20.0, gt=0, lt=45, allow_inf_nan=False)
+    max_working_pressure_angle_deg: float = Field(45.0, gt=0, lt=90, allow_inf_nan=False)
+
+
 class SeederDesign(_Strict):
     mechanism: Literal["sugarcane_seeder"]
     name: str = "unnamed design"
     description: str = ""
-    trajectory: Trajectory
+    trajectory: Trajectory | None = None
+    train: Train | None = None
     planning_limits: PlanningLimits = PlanningLimits()
     gear_train: GearTrain = GearTrain()
     attitude: Attitude = Attitude()
+    operation: Operation = Operation()
+    speed: SpeedLimits = SpeedLimits()
+    gear_checks: GearChecks = GearChecks()
+
+    @model_validator(mode="after")
+    def _something_to_do(self):
+        if self.trajectory is None and self.train is None:
+            raise ValueError("give a [trajectory] (inverse design) or a [train] "
+                             "(pitch curves), or both")
+        if self.train is not None and self.train.sections_deg is None and self.trajectory is None:
+            raise ValueError("train.sections_deg is needed when there is no [trajectory] "
+                             "whose section points could locate them")
+        return self
 
 
 def _format_error(path: Path, err: ValidationError) -> str:
     lines = [f"{path}: invalid design file"]
     for e in err.errors():
         loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
-        msg = e["msg"]
+        msg = e["msg"].removeprefix("Value error, ")
         if e["type"] == "missing":
             msg = "required field is missing"
         elif e["type"] == "extra_forbidden":
@@ -153,11 +282,14 @@ def load_design(path: str | Path) -> SeederDesign:
     if mech != "sugarcane_seeder":
         raise DesignError(f"{path}: field 'mechanism': unknown mechanism {mech!r} "
                           "(expected \"sugarcane_seeder\")")
+    if "trajectory" not in raw and "train" not in raw:
+        raise DesignError(f"{path}: field 'trajectory' is missing: give a [trajectory] "
+                          "(inverse design) or a [train] (pitch curves), or both")
     try:
         design = SeederDesign.model_validate(raw)
     except ValidationError as exc:
         raise DesignError(_format_error(path, exc)) from None
-    pts = design.trajectory.points
+    pts = design.trajectory.points if design.trajectory is not None else []
     for i, (x, y) in enumerate(pts):
         if math.hypot(x, y) < 1e-9:
             raise DesignError(f"{path}: field 'trajectory.points.{i}': q{i} is at the "

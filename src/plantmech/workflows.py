@@ -58,3 +58,179 @@ def run_seeder_inverse(design: SeederDesign) -> SeederInverseJob:
         checks = attitude_checks(att, design.attitude)
     summ = summary(res, design, planning, att, checks or [])
     return SeederInverseJob(design, traj, res, summ)
+
+
+@dataclass
+class SeederForwardJob:
+    """A forward simulation of a seeder train and everything derived from it."""
+
+    design: SeederDesign
+    train: object  # SeederTrain
+    closure_fixes: list
+    result: object  # ForwardResult
+    section_psi: dict[str, float]  # rad, clockwise carrier angle from the start
+    section_distance_mm: dict[str, float] | None
+    travel_m_s: float
+    summary: dict
+    trajectory: ClosedTrajectory | None = None
+    inverse: SeederInverseJob | None = None
+    metrics: dict | None = None
+    checks: list | None = None
+
+
+def train_from_design(design: SeederDesign):
+    """(train, closure fixes) from the design file's [train] table (mm/deg -> mm/rad)."""
+    from plantmech.mechanisms.seeder_forward import GearPoints, assemble_train
+
+    t = design.train
+    pts = [GearPoints(np.radians(g.angles()), np.asarray(g.radii_mm, dtype=float),
+                      float(np.radians(g.contact_angle_deg))) for g in (t.gear2, t.gear3)]
+    return assemble_train(
+        t.L1_mm, t.L2_mm, t.a1_mm, t.a2_mm, pts[0], pts[1],
+        carrier0=float(np.radians(t.initial_carrier_angle_deg)),
+        arm0=float(np.radians(t.initial_arm_angle_deg)),
+        dwell_start=float(np.radians(t.dwell.start_deg)) if t.dwell else None,
+        dwell_sector=float(np.radians(t.dwell.sector_deg)) if t.dwell else 0.0,
+        kind=t.interpolation, closure=t.closure,
+        tolerance=float(np.radians(t.closure_tolerance_deg)),
+        min_radius=t.min_pitch_radius_mm)
+
+
+def locate_section_points(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
+                          sections: dict[str, int], candidates: int = 4) -> tuple[dict, dict]:
+    """Carrier angle (rad) at which the tip passes each section point, and the distance
+    (mm) it misses the point by.
+
+    An "8" passes near some points twice (near its crossing), so for every point the
+    few closest local approaches are candidates and the combination that keeps the
+    points in their order along the cycle with the smallest total miss is chosen.
+    """
+    from itertools import product
+
+    letters = list(sections)
+    cands = []
+    for letter in letters:
+        d = np.hypot(*(tip - points[sections[letter]]).T)
+        local = np.flatnonzero((d <= np.roll(d, 1)) & (d <= np.roll(d, -1)))
+        local = local[np.argsort(d[local])][:candidates]
+        cands.append([(float(psi[k]), float(d[k])) for k in local])
+    best, best_cost = None, np.inf
+    for combo in product(*cands):
+        angles = np.array([c[0] for c in combo])
+        turn = np.mod(np.diff(np.r_[angles, angles[0]]), 2 * np.pi).sum()
+        if abs(turn - 2 * np.pi) > 1e-9:  # not in cyclic order
+            continue
+        cost = sum(c[1] for c in combo)
+        if cost < best_cost:
+            best, best_cost = combo, cost
+    if best is None:  # no ordered combination: fall back to the nearest approaches
+        best = [c[0] for c in cands]
+    return ({k: c[0] for k, c in zip(letters, best, strict=True)},
+            {k: c[1] for k, c in zip(letters, best, strict=True)})
+
+
+def run_seeder_forward(design: SeederDesign) -> SeederForwardJob:
+    """Simulate the train of ``design`` (its [train], or the inverse design of its
+    [trajectory] when there is none) and evaluate every section-4.1 objective."""
+    from plantmech.mechanisms.seeder_forward import simulate
+    from plantmech.outputs.seeder_forward_report import forward_summary
+    from plantmech.verification import train_from_inverse
+
+    traj = inv = None
+    if design.trajectory is not None:
+        traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
+    if design.train is None:
+        inv = run_seeder_inverse(design)
+        if not inv.result.feasible:
+            raise InfeasibleDesign(inv)
+        train, fixes = train_from_inverse(inv.result), []
+        samples = design.trajectory.samples
+    else:
+        train, fixes = train_from_design(design)
+        samples = design.train.samples
+    res = simulate(train, samples=samples)
+    dist = None
+    if design.train is not None and design.train.sections_deg is not None:
+        section_psi = {k: float(np.radians(v))
+                       for k, v in design.train.sections_deg.model_dump().items()}
+    elif inv is not None:
+        pc = inv.result.point_carrier_angle
+        section_psi = {k: float(pc[i]) for k, i in inv.sections.items()}
+    else:
+        section_psi, dist = locate_section_points(
+            res.tip, res.carrier_angle, traj.points, design.trajectory.sections.model_dump())
+    job = SeederForwardJob(design, train, fixes, res, section_psi, dist, 0.0, {}, traj, inv)
+    _evaluate_forward(job)
+    job.summary = forward_summary(job)
+    return job
+
+
+def _evaluate_forward(job: SeederForwardJob) -> None:
+    """Every section-4.1 objective and gear check of a simulated train."""
+    from plantmech.objectives.seeder import (
+        gear_checks,
+        ratio_ranges,
+        speed_by_section,
+        speed_checks,
+        zero_speed_travel,
+    )
+
+    d, res = job.design, job.result
+    letters = list("abcdef")
+    att = attitude_by_section(res.carrier_angle, np.degrees(res.arm_angle),
+                              np.array([job.section_psi[k] for k in letters]),
+                              {k: i for i, k in enumerate(letters)})
+    checks = attitude_checks(att, d.attitude)
+    vel = res.velocity(d.operation.carrier_speed_deg_s)
+    zero = zero_speed_travel(res.carrier_angle, vel, att["sowing_angle"], job.section_psi["e"])
+    travel = d.operation.travel_speed_m_s
+    job.travel_m_s = zero["zero_speed_travel_m_s"] if travel is None else float(travel)
+    speeds = speed_by_section(res.carrier_angle, vel, job.travel_m_s, job.section_psi)
+    checks += speed_checks(speeds, d.speed)
+    gear_metrics, g_checks = gear_checks(job.train, d.gear_checks.tool_pressure_angle_deg,
+                                         d.gear_checks.max_working_pressure_angle_deg)
+    checks += g_checks
+    job.metrics = {"attitude_deg": att, "speeds": speeds, "zero_speed": zero,
+                   "ratio_range": ratio_ranges(res), **gear_metrics}
+    if job.trajectory is not None:
+        job.metrics["deviation_from_trajectory_mm"] = trajectory_deviation(job.trajectory,
+                                                                           res.tip)
+    job.checks = checks
+
+
+def _distance_to_closed_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Distance (mm) of each point to a closed polyline: nearest vertex (k-d tree),
+    then the perpendicular foot on its two adjacent segments."""
+    from scipy.spatial import cKDTree
+
+    _, k = cKDTree(poly).query(points)
+    n = len(poly)
+    best = np.hypot(*(points - poly[k]).T)
+    for a, b in ((k - 1) % n, k), (k, (k + 1) % n):
+        seg = poly[b] - poly[a]
+        t = np.einsum("ij,ij->i", points - poly[a], seg) / np.maximum(
+            np.einsum("ij,ij->i", seg, seg), 1e-300)
+        foot = poly[a] + np.clip(t, 0.0, 1.0)[:, None] * seg
+        best = np.minimum(best, np.hypot(*(points - foot).T))
+    return best
+
+
+def trajectory_deviation(traj: ClosedTrajectory, tip: np.ndarray, samples: int = 80000) -> dict:
+    """Distances (mm) between a simulated tip path (closed, sampled) and the planned
+    curve: largest distance of a tip sample from the curve, and of a curve point from
+    the tip path (together the Hausdorff distance), point-to-segment. The second is
+    limited by the tip sampling: a chord of the sampled path cuts sharp corners."""
+    _, u = traj.arc_length_samples(samples)
+    plan = traj(u)
+    d1 = _distance_to_closed_polyline(tip, plan)
+    d2 = _distance_to_closed_polyline(plan, tip)
+    return {"max_tip_to_plan": float(d1.max()), "rms_tip_to_plan": float(np.sqrt(np.mean(d1**2))),
+            "max_plan_to_tip": float(d2.max())}
+
+
+class InfeasibleDesign(Exception):
+    """The inverse design behind a forward job is infeasible (see its diagnostics)."""
+
+    def __init__(self, job: SeederInverseJob):
+        super().__init__("the inverse design is infeasible")
+        self.job = job

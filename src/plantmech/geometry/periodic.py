@@ -94,23 +94,40 @@ def cyclic_runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return runs
 
 
-def convexity(curve: RadiusCurve, samples: int = 3600) -> dict:
+def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> dict:
     """Convexity of the closed polar curve r(theta) (a pitch curve).
 
     Radius of curvature rho = (r^2 + r'^2)^(3/2) / (r^2 + 2 r'^2 - r r''); the curve is
     concave where the denominator is negative. Returns {convex, concave_spans_deg
     ([start, end] body angles), min_concave_radius_mm, min_convex_radius_mm}.
     """
-    th = curve.theta0 + np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    th = curve.theta0 + np.linspace(0.0, span, samples, endpoint=span >= TWO_PI)
     r, r1, r2 = curve(th), curve(th, 1), curve(th, 2)
     den = r**2 + 2 * r1**2 - r * r2
     rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
     concave = den < 0
+    if span < TWO_PI:  # an open arc: runs must not wrap
+        concave = concave.copy()
+        runs = cyclic_runs(np.r_[concave, False])
+        runs = [(a, min(b, samples - 1)) for a, b in runs]
+    else:
+        runs = cyclic_runs(concave)
     spans = [[float(np.degrees(np.mod(th[a], TWO_PI))), float(np.degrees(np.mod(th[b], TWO_PI)))]
-             for a, b in cyclic_runs(concave)]
+             for a, b in runs]
     return {
         "convex": not concave.any(),
         "concave_spans_deg": spans,
         "min_concave_radius_mm": float(np.nanmin(-rho[concave])) if concave.any() else None,
         "min_convex_radius_mm": float(np.nanmin(rho[~concave])) if (~concave).any() else None,
     }
+
+
+def pressure_angle_proxy(curve: RadiusCurve, samples: int = 3600) -> tuple[float, float]:
+    """Largest angle (rad) between the pitch-curve tangent and the normal to the radius
+    vector, atan(|r'| / r), and the body angle (rad) where it occurs. Two rolling pitch
+    curves share their tangent at the contact on the line of centres, so the value holds
+    for the pair; the working pressure angle of a tooth is the tool's plus this."""
+    th = curve.theta0 + np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    mu = np.arctan(np.abs(curve(th, 1)) / curve(th))
+    k = int(np.argmax(mu))
+    return float(mu[k]), float(np.mod(th[k], TWO_PI))

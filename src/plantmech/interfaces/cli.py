@@ -1,6 +1,10 @@
-"""Command line: ``plantmech inverse DESIGN.toml --out DIR [--verify]``.
+"""Command line of plantmech.
 
-Exit status: 0 feasible, 2 invalid input, 3 infeasible design.
+``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
+``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
+
+Exit status: 0 done (objectives are reported, met or not), 2 invalid input (names the
+field, gear or angle), 3 infeasible design.
 """
 
 from __future__ import annotations
@@ -24,6 +28,9 @@ def _inverse(args) -> int:
 
     try:
         design = load_design(args.design)
+        if design.trajectory is None:
+            raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
+                              "design (this file gives a [train]: use 'plantmech forward')")
         out = prepare_out_dir(args.out, [Path(args.design)])
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
@@ -59,6 +66,78 @@ def _inverse(args) -> int:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
         return EXIT_INFEASIBLE
     return EXIT_OK
+
+
+def _forward(args) -> int:
+    from plantmech.design import DesignError, load_design
+    from plantmech.gears.closure import ClosureError
+    from plantmech.geometry.periodic import PitchCurveError
+    from plantmech.geometry.trajectory import TrajectoryError
+    from plantmech.outputs.files import OutputError, prepare_out_dir, write_json
+    from plantmech.outputs.seeder_forward_report import write_forward_outputs
+    from plantmech.workflows import InfeasibleDesign, run_seeder_forward
+
+    try:
+        design = load_design(args.design)
+        out = prepare_out_dir(args.out, [Path(args.design)])
+    except (DesignError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    t0 = time.perf_counter()
+    try:
+        job = run_seeder_forward(design)
+    except TrajectoryError as exc:
+        print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except (ClosureError, PitchCurveError, ValueError) as exc:
+        print(f"error: {args.design}: [train]: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except InfeasibleDesign as exc:
+        write_json(out / "summary.json", exc.job.summary)
+        _print_summary(exc.job.summary)
+        print("INFEASIBLE: the trajectory's inverse design has no gear train to simulate",
+              file=sys.stderr)
+        return EXIT_INFEASIBLE
+    job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
+    written = write_forward_outputs(out, job)
+    if not args.no_plots:
+        from plantmech.outputs import seeder_plots as sp
+
+        for name, fn in (("trajectories.png", sp.plot_forward_trajectories),
+                         ("speed.png", sp.plot_forward_speed),
+                         ("attitude.png", sp.plot_forward_attitude),
+                         ("pitch_curves.png", sp.plot_forward_pitch_curves)):
+            fn(out / name, job)
+            written.append(out / name)
+    _print_forward(job.summary)
+    print("wrote: " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
+def _print_forward(s: dict) -> None:
+    t = s["train"]
+    print(f"{s['name']}: forward simulation ({s['source']})")
+    print(f"  L1 = {t['L1_mm']:.2f} mm, L2 = {t['L2_mm']:.2f} mm, a1 = {t['a1_mm']:.3f} mm, "
+          f"a2 = {t['a2_mm']:.3f} mm")
+    for f in s["closure_restoration"]:
+        if f["method"] != "check":
+            change = {"centre_distance": f"centre distance {f['centre_distance_given_mm']:.3f}"
+                                         f" -> {f['centre_distance_mm']:.3f} mm",
+                      "radial_offset": f"every radius {f['radial_offset_mm']:+.3f} mm",
+                      "scale": f"radii x {f['scale']:.5f}"}[f["method"]]
+            print(f"  closure of {f['pair']}: the mate turned {f['turn_as_given_deg']:.3f} deg,"
+                  f" {f['required_turn_deg']:.3f} needed; restored by {change}")
+    ce = s["closure_error_rad"]
+    print(f"  closure error: stage 1 {ce['stage1']:.2e} rad, stage 2 {ce['stage2']:.2e} rad")
+    print(f"  zero-speed seeding travel v_c = {s['zero_speed_travel_m_s']:.3f} m/s "
+          f"(used: {s['travel_speed_used_m_s']:.3f} m/s)")
+    for c in s["objectives"]:
+        val = "n/a" if c["value"] is None else f"{c['value']:.3f} {c['unit']}"
+        print(f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<34} {val:>14}   limit {c['limit']}")
+    if "deviation_from_trajectory_mm" in s:
+        dv = s["deviation_from_trajectory_mm"]
+        print(f"  deviation from the planned trajectory: max {dv['max_tip_to_plan']:.2f} mm "
+              f"(tip -> plan), {dv['max_plan_to_tip']:.2f} mm (plan -> tip)")
 
 
 def _print_summary(s: dict) -> None:
@@ -98,6 +177,12 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulate the generated pitch curves forward (round trip)")
     inv.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     inv.set_defaults(func=_inverse)
+    fwd = sub.add_parser("forward", help="gear train -> motion, speed, objectives (seed 000 §4)")
+    fwd.add_argument("design", help="design file (TOML) with a [train], or a [trajectory] "
+                     "whose inverse design is simulated")
+    fwd.add_argument("--out", required=True, help="output directory")
+    fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    fwd.set_defaults(func=_forward)
     return p
 
 

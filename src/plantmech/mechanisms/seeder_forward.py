@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from plantmech.geometry.periodic import RadiusCurve
+from plantmech.gears.closure import ClosureFix, close_pair, solve_centre_distance  # noqa: F401
+from plantmech.geometry.periodic import PitchCurveError, RadiusCurve
 from plantmech.mechanisms.three_bar import tip_position, tip_rate
 
 TWO_PI = 2.0 * np.pi
@@ -48,9 +49,16 @@ class ForwardResult:
     planet_rel: np.ndarray
     tip: np.ndarray
     arm_angle: np.ndarray
-    total_ratio: np.ndarray  # d psi_4 / d psi
+    total_ratio: np.ndarray  # d psi_4 / d psi (planet per carrier; 0 in the dwell)
     closure_error: dict
     tip_rate: np.ndarray  # d tip / d psi (mm/rad), analytic (Eq. 16)
+    stage1_rate: np.ndarray | None = None  # d psi_2 / d psi = r1 / r2 (0 in the dwell)
+    stage2_rate: np.ndarray | None = None  # d psi_4 / d psi_2 = r3 / r4
+    in_dwell: np.ndarray | None = None
+
+    def time(self, carrier_speed_deg_s: float = 360.0) -> np.ndarray:
+        """Time (s) at each sample for the carrier speed (deg/s)."""
+        return self.carrier_angle / np.radians(carrier_speed_deg_s)
 
     def velocity(self, carrier_speed_deg_s: float = 360.0) -> np.ndarray:
         """Static tip velocity (m/s) for a clockwise carrier speed (deg/s)."""
@@ -61,6 +69,12 @@ class ForwardResult:
         mechanism frame's horizontal this is the dynamic speed of Eq. 17."""
         v = self.velocity(carrier_speed_deg_s)
         return np.hypot(v[:, 0] - travel_m_s, v[:, 1])
+
+    def dynamic_tip(self, carrier_speed_deg_s: float = 360.0, travel_m_s: float = 0.0):
+        """Tip path (mm) over the ground for the machine travelling at ``travel_m_s``
+        (Eq. 17's frame: x_ground = x - v_c t); origin at the carrier axis at t = 0."""
+        shift = travel_m_s * 1000.0 * self.time(carrier_speed_deg_s)
+        return np.c_[self.tip[:, 0] - shift, self.tip[:, 1]]
 
 
 def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> ForwardResult:
@@ -104,26 +118,68 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
     arm = carrier_abs + planet_rel + (train.arm0 - train.carrier0)
     tip = tip_position(train.L1, train.L2, carrier_abs, arm)
     rate = tip_rate(train.L1, train.L2, carrier_abs, arm, ratio)
-    return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure, rate)
+    stage1 = np.where(in_dwell, 0.0, (train.a1 - r2s) / r2s)
+    stage2 = r3s / (train.a2 - r3s)
+    return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure, rate,
+                         stage1, stage2, in_dwell)
 
 
-def solve_centre_distance(curve: RadiusCurve, turn: float = TWO_PI, dense: int = 8192) -> float:
-    """Centre distance a (mm) at which the mate of ``curve`` (external pair, r_mate =
-    a - r) turns ``turn`` rad while ``curve`` turns once (Eq. 8 closure).
 
-    The mate's turn  int r/(a - r) dtheta  falls monotonically with a, so the root is
-    unique; it is bracketed above max r.
-    """
-    from scipy.optimize import brentq
+@dataclass
+class GearPoints:
+    """Interpolation points of gear 2 or 3: body angles (rad, increasing, within one
+    turn) and pitch radii (mm); ``contact0`` is the body angle at the contact point
+    (with the sun for gear 2, with the planet for gear 3) at carrier angle 0."""
 
-    t = np.linspace(0.0, TWO_PI, dense, endpoint=False)
-    r = curve(curve.theta0 + t)
-    rmax = float(r.max())
+    angles: np.ndarray
+    radii: np.ndarray
+    contact0: float = 0.0
 
-    def excess(a):
-        return float(np.mean(r / (a - r)) * TWO_PI - turn)
 
-    lo, hi = rmax * (1 + 1e-9), rmax * 2.0 + 1.0
-    while excess(hi) > 0:
-        hi *= 2.0
-    return float(brentq(excess, lo, hi, xtol=1e-12, rtol=1e-14))
+def _check_positive(curve: RadiusCurve, a: float, name: str, mate: str, min_radius: float):
+    t = curve.theta0 + np.linspace(0.0, TWO_PI, 7200, endpoint=False)
+    r = curve(t)
+    for label, rr in ((name, r), (mate, a - r)):
+        k = int(np.argmin(rr))
+        if rr[k] < min_radius:
+            raise PitchCurveError(
+                f"{label}: pitch radius {rr[k]:.3f} mm at {name} body angle "
+                f"{np.degrees(np.mod(t[k], TWO_PI)):.2f} deg is below the minimum "
+                f"{min_radius:g} mm (centre distance {a:.3f} mm); "
+                "the interpolant overshoots or the radii are too large")
+
+
+def assemble_train(L1: float, L2: float, a1: float, a2: float, gear2: GearPoints,
+                   gear3: GearPoints, carrier0: float, arm0: float,
+                   dwell_start: float | None = None, dwell_sector: float = 0.0,
+                   kind: str = "hermite", closure: str = "check",
+                   tolerance: float = np.radians(0.01), min_radius: float = 1.0,
+                   ) -> tuple[SeederTrain, list[ClosureFix]]:
+    """Build a train from interpolation points, closing both pairs by ``closure``
+    (see ``gears.closure``). Raises PitchCurveError / ClosureError / ValueError with
+    the gear, angle and numbers involved."""
+    if dwell_start is not None and not (0.0 < dwell_sector < TWO_PI):
+        raise ValueError("the toothless sector must span between 0 and 360 deg of carrier turn")
+    turn1 = TWO_PI - (dwell_sector if dwell_start is not None else 0.0)
+    g2, a1, fix1 = close_pair("sun - gear 2", gear2.angles, gear2.radii, a1, turn1, closure,
+                              kind, tolerance, name="gear 2")
+    g3, a2, fix2 = close_pair("gear 3 - planet", gear3.angles, gear3.radii, a2, TWO_PI,
+                              closure, kind, tolerance, name="gear 3")
+    _check_positive(g2, a1, "gear 2", "sun (gear 1)", min_radius)
+    _check_positive(g3, a2, "gear 3", "planet (gear 4)", min_radius)
+    if not (abs(a1 - a2) <= L1 <= a1 + a2):
+        raise ValueError(f"the carrier cannot hold the shafts: L1 = {L1:.3f} mm but the "
+                         f"centre distances a1 = {a1:.3f} and a2 = {a2:.3f} mm need "
+                         f"{abs(a1 - a2):.3f} <= L1 <= {a1 + a2:.3f} mm")
+    train = SeederTrain(L1=L1, L2=L2, a1=a1, a2=a2, gear2=g2, gear3=g3,
+                        gear2_contact0=gear2.contact0, gear3_contact0=gear3.contact0,
+                        carrier0=carrier0, arm0=arm0,
+                        dwell_start=dwell_start, dwell_theta1=dwell_sector)
+    return train, [fix1, fix2]
+
+
+def shaft_offset(train: SeederTrain) -> float:
+    """Angle (rad) at O between the carrier line O -> planet axis and O -> gear-2/3 shaft
+    (0 when a1 + a2 = L1, the paper's collinear carrier)."""
+    c = (train.a1**2 + train.L1**2 - train.a2**2) / (2 * train.a1 * train.L1)
+    return float(np.arccos(np.clip(c, -1.0, 1.0)))

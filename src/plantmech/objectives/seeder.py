@@ -157,3 +157,132 @@ def attitude_checks(att: dict, limits) -> list[Check]:
                     limits.sowing_angle_max_deg, "deg",
                     "attitude at e relative to the initial attitude (paper's convention)"),
     ]
+
+
+def _periodic_at(psi, values, p):
+    """Linear interpolation of a sampled periodic quantity at carrier angle p (rad)."""
+    return float(np.interp(np.mod(p, 2 * np.pi), np.r_[psi, 2 * np.pi], np.r_[values, values[0]]))
+
+
+def section_values(psi, values, p_start, p_end) -> np.ndarray:
+    """Samples of ``values`` within the section [p_start, p_end] (clockwise carrier
+    angles, rad), including both ends interpolated."""
+    m = _section_mask(psi, p_start, p_end)
+    return np.r_[values[m], _periodic_at(psi, values, p_start), _periodic_at(psi, values, p_end)]
+
+
+def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dict:
+    """Machine travel speed (m/s) for zero-speed seeding at e (seed 000 Eq. 18).
+
+    Physically consistent reading: the machine cancels the tip's horizontal velocity at
+    e, v_c = x_dot_A(e), so Eq. 17's absolute horizontal velocity x_dot - v_c vanishes
+    there. The printed form v_c = v_A cos(pi/2 - beta) = v_A sin(beta) with beta the
+    sowing (attitude) angle is reported beside it; both agree only when the tip moves
+    along the cane (docs/conventions.md)."""
+    vx = _periodic_at(psi, velocity[:, 0], p_e)
+    vy = _periodic_at(psi, velocity[:, 1], p_e)
+    v = float(np.hypot(vx, vy))
+    return {"zero_speed_travel_m_s": vx,
+            "speed_at_e_m_s": v,
+            "velocity_direction_at_e_deg": float(np.degrees(np.arctan2(vy, vx))),
+            "eq18_as_printed_m_s": v * float(np.sin(np.radians(sowing_angle_deg)))}
+
+
+def speed_by_section(psi, velocity, travel_m_s: float, section_psi: dict[str, float]) -> dict:
+    """Static and dynamic (Eq. 17) speed extremes (m/s) of the section-4.1 objectives:
+    seeding section de (peak) and return section ef (minimum)."""
+    static = np.hypot(velocity[:, 0], velocity[:, 1])
+    dynamic = np.hypot(velocity[:, 0] - travel_m_s, velocity[:, 1])
+    p = section_psi
+    de_s = section_values(psi, static, p["d"], p["e"])
+    ef_s = section_values(psi, static, p["e"], p["f"])
+    ef_d = section_values(psi, dynamic, p["e"], p["f"])
+    return {"max_speed_seeding_m_s": float(de_s.max()),
+            "min_speed_return_static_m_s": float(ef_s.min()),
+            "min_speed_return_dynamic_m_s": float(ef_d.min()),
+            "max_speed_seeding_dynamic_m_s": float(section_values(
+                psi, dynamic, p["d"], p["e"]).max()),
+            "max_speed_static_m_s": float(static.max()),
+            "min_speed_static_m_s": float(static.min())}
+
+
+def speed_checks(speeds: dict, limits) -> list[Check]:
+    """Section 4.1 objectives 4-5 (m/s)."""
+    return [
+        range_check("seeding_peak_speed", speeds["max_speed_seeding_m_s"], None,
+                    limits.seeding_max_m_s, "m/s", "largest static tip speed over de"),
+        range_check("return_min_speed_static", speeds["min_speed_return_static_m_s"],
+                    limits.return_min_m_s, None, "m/s", "smallest static tip speed over ef"),
+        range_check("return_min_speed_dynamic", speeds["min_speed_return_dynamic_m_s"],
+                    limits.return_min_m_s, None, "m/s",
+                    "smallest tip speed over ef with the machine travelling (Eq. 17)"),
+    ]
+
+
+def mate_curves(train, dense: int = 4096) -> dict:
+    """Sampled pitch curves (body angle rad, radius mm) of the sun and planet that
+    roll on gears 2 and 3: theta_mate = integral of r / (a - r), r_mate = a - r."""
+    from scipy.interpolate import CubicSpline
+
+    t = np.linspace(0.0, 2 * np.pi, dense + 1)
+    out = {}
+    for name, curve, c0, a in (("sun", train.gear2, train.gear2_contact0, train.a1),
+                               ("planet", train.gear3, train.gear3_contact0, train.a2)):
+        r = curve(c0 + t)
+        ang = CubicSpline(t, r / (a - r)).antiderivative()(t)
+        out[name] = (ang, a - r)
+    return out
+
+
+def gear_checks(train, tool_pressure_angle_deg: float, max_working_deg: float) -> tuple[dict, list]:
+    """Convexity of all four pitch curves, working-pressure-angle proxy of both pairs,
+    ratio extremes. Returns (metrics, checks)."""
+    from plantmech.geometry.periodic import RadiusCurve, convexity, pressure_angle_proxy
+
+    conv = {"gear2": convexity(train.gear2), "gear3": convexity(train.gear3)}
+    for name, (ang, r) in mate_curves(train).items():
+        span = float(ang[-1])
+        closed = not (name == "sun" and train.dwell_start is not None and train.dwell_theta1 > 0)
+        if closed:  # closure was checked when the train was built; remove the residual
+            ang = ang * (2 * np.pi / span)
+            span = 2 * np.pi
+        curve = RadiusCurve.from_samples(ang[:-1] if closed else ang,
+                                         r[:-1] if closed else r, periodic=closed,
+                                         theta0=0.0, name=name)
+        c = convexity(curve, span=min(span, 2 * np.pi))
+        if not closed:
+            c["note"] = (f"meshing arc of {np.degrees(span):.2f} deg only; the rest is the "
+                         "toothless sector")
+        conv[name] = c
+    pressure = {}
+    checks = []
+    for pair, curve in (("sun_gear2", train.gear2), ("gear3_planet", train.gear3)):
+        mu, where = pressure_angle_proxy(curve)
+        work = tool_pressure_angle_deg + np.degrees(mu)
+        pressure[pair] = {"pitch_tangent_deviation_deg": float(np.degrees(mu)),
+                          "at_body_angle_deg": float(np.degrees(where)),
+                          "max_working_pressure_angle_deg": float(work)}
+        checks.append(range_check(f"working_pressure_angle_{pair}", work, None, max_working_deg,
+                                  "deg", f"tool {tool_pressure_angle_deg:g} deg + max "
+                                  "atan(|r'|/r) of the pitch curves"))
+    for name in ("gear2", "gear3", "sun", "planet"):
+        c = conv[name]
+        checks.append(Check(f"convex_{name}", len(c["concave_spans_deg"]), "0 concave spans",
+                            bool(c["convex"]), "spans",
+                            "" if c["convex"] else
+                            "smallest concave radius of curvature "
+                            f"{c['min_concave_radius_mm']:.2f} mm (needs a shaper cutter "
+                            "smaller than that)"))
+    return {"convexity": conv, "pressure_angle": pressure}, checks
+
+
+def ratio_ranges(result) -> dict:
+    """Min/max of i = carrier/planet (total) and of each stage's i = driver/follower
+    (seed 000 Eq. 9 sense), outside the dwell."""
+    m = ~result.in_dwell if result.in_dwell is not None else slice(None)
+    out = {}
+    for key, rate in (("total_i0", result.total_ratio), ("stage1_i1", result.stage1_rate),
+                      ("stage2_i2", result.stage2_rate)):
+        inv = 1.0 / rate[m]
+        out[key] = {"min": float(inv.min()), "max": float(inv.max())}
+    return out

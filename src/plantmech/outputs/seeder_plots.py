@@ -138,3 +138,140 @@ def plot_pitch_curves(path: Path, res) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+# --- forward simulation -----------------------------------------------------------
+
+
+def _forward_spans(section_psi):
+    for name, (s, e) in SECTION_BOUNDS.items():
+        yield name, section_psi[s], section_psi[e]
+
+
+def _shade_sections(ax, section_psi):
+    for name, p0, p1 in _forward_spans(section_psi):
+        a0, a1 = p0 * DEG, p1 * DEG
+        spans = [(a0, a1)] if a1 >= a0 else [(a0, 360.0), (0.0, a1)]
+        for k, (lo, hi) in enumerate(spans):
+            ax.axvspan(lo, hi, color=SECTION_COLOURS[name], alpha=0.15,
+                       label=name.replace("_", " ") if k == 0 else None)
+
+
+def plot_forward_trajectories(path: Path, job) -> None:
+    """Static trajectory (mechanism frame) and dynamic trajectory (over the ground)."""
+    res = job.result
+    speed = job.design.operation.carrier_speed_deg_s
+    fig, axes = plt.subplots(1, 2, figsize=(15, 7))
+    ax = axes[0]
+    if job.trajectory is not None:
+        uu = np.linspace(0, job.trajectory.period, 3000)
+        ax.plot(*job.trajectory(uu).T, color="0.85", lw=6, label="planned trajectory")
+    psi = res.carrier_angle
+    for name, p0, p1 in _forward_spans(job.section_psi):
+        m = _mask(psi, p0, p1)
+        ax.plot(*res.tip[m].T, ".", ms=1.5, color=SECTION_COLOURS[name],
+                label=name.replace("_", " "))
+    for letter, p in job.section_psi.items():
+        k = int(np.argmin(np.abs(np.angle(np.exp(1j * (psi - p))))))
+        ax.annotate(letter, res.tip[k], textcoords="offset points", xytext=(-12, -12),
+                    fontsize=12, color="tab:red", weight="bold")
+    tr = job.train
+    b = tr.L1 * np.array([np.cos(tr.carrier0), np.sin(tr.carrier0)])
+    ax.plot([0, b[0], res.tip[0, 0]], [0, b[1], res.tip[0, 1]], "k-o", ms=4,
+            label="carrier and arm at start")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / mm")
+    ax.set_ylabel("y / mm")
+    ax.set_title("Static trajectory (origin: carrier axis)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    # two turns so the ground path shows how consecutive cycles sit
+    period = 360.0 / speed
+    for cycle in range(2):
+        dyn = res.dynamic_tip(speed, job.travel_m_s)
+        dyn[:, 0] -= job.travel_m_s * 1000.0 * period * cycle
+        ax.plot(*dyn.T, "-", lw=1, color="tab:blue" if cycle == 0 else "tab:cyan",
+                label=f"cycle {cycle + 1}")
+        k = int(np.argmin(np.abs(np.angle(np.exp(1j * (psi - job.section_psi["e"]))))))
+        ax.plot(*dyn[k], "rv", ms=7, label="seeding point e" if cycle == 0 else None)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x over ground / mm")
+    ax.set_ylabel("y / mm")
+    ax.set_title(f"Dynamic trajectory, travel v_c = {job.travel_m_s:.3f} m/s (Eq. 17)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def plot_forward_speed(path: Path, job) -> None:
+    res = job.result
+    speed = job.design.operation.carrier_speed_deg_s
+    lim = job.design.speed
+    fig, ax = plt.subplots(figsize=(10, 5))
+    _shade_sections(ax, job.section_psi)
+    deg = res.carrier_angle * DEG
+    ax.plot(deg, res.speed(speed), color="k", label="static speed")
+    ax.plot(deg, res.speed(speed, job.travel_m_s), color="tab:orange",
+            label=f"dynamic speed (v_c = {job.travel_m_s:.3f} m/s)")
+    ax.axhline(lim.seeding_max_m_s, color="tab:red", ls="--", lw=1,
+               label=f"seeding peak limit {lim.seeding_max_m_s:g} m/s")
+    ax.axhline(lim.return_min_m_s, color="0.3", ls=":", lw=1,
+               label=f"return minimum limit {lim.return_min_m_s:g} m/s")
+    ax.set_xlim(0, 360)
+    ax.set_xlabel("carrier angle (clockwise from start) / deg")
+    ax.set_ylabel("tip speed / (m/s)")
+    ax.set_title(f"Tip speed at {speed:g} deg/s carrier speed")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def plot_forward_attitude(path: Path, job) -> None:
+    res = job.result
+    fig, ax = plt.subplots(figsize=(10, 5))
+    _shade_sections(ax, job.section_psi)
+    ax.plot(res.carrier_angle * DEG, (res.arm_angle - res.arm_angle[0]) * DEG, "k",
+            label="cane attitude (from the initial attitude)")
+    ax.set_xlim(0, 360)
+    ax.set_xlabel("carrier angle (clockwise from start) / deg")
+    ax.set_ylabel("attitude / deg")
+    ax.set_title("Cane attitude vs carrier angle")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def plot_forward_pitch_curves(path: Path, job) -> None:
+    """Gears 2 and 3 and their mates (sun, planet) as closed polar curves."""
+    from plantmech.objectives.seeder import mate_curves
+
+    tr = job.train
+    t = np.linspace(0, 2 * np.pi, 1441)
+    mates = mate_curves(tr)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
+    for ax, (title, curve, mate, a) in zip(axes, (
+            ("sun (1) - gear 2", tr.gear2, "sun", tr.a1),
+            ("gear 3 - planet (4)", tr.gear3, "planet", tr.a2)), strict=True):
+        r = curve(t)
+        ax.plot(r * np.cos(t), r * np.sin(t), "tab:blue", label=title.split(" - ")[1])
+        ang, rm = mates[mate]
+        # mate drawn at its centre distance along -x, contact on the line of centres
+        ax.plot(-a - rm * np.cos(ang), rm * np.sin(ang), "tab:red",
+                label=title.split(" - ")[0])
+        ax.plot([0, -a], [0, 0], "k+", ms=10)
+        ax.set_aspect("equal")
+        ax.set_title(f"{title}, a = {a:.2f} mm (shapes, not in mesh position)")
+        ax.set_xlabel("x / mm")
+        ax.set_ylabel("y / mm")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
