@@ -234,3 +234,64 @@ class InfeasibleDesign(Exception):
     def __init__(self, job: SeederInverseJob):
         super().__init__("the inverse design is infeasible")
         self.job = job
+
+
+@dataclass
+class SeederPopulation:
+    """A population of variants of one design's [train] (radii of gears 2 and 3)."""
+
+    motion: object  # PopulationMotion
+    evaluation: object  # PopulationEvaluation
+    section_psi: np.ndarray  # (P, 6) rad
+
+
+def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
+                               samples: int = 720, dense: int = 2048,
+                               window_deg: float = 40.0) -> SeederPopulation:
+    """Simulate and evaluate P variants of ``design``'s train at once.
+
+    radii2, radii3: (P, N) interpolation radii (mm) at the design's angles (default:
+    the design's own, P = 1). Centre distances follow the design's closure method
+    ("centre_distance": solved per design; otherwise as given, unclosed pairs show in
+    ``metrics['closure_error_rad']``). Section points: the design's ``sections_deg``,
+    or located on each variant's path within +-window of where the base design passes
+    them.
+    """
+    from plantmech.mechanisms.seeder_batch import simulate_population
+    from plantmech.objectives.seeder_population import evaluate_population, locate_sections
+
+    t = design.train
+    if t is None:
+        raise ValueError("population evaluation needs a [train]")
+    if (t.gear2.angles_deg or t.gear2.angles()) != (t.gear3.angles_deg or t.gear3.angles()):
+        raise ValueError("population evaluation needs gears 2 and 3 at the same angles")
+    nodes = np.radians(t.gear2.angles())
+    R2 = np.atleast_2d(t.gear2.radii_mm if radii2 is None else radii2).astype(float)
+    R3 = np.atleast_2d(t.gear3.radii_mm if radii3 is None else radii3).astype(float)
+    solve = t.closure == "centre_distance"
+    c2, c3 = np.radians(t.gear2.contact_angle_deg), np.radians(t.gear3.contact_angle_deg)
+    dwell = t.dwell
+    motion = simulate_population(
+        nodes, R2, R3, t.L1_mm, t.L2_mm, None if solve else t.a1_mm, None if solve else t.a2_mm,
+        np.radians(t.initial_carrier_angle_deg), np.radians(t.initial_arm_angle_deg),
+        contact2_0=c2, contact3_0=c3, samples=samples, dense=dense, kind=t.interpolation,
+        dwell_start=np.radians(dwell.start_deg) if dwell else None,
+        dwell_sector=np.radians(dwell.sector_deg) if dwell else 0.0)
+    if t.sections_deg is not None:
+        sec = np.radians([getattr(t.sections_deg, k) for k in "abcdef"])
+        section_psi = np.broadcast_to(sec, (R2.shape[0], 6))
+    else:
+        base = run_seeder_forward(design)
+        ref = np.array([base.section_psi[k] for k in "abcdef"])
+        pts = np.asarray(design.trajectory.points)[
+            [getattr(design.trajectory.sections, k) for k in "abcdef"]]
+        section_psi = locate_sections(motion.tip, motion.carrier_angle, pts, ref,
+                                      np.radians(window_deg))
+    g = dict(nodes=nodes, kind=t.interpolation)
+    ev = evaluate_population(
+        motion, section_psi, design.operation.carrier_speed_deg_s,
+        design.operation.travel_speed_m_s, design.attitude, design.speed,
+        gear2={**g, "radii": R2, "contact0": c2}, gear3={**g, "radii": R3, "contact0": c3},
+        tool_pressure_angle_deg=design.gear_checks.tool_pressure_angle_deg,
+        max_working_pressure_angle_deg=design.gear_checks.max_working_pressure_angle_deg)
+    return SeederPopulation(motion, ev, section_psi)

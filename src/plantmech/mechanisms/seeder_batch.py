@@ -2,10 +2,12 @@
 share the interpolation angles of their pitch curves are simulated at once with
 array operations only (no Python loop per design or per sample).
 
-Same model and conventions as ``seeder_forward`` (no dwell here): pitch-curve radii
-of gears 2 and 3 at common node angles, r1 = a1 - r2, r4 = a2 - r3, rolling in the
-carrier frame. Periodic cubic-spline interpolation is linear in the node radii, so it
-is applied to the whole population as one matrix product.
+Same model and conventions as ``seeder_forward``: pitch-curve radii of gears 2 and 3
+at common node angles, r1 = a1 - r2, r4 = a2 - r3, rolling in the carrier frame, an
+optional toothless dwell. Both interpolants (periodic cubic spline, periodic Hermite
+with centred-difference tangents) are linear in the node radii, so they are applied
+to the whole population as one matrix product; centre distances that close each pair
+are solved for all designs at once (safeguarded Newton).
 """
 
 from __future__ import annotations
@@ -20,14 +22,50 @@ from plantmech.mechanisms.three_bar import tip_position, tip_rate
 TWO_PI = 2.0 * np.pi
 
 
-def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0) -> np.ndarray:
+def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
+                           kind: str = "spline") -> np.ndarray:
     """Matrix M (len(at) x len(nodes)) with M @ r = nu-th derivative of the periodic
-    cubic spline through (nodes, r) at angles ``at`` (rad)."""
+    interpolant through (nodes, r) at angles ``at`` (rad): ``spline`` (periodic cubic
+    spline) or ``hermite`` (periodic cubic Hermite, centred-difference tangents, as
+    ``RadiusCurve``)."""
+    from plantmech.geometry.periodic import RadiusCurve
+
     n = len(nodes)
     eye = np.eye(n)
     x = np.r_[nodes, nodes[0] + TWO_PI]
-    spl = CubicSpline(x, np.vstack([eye, eye[:1]]), bc_type="periodic")
-    return spl(nodes[0] + np.mod(at - nodes[0], TWO_PI), nu)
+    if kind == "spline":
+        spl = CubicSpline(x, np.vstack([eye, eye[:1]]), bc_type="periodic")
+        return spl(nodes[0] + np.mod(at - nodes[0], TWO_PI), nu)
+    cols = [RadiusCurve.from_samples(nodes, eye[k] + 1.0, kind=kind, theta0=float(nodes[0]))(
+        at, nu) - (1.0 if nu == 0 else 0.0) for k in range(n)]  # linear: shift keeps r > 0
+    return np.stack(cols, axis=-1)
+
+
+def solve_centre_distances(r: np.ndarray, turn) -> np.ndarray:
+    """Centre distance (P,) closing each design's pair: mean_k r_pk / (a_p - r_pk) * 2 pi
+    = turn, for radii r (P, D) sampled uniformly over one turn. The left side is convex
+    and decreasing in a, so Newton from a point left of the root converges monotonically;
+    the start is kept inside the bracket (max r, root]."""
+    r = np.atleast_2d(r)
+    turn = np.broadcast_to(np.asarray(turn, dtype=float), (r.shape[0],))
+    rmax = r.max(axis=1)
+    # start: a point with f > 0 (left of the root), found by halving the gap to max r
+    a = 2.0 * r.mean(axis=1)
+    for _ in range(60):
+        f = np.mean(r / (a[:, None] - r), axis=1) * TWO_PI - turn
+        left = f > 0
+        if left.all():
+            break
+        a = np.where(left, a, rmax + 0.5 * (a - rmax))
+    for _ in range(100):
+        q = 1.0 / (a[:, None] - r)
+        f = np.mean(r * q, axis=1) * TWO_PI - turn
+        df = -np.mean(r * q * q, axis=1) * TWO_PI
+        step = -f / df
+        a = a + step
+        if np.all(np.abs(step) <= 1e-12 * a):
+            break
+    return a
 
 
 @dataclass
@@ -38,6 +76,10 @@ class PopulationMotion:
     total_ratio: np.ndarray  # (P, S)
     tip_rate: np.ndarray  # (P, S, 2) mm/rad
     closure_error: np.ndarray  # (P, 2) rad: stage 1, stage 2
+    a1: np.ndarray | None = None  # (P,) mm, as given or solved
+    a2: np.ndarray | None = None
+    gear2_angle: np.ndarray | None = None  # (P, S) rad
+    in_dwell: np.ndarray | None = None  # (S,)
 
 
 def _hermite(y0, y1, d0, d1, h, s):
@@ -57,50 +99,73 @@ def _hermite_slope(y0, y1, d0, d1, h, s):
 
 def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
                         contact2_0=np.pi, contact3_0=0.0, samples: int = 3600,
-                        dense: int = 4096) -> PopulationMotion:
-    """Simulate P trains. radii2, radii3: (P, N) mm at ``nodes`` (N,) rad; the other
-    arguments are scalars or (P,) arrays (mm, rad)."""
+                        dense: int = 4096, kind: str = "spline",
+                        dwell_start: float | None = None, dwell_sector: float = 0.0,
+                        ) -> PopulationMotion:
+    """Simulate P trains. radii2, radii3: (P, N) mm at ``nodes`` (N,) rad; L1, L2,
+    carrier0, arm0 scalars or (P,); a1, a2 likewise, or None to solve the centre
+    distance that closes each pair (Eq. 8; a1 for a sun turn of 2 pi - dwell_sector).
+    ``dwell_start``/``dwell_sector`` (rad, shared): the toothless dwell."""
     r2n = np.atleast_2d(np.asarray(radii2, dtype=float))
     r3n = np.atleast_2d(np.asarray(radii3, dtype=float))
     P = r2n.shape[0]
     col = lambda v: np.broadcast_to(np.asarray(v, dtype=float), (P,))[:, None]  # noqa: E731
-    L1, L2, a1, a2 = col(L1), col(L2), col(a1), col(a2)
-    carrier0, arm0 = col(carrier0), col(arm0)
     t = np.linspace(0.0, TWO_PI, dense + 1)
     nodes = np.asarray(nodes, dtype=float)
-    r2 = r2n @ periodic_spline_matrix(nodes, contact2_0 + t).T  # (P, D+1)
-    r3 = r3n @ periodic_spline_matrix(nodes, contact3_0 + t).T
-    dr2 = r2n @ periodic_spline_matrix(nodes, contact2_0 + t, 1).T
-    dr3 = r3n @ periodic_spline_matrix(nodes, contact3_0 + t, 1).T
-    f_sun = r2 / (a1 - r2)  # d psi / d psi_2
+    m2 = periodic_spline_matrix(nodes, contact2_0 + t, 0, kind)
+    m3 = periodic_spline_matrix(nodes, contact3_0 + t, 0, kind)
+    r2 = r2n @ m2.T  # (P, D+1)
+    r3 = r3n @ m3.T
+    theta1 = float(dwell_sector) if dwell_start is not None else 0.0
+    if a1 is None:
+        a1 = solve_centre_distances(r2[:, :-1], TWO_PI - theta1)
+    if a2 is None:
+        a2 = solve_centre_distances(r3[:, :-1], TWO_PI)
+    a1_flat, a2_flat = np.broadcast_to(a1, (P,)).copy(), np.broadcast_to(a2, (P,)).copy()
+    L1, L2, a1, a2 = col(L1), col(L2), col(a1), col(a2)
+    carrier0, arm0 = col(carrier0), col(arm0)
+    dr2 = r2n @ periodic_spline_matrix(nodes, contact2_0 + t, 1, kind).T
+    dr3 = r3n @ periodic_spline_matrix(nodes, contact3_0 + t, 1, kind).T
+    f_sun = r2 / (a1 - r2)  # d psi / d psi_2 while meshing
     f_pl = r3 / (a2 - r3)  # d psi_4 / d psi_2
     sun = CubicSpline(t, f_sun, axis=1).antiderivative()(t)
     planet = CubicSpline(t, f_pl, axis=1).antiderivative()(t)
-    closure = np.c_[np.abs(sun[:, -1] - TWO_PI), np.abs(planet[:, -1] - TWO_PI)]
-    # Invert psi(psi_2) at uniform psi for every design with one flat searchsorted.
+    closure = np.c_[np.abs(sun[:, -1] + theta1 - TWO_PI), np.abs(planet[:, -1] - TWO_PI)]
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
-    scale = (TWO_PI / sun[:, -1])[:, None]  # map each design's turn onto [0, 2 pi]
+    # carrier angle -> meshing carrier angle (the dwell removes theta1 from the cycle)
+    if theta1 > 0:
+        start = float(dwell_start)
+        in_dwell = (psi >= start) & (psi < start + theta1)
+        target = np.where(psi >= start + theta1, psi - theta1, np.where(in_dwell, start, psi))
+    else:
+        in_dwell = np.zeros(samples, dtype=bool)
+        target = psi
+    # Invert psi(psi_2) at the targets for every design with one flat searchsorted.
+    span = TWO_PI - theta1
+    scale = (span / sun[:, -1])[:, None]  # map each design's meshing turn onto [0, span]
     sun_n = sun * scale
     offs = (np.arange(P) * 10.0)[:, None]
     flat = (sun_n + offs).ravel()
-    k = np.searchsorted(flat, (psi[None, :] + offs).ravel(), side="right") - 1
+    k = np.searchsorted(flat, (target[None, :] + offs).ravel(), side="right") - 1
     k = k.reshape(P, samples) - (np.arange(P) * (dense + 1))[:, None]
     k = np.clip(k, 0, dense - 1)
     rows = np.arange(P)[:, None]
     h = t[1] - t[0]
     y0, y1 = sun_n[rows, k], sun_n[rows, k + 1]
     d0, d1 = f_sun[rows, k] * scale, f_sun[rows, k + 1] * scale
-    s = (psi[None, :] - y0) / np.maximum(y1 - y0, 1e-300)
+    s = (target[None, :] - y0) / np.maximum(y1 - y0, 1e-300)
     for _ in range(3):  # Newton on the Hermite cubic of psi(psi_2) within the interval
-        val = _hermite(y0, y1, d0, d1, h, s) - psi[None, :]
+        val = _hermite(y0, y1, d0, d1, h, s) - target[None, :]
         s = np.clip(s - val / _hermite_slope(y0, y1, d0, d1, h, s), 0.0, 1.0)
+    gear2 = t[k] + s * h
     planet_rel = _hermite(planet[rows, k], planet[rows, k + 1], f_pl[rows, k],
                           f_pl[rows, k + 1], h, s)
     r2s = _hermite(r2[rows, k], r2[rows, k + 1], dr2[rows, k], dr2[rows, k + 1], h, s)
     r3s = _hermite(r3[rows, k], r3[rows, k + 1], dr3[rows, k], dr3[rows, k + 1], h, s)
-    ratio = (a1 - r2s) / r2s * r3s / (a2 - r3s)
+    ratio = np.where(in_dwell[None, :], 0.0, (a1 - r2s) / r2s * r3s / (a2 - r3s))
     carrier_abs = carrier0 - psi[None, :]
     arm = carrier_abs + planet_rel + (arm0 - carrier0)
     tip = tip_position(L1, L2, carrier_abs, arm)
     rate = tip_rate(L1, L2, carrier_abs, arm, ratio)
-    return PopulationMotion(psi, tip, arm, ratio, rate, closure)
+    return PopulationMotion(psi, tip, arm, ratio, rate, closure, a1_flat, a2_flat, gear2,
+                            in_dwell)

@@ -1,0 +1,171 @@
+"""Section-4.1 objectives and gear checks of a whole population of seeder trains at
+once (arrays over designs x samples; no Python loop per design or per sample).
+
+The same quantities as ``objectives.seeder`` for one design; section points are
+either given as carrier angles or located on each design's tip path near reference
+angles. Used by the optimizer (issue 6) and the app.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from plantmech.mechanisms.seeder_batch import PopulationMotion, periodic_spline_matrix
+
+TWO_PI = 2.0 * np.pi
+LETTERS = ("a", "b", "c", "d", "e", "f")
+
+
+def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
+                    reference: np.ndarray, window: float = np.radians(40.0)) -> np.ndarray:
+    """(P, 6) carrier angles (rad) where each design's tip passes closest to each
+    section point (6, 2), searched within +-window of the reference angles (6,)."""
+    P = tip.shape[0]
+    out = np.empty((P, len(points)))
+    for j, (pt, ref) in enumerate(zip(points, reference, strict=True)):  # 6 points
+        d = np.hypot(tip[..., 0] - pt[0], tip[..., 1] - pt[1])
+        near = np.abs(np.angle(np.exp(1j * (psi - ref)))) <= window
+        d = np.where(near[None, :], d, np.inf)
+        out[:, j] = psi[np.argmin(d, axis=1)]
+    return out
+
+
+def _mask(psi, start, end):
+    """(P, S) membership of carrier angles psi (S,) in clockwise sections [start, end]
+    given per design (P,)."""
+    span = np.mod(end - start, TWO_PI)[:, None]
+    return np.mod(psi[None, :] - start[:, None], TWO_PI) <= span
+
+
+def _at(psi, values, where):
+    """values (P, S) at the nearest sample to angles where (P,)."""
+    k = np.rint(np.mod(where, TWO_PI) / (psi[1] - psi[0])).astype(int) % len(psi)
+    return values[np.arange(values.shape[0]), k]
+
+
+def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
+                        dense: int = 2048, turn_scale=None) -> dict:
+    """Convexity and pressure-angle proxy of a gear (P, N radii) and of its mate at
+    centre distance a (P,), vectorized.
+
+    Signed curvature numerator of a polar curve (rho(t), phi(t)):
+    rho^2 phi'^3 + 2 rho'^2 phi' - rho rho'' phi' + rho rho' phi''; for the gear
+    phi = t; for the mate rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2.
+    ``min_kappa_r`` is min(curvature x radius) over the curve: 1 for a circle,
+    negative where the curve is concave; its check "convex_<gear>" passes at >= 0.
+    """
+    t = contact0 + np.linspace(0.0, TWO_PI, dense, endpoint=False)
+    R = np.atleast_2d(radii)
+    r, r1, r2 = (R @ periodic_spline_matrix(nodes, t, nu, kind).T for nu in (0, 1, 2))
+    a = np.asarray(a, dtype=float).reshape(-1, 1)
+    out = {}
+    for name, rho, drho, ddrho, dphi, ddphi in (
+            ("gear", r, r1, r2, np.ones_like(r), np.zeros_like(r)),
+            ("mate", a - r, -r1, -r2, r / (a - r), a * r1 / (a - r) ** 2)):
+        num = rho**2 * dphi**3 + 2 * drho**2 * dphi - rho * ddrho * dphi + rho * drho * ddphi
+        speed = np.sqrt(drho**2 + (rho * dphi) ** 2)
+        kappa = num / speed**3
+        concave = num < 0
+        starts = concave & ~np.roll(concave, 1, axis=1)
+        out[name] = {"min_kappa_r": (kappa * rho).min(axis=1),
+                     "concave_spans": starts.sum(axis=1) + (concave.all(axis=1)),
+                     "min_radius_mm": rho.min(axis=1)}
+    out["pressure_proxy_deg"] = np.degrees(np.arctan(np.abs(r1) / r)).max(axis=1)
+    return out
+
+
+@dataclass
+class PopulationEvaluation:
+    """Objective values of P designs: ``values`` (P, K) in the units of ``units``,
+    ``ok`` (P, K), ``violation`` (P, K) >= 0 (relative amount beyond the limit)."""
+
+    names: list[str]
+    units: list[str]
+    limits: list[str]
+    values: np.ndarray
+    ok: np.ndarray
+    violation: np.ndarray
+    metrics: dict = field(default_factory=dict)
+
+    @property
+    def feasible(self) -> np.ndarray:
+        return self.ok.all(axis=1)
+
+
+def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
+                        carrier_speed_deg_s: float = 360.0, travel_m_s=None,
+                        attitude=None, speed=None, gear2: dict | None = None,
+                        gear3: dict | None = None, tool_pressure_angle_deg: float = 20.0,
+                        max_working_pressure_angle_deg: float = 45.0) -> PopulationEvaluation:
+    """Every section-4.1 objective for all designs.
+
+    section_psi: (6,) or (P, 6) carrier angles (rad) of a-f. travel_m_s: None =
+    zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e).
+    gear2/gear3: optional dicts(nodes, radii, contact0, kind) to add the pitch-curve
+    checks (convexity of gear and mate, working pressure angle).
+    """
+    from plantmech.design import Attitude, SpeedLimits
+
+    attitude = attitude or Attitude()
+    speed = speed or SpeedLimits()
+    psi = motion.carrier_angle
+    P = motion.tip.shape[0]
+    sec = np.broadcast_to(np.asarray(section_psi, dtype=float), (P, 6))
+    A = dict(zip(LETTERS, sec.T, strict=True))
+    rel = np.degrees(motion.arm_angle - motion.arm_angle[:, :1])  # attitude (P, S)
+    names, units, limits, vals, viol = [], [], [], [], []
+
+    def add(name, value, lim, upper, unit, note_scale=None):
+        names.append(name)
+        units.append(unit)
+        limits.append(f"{'<' if upper else '>'} {lim:g} {unit}")
+        vals.append(value)
+        scale = abs(lim) if note_scale is None else note_scale
+        excess = (value - lim) if upper else (lim - value)
+        viol.append(np.maximum(excess, 0.0) / scale)
+        return value
+
+    def swing(s, e):
+        m = _mask(psi, A[s], A[e])
+        start = _at(psi, rel, A[s])
+        dev = np.where(m, np.abs(rel - start[:, None]), 0.0)
+        return dev.max(axis=1)
+
+    add("picking_swing", swing("a", "b"), attitude.picking_swing_max_deg, True, "deg")
+    add("seeding_swing", swing("d", "e"), attitude.seeding_swing_max_deg, True, "deg")
+    sowing = _at(psi, rel, A["e"])
+    add("sowing_angle", np.abs(sowing), attitude.sowing_angle_max_deg, True, "deg")
+    v = motion.tip_rate * (np.radians(carrier_speed_deg_s) / 1000.0)  # (P, S, 2) m/s
+    vx_e = _at(psi, v[..., 0], A["e"])
+    travel = vx_e if travel_m_s is None else np.broadcast_to(float(travel_m_s), (P,))
+    static = np.hypot(v[..., 0], v[..., 1])
+    dynamic = np.hypot(v[..., 0] - travel[:, None], v[..., 1])
+    de, ef = _mask(psi, A["d"], A["e"]), _mask(psi, A["e"], A["f"])
+    add("seeding_peak_speed", np.where(de, static, -np.inf).max(axis=1),
+        speed.seeding_max_m_s, True, "m/s")
+    add("return_min_speed_static", np.where(ef, static, np.inf).min(axis=1),
+        speed.return_min_m_s, False, "m/s")
+    add("return_min_speed_dynamic", np.where(ef, dynamic, np.inf).min(axis=1),
+        speed.return_min_m_s, False, "m/s")
+    metrics = {"zero_speed_travel_m_s": vx_e, "travel_m_s": travel, "sowing_angle_deg": sowing,
+               "closure_error_rad": motion.closure_error, "a1_mm": motion.a1,
+               "a2_mm": motion.a2}
+    for label, g, a, pair in (("gear2", gear2, motion.a1, "sun_gear2"),
+                              ("gear3", gear3, motion.a2, "gear3_planet")):
+        if g is None:
+            continue
+        pm = pitch_curve_metrics(g["nodes"], g["radii"], a, g.get("contact0", 0.0),
+                                 g.get("kind", "spline"))
+        metrics[label] = pm
+        add(f"working_pressure_angle_{pair}", tool_pressure_angle_deg + pm["pressure_proxy_deg"],
+            max_working_pressure_angle_deg, True, "deg")
+        mate = "sun" if label == "gear2" else "planet"
+        for who, key in ((label, "gear"), (mate, "mate")):
+            # convexity as a continuous margin: min curvature x radius must stay >= 0
+            add(f"convex_{who}", pm[key]["min_kappa_r"], 0.0, False, "", note_scale=1.0)
+    values = np.stack(vals, axis=1)
+    violation = np.stack(viol, axis=1)
+    ok = violation <= 0.0
+    return PopulationEvaluation(names, units, limits, values, ok, violation, metrics)
