@@ -93,3 +93,43 @@ def test_centre_distance_of_circles_and_ellipse():
     r = A * (1 - e**2) / (1 - e * np.cos(t))
     a = solve_centre_distance(RadiusCurve.from_samples(t, r))
     assert a == pytest.approx(2 * A, rel=1e-6)
+
+
+def test_unequal_circular_gears_give_the_epicyclic_path_and_speed():
+    # sun 70 / gear 2 50 (a1 = 120), gear 3 40 / planet 80 (a2 = 120): the planet turns
+    # (r1 / r2)(r3 / r4) = 0.7 of the carrier's turn relative to the carrier.
+    th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    L1, L2, phi0, arm0 = 240.0, 400.0, 0.4, 1.0
+    tr = SeederTrain(L1=L1, L2=L2, a1=120.0, a2=120.0,
+                     gear2=RadiusCurve.from_samples(th, np.full(8, 50.0)),
+                     gear3=RadiusCurve.from_samples(th, np.full(8, 40.0)),
+                     gear2_contact0=0.0, gear3_contact0=0.0, carrier0=phi0, arm0=arm0)
+    f = simulate(tr, samples=720)
+    psi = f.carrier_angle
+    k = 0.7
+    arm = arm0 - (1 - k) * psi
+    exp = np.c_[L1 * np.cos(phi0 - psi) + L2 * np.cos(arm),
+                L1 * np.sin(phi0 - psi) + L2 * np.sin(arm)]
+    assert np.abs(f.tip - exp).max() < 1e-8
+    assert np.allclose(f.total_ratio, k, atol=1e-12)
+    # speed at 360 deg/s (omega = 2 pi rad/s): |d tip/dt| from the two rotating phasors
+    w = 2 * np.pi
+    v = np.abs(-1j * L1 * w * np.exp(1j * (phi0 - psi))
+               - 1j * (1 - k) * L2 * w * np.exp(1j * arm)) / 1000.0
+    assert np.allclose(f.speed(360.0), v, rtol=1e-9)
+
+
+def test_assemble_train_refuses_bad_pitch_curves():
+    from plantmech.gears.closure import ClosureError
+    from plantmech.mechanisms.seeder_forward import GearPoints, assemble_train
+
+    th = np.radians(np.arange(8) * 45.0)
+    ok = GearPoints(th, np.full(8, 60.0))
+    with pytest.raises(ClosureError, match="gear 2"):
+        assemble_train(240, 400, 120, 120, GearPoints(th, np.full(8, 55.0)), ok, 0, 0)
+    spiky = GearPoints(th, np.array([60, 60, 60, 118, 60, 60, 60, 60.0]))
+    with pytest.raises(PitchCurveError, match=r"sun \(gear 1\).*body angle 135.00 deg"):
+        # closure tolerance opened wide so that the positivity check is what refuses
+        assemble_train(240, 400, 120, 120, spiky, ok, 0, 0, tolerance=100.0, min_radius=5.0)
+    with pytest.raises(ValueError, match="carrier cannot hold the shafts"):
+        assemble_train(300, 400, 120, 120, ok, ok, 0, 0)

@@ -120,7 +120,7 @@ def _print_forward(s: dict) -> None:
     print(f"  L1 = {t['L1_mm']:.2f} mm, L2 = {t['L2_mm']:.2f} mm, a1 = {t['a1_mm']:.3f} mm, "
           f"a2 = {t['a2_mm']:.3f} mm")
     for f in s["closure_restoration"]:
-        if f["method"] != "check":
+        if f["method"] != "check" and abs(f["turn_as_given_deg"] - f["required_turn_deg"]) > 1e-6:
             change = {"centre_distance": f"centre distance {f['centre_distance_given_mm']:.3f}"
                                          f" -> {f['centre_distance_mm']:.3f} mm",
                       "radial_offset": f"every radius {f['radial_offset_mm']:+.3f} mm",
