@@ -51,6 +51,21 @@ def main() -> None:
         print(f"population forward simulation, {P} designs x {samples} samples: "
               f"{t:.2f} s ({P / t:.0f} designs/s)")
 
+    from plantmech.workflows import evaluate_seeder_population, run_seeder_forward
+
+    t4 = load_design(ROOT / "examples" / "sugarcane_table4.toml")
+    t = timeit(lambda: run_seeder_forward(t4))
+    print(f"forward job on the Table 4 train (closure, simulation, every objective and gear "
+          f"check), 3600 samples: {t * 1e3:.1f} ms")
+    R2 = np.asarray(t4.train.gear2.radii_mm) + rng.uniform(-2, 2, (P, 8))
+    R3 = np.asarray(t4.train.gear3.radii_mm) + rng.uniform(-2, 2, (P, 8))
+    for samples, dense in ((360, 1024), (720, 2048), (3600, 4096)):
+        t = timeit(lambda s=samples, d=dense: evaluate_seeder_population(
+            t4, R2, R3, samples=s, dense=d), repeat=2)
+        print(f"population evaluation (Hermite, dwell, solved centre distances, located "
+              f"sections, every objective), {P} designs x {samples} samples: {t:.2f} s "
+              f"({P / t:.0f} designs/s)")
+
 
 if __name__ == "__main__":
     main()

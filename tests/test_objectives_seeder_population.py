@@ -19,7 +19,9 @@ def test_population_evaluation_matches_the_single_design_job():
         if name.startswith("convex_"):  # continuous margin vs span count
             assert ok == ref.ok
             continue
-        assert value == pytest.approx(ref.value, abs=2e-3 if "speed" in name else 1e-3), name
+        # pressure angle: 720 body angles here, 3600 in the job
+        tol = 2e-3 if "speed" in name else 0.05 if "pressure" in name else 1e-3
+        assert value == pytest.approx(ref.value, abs=tol), name
         assert ok == ref.ok
 
 

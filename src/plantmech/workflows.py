@@ -195,7 +195,33 @@ def _evaluate_forward(job: SeederForwardJob) -> None:
     if job.trajectory is not None:
         job.metrics["deviation_from_trajectory_mm"] = trajectory_deviation(job.trajectory,
                                                                            res.tip)
+        job.metrics["return_points"] = _speeds_at_return_points(job, vel)
     job.checks = checks
+
+
+def _speeds_at_return_points(job: SeederForwardJob, vel: np.ndarray) -> list[dict]:
+    """Static and dynamic speed (m/s) where the tip passes the type-value points from e
+    to f (seed 000 objective 5 names "the type value points q4-q8")."""
+    from plantmech.objectives.seeder import _section_mask
+
+    sec = job.design.trajectory.sections
+    n = len(job.trajectory.points)
+    res = job.result
+    m = _section_mask(res.carrier_angle, job.section_psi["e"], job.section_psi["f"])
+    idx = np.flatnonzero(m)
+    out = []
+    i = sec.e
+    while True:
+        d = np.hypot(*(res.tip[idx] - job.trajectory.points[i]).T)
+        k = idx[int(np.argmin(d))]
+        v = vel[k]
+        out.append({"point": f"q{i}", "carrier_angle_deg": float(np.degrees(res.carrier_angle[k])),
+                    "miss_mm": float(d.min()), "speed_m_s": float(np.hypot(*v)),
+                    "dynamic_speed_m_s": float(np.hypot(v[0] - job.travel_m_s, v[1]))})
+        if i == sec.f:
+            break
+        i = (i + 1) % n
+    return out
 
 
 def _distance_to_closed_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:

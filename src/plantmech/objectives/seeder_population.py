@@ -98,13 +98,15 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
                         carrier_speed_deg_s: float = 360.0, travel_m_s=None,
                         attitude=None, speed=None, gear2: dict | None = None,
                         gear3: dict | None = None, tool_pressure_angle_deg: float = 20.0,
-                        max_working_pressure_angle_deg: float = 45.0) -> PopulationEvaluation:
+                        max_working_pressure_angle_deg: float = 45.0,
+                        curve_samples: int = 720) -> PopulationEvaluation:
     """Every section-4.1 objective for all designs.
 
     section_psi: (6,) or (P, 6) carrier angles (rad) of a-f. travel_m_s: None =
     zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e).
     gear2/gear3: optional dicts(nodes, radii, contact0, kind) to add the pitch-curve
-    checks (convexity of gear and mate, working pressure angle).
+    checks (convexity of gear and mate, working pressure angle), evaluated at
+    ``curve_samples`` body angles per curve.
     """
     from plantmech.design import Attitude, SpeedLimits
 
@@ -157,7 +159,7 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
         if g is None:
             continue
         pm = pitch_curve_metrics(g["nodes"], g["radii"], a, g.get("contact0", 0.0),
-                                 g.get("kind", "spline"))
+                                 g.get("kind", "spline"), dense=curve_samples)
         metrics[label] = pm
         add(f"working_pressure_angle_{pair}", tool_pressure_angle_deg + pm["pressure_proxy_deg"],
             max_working_pressure_angle_deg, True, "deg")

@@ -50,6 +50,7 @@ def forward_summary(job) -> dict:
         out["section_point_miss_mm"] = job.section_distance_mm
     if "deviation_from_trajectory_mm" in m:
         out["deviation_from_trajectory_mm"] = m["deviation_from_trajectory_mm"]
+        out["return_points_speed"] = m["return_points"]
     return out
 
 
