@@ -77,6 +77,37 @@ class ForwardResult:
         return np.c_[self.tip[:, 0] - shift, self.tip[:, 1]]
 
 
+def _rolling_integral(curve: RadiusCurve, contact0: float, a: float, dense: int):
+    """F(t) = integral_0^t r / (a - r) dt' (rad) for the gear turning t from ``contact0``
+    (mate's turn while the gear turns t): a cubic-spline antiderivative on ``dense``
+    nodes. A non-periodic curve (break at its ``theta0``: the lock point of an
+    intermittent gear, where the radius jumps) is integrated in two pieces that meet at
+    the break exactly."""
+    if curve.periodic:
+        t = np.linspace(0.0, TWO_PI, dense + 1)
+        r = curve(contact0 + t)
+        return CubicSpline(t, r / (a - r)).antiderivative()
+    spl = curve.spline
+    tb = float(np.mod(curve.theta0 - contact0, TWO_PI))  # gear turn at which the break passes
+    xc = curve.theta0 + np.mod(contact0 - curve.theta0, TWO_PI)  # spline abscissa at t = 0
+    pieces = []
+    for t0, t1, x0 in ((0.0, tb, xc), (tb, TWO_PI, curve.theta0)):
+        if t1 - t0 < 1e-12:
+            continue
+        tt = np.linspace(t0, t1, max(8, int(dense * (t1 - t0) / TWO_PI)) + 1)
+        r = spl(x0 + (tt - t0))
+        pieces.append((t0, t1, CubicSpline(tt, r / (a - r)).antiderivative()))
+    if len(pieces) == 1:
+        return pieces[0][2]
+    (_, tb_, fa), (_, _, fb) = pieces
+    base = float(fa(tb_))
+
+    def F(x):
+        x = np.asarray(x, dtype=float)
+        return np.where(x <= tb_, fa(np.minimum(x, tb_)), base + fb(np.maximum(x, tb_)))
+    return F
+
+
 def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> ForwardResult:
     """Tip path at ``samples`` uniform carrier angles over one turn.
 
@@ -85,10 +116,8 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
     Newton refinement of the carrier -> gear-2 inversion).
     """
     t = np.linspace(0.0, TWO_PI, dense + 1)
-    r2 = train.gear2(train.gear2_contact0 + t)
-    r3 = train.gear3(train.gear3_contact0 + t)
-    sun_f = CubicSpline(t, r2 / (train.a1 - r2)).antiderivative()
-    planet_f = CubicSpline(t, r3 / (train.a2 - r3)).antiderivative()
+    sun_f = _rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
+    planet_f = _rolling_integral(train.gear3, train.gear3_contact0, train.a2, dense)
     sun = sun_f(t)
     theta1 = train.dwell_theta1 if train.dwell_start is not None else 0.0
     closure = {"stage1": float(abs(sun[-1] + theta1 - TWO_PI)),
@@ -99,17 +128,15 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
         if start < 0 or start + theta1 > TWO_PI:
             raise ValueError("the dwell must lie inside one carrier turn from the start")
         in_dwell = (psi >= start) & (psi < start + theta1)
-        target = np.where(psi >= start + theta1, psi - theta1, psi)
-        lock = float(np.interp(start, sun, t))
+        # meshing carrier angle: held at the dwell start while the sector passes
+        target = np.where(psi >= start + theta1, psi - theta1, np.where(in_dwell, start, psi))
     else:
         in_dwell = np.zeros(samples, dtype=bool)
         target = psi
-        lock = 0.0
     gear2 = np.interp(target, sun, t)
     for _ in range(4):
         r = train.gear2(train.gear2_contact0 + gear2)
         gear2 = gear2 - (sun_f(gear2) - target) * (train.a1 - r) / r
-    gear2 = np.where(in_dwell, lock, gear2)
     planet_rel = planet_f(gear2)
     r2s = train.gear2(train.gear2_contact0 + gear2)
     r3s = train.gear3(train.gear3_contact0 + gear2)

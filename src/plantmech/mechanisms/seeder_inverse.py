@@ -285,15 +285,42 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     # Ratio split (Eq. 7-8): stage 1 takes (total)^p, normalised so gear 2 closes.
     p = settings.split_exponent
     shape = np.where(in_dwell, 0.0, g_real ** p)
-    smooth = not in_dwell.any()
-    c = TWO_PI / (cumulative_trapezoid_periodic(shape, step, smooth)[-1])
+    scale = 1.0
+    if res.dwell is None:
+        def integral(values, fn):
+            return cumulative_trapezoid_periodic(values, step, smooth=True)
+    else:
+        # The laws jump at the dwell ends, which fall between samples: integrate the
+        # smooth law on the meshing arc only, with the arc ends as nodes.
+        arc0 = res.dwell["carrier_end"]
+        arc_len = TWO_PI - res.dwell["theta1"]
+        scale = res.dwell["ratio_scale"]
+
+        def integral(values, fn):
+            return _integrate_on_arc(fn, psi, arc0, arc_len)
+
+    def g_at(x):
+        return scale * (spl(np.mod(x, TWO_PI), 1) + 1.0)
+
+    c = TWO_PI / integral(shape, lambda x: g_at(x) ** p)[-1]
     h = c * shape  # d psi_2 / d psi = 1 / i_1
     q = np.where(in_dwell, 0.0, g_real ** (1 - p) / c)  # 1 / i_2 (gears 3-4 idle in dwell)
     # Discrete closure: the tabulated laws are normalised so that both pairs close
-    # under the same (trapezoidal) rule that integrates them back to angles.
-    q = q * TWO_PI / cumulative_trapezoid_periodic(h * q, step, smooth)[-1]
-    gear2 = cumulative_trapezoid_periodic(h, step, smooth)
-    planet_train = cumulative_trapezoid_periodic(h * q, step, smooth)
+    # under the same rule that integrates them back to angles.
+    norm = TWO_PI / integral(h * q, g_at)[-1]
+    q = q * norm
+    gear2 = integral(h, lambda x: c * g_at(x) ** p)
+    planet_train = integral(h * q, lambda x: norm * g_at(x))
+    if res.dwell is not None:
+        # exact pitch radii where meshing restarts (dwell end) and stops (dwell start)
+        edges = {}
+        for key, x in (("meshing_start", arc0), ("meshing_end", arc0 + arc_len)):
+            gx = float(g_at(x))
+            e_r1, e_r2 = radii_from_speed_ratio(a1, c * gx**p)
+            e_r3, e_r4 = radii_from_speed_ratio(a2, gx ** (1 - p) / c * norm)
+            edges[key] = {"r1": float(e_r1), "r2": float(e_r2), "r3": float(e_r3),
+                          "r4": float(e_r4)}
+        res.dwell["edge_pitch_radii"] = edges
     r1, r2 = radii_from_speed_ratio(a1, h)
     r3, r4 = radii_from_speed_ratio(a2, q)
     res.stage1_ratio, res.stage2_ratio, res.gear2_angle = h, q, gear2[:-1]
@@ -338,9 +365,8 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     if res.dwell is not None:
         dw = settings.dwell
         edge = dw.edge_radius
-        b0 = int(np.flatnonzero(in_dwell)[0]) if in_dwell.any() else 0
-        b1 = int(np.flatnonzero(in_dwell)[-1]) if in_dwell.any() else 0
-        before, after = r1[(b0 - 1) % n], r1[(b1 + 1) % n]
+        before = res.dwell["edge_pitch_radii"]["meshing_end"]["r1"]
+        after = res.dwell["edge_pitch_radii"]["meshing_start"]["r1"]
         if edge is None:
             edge = 0.5 * (before + after)
         res.dwell["edge_radius"] = float(edge)
@@ -367,6 +393,22 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
             ))
     res.feasible = not any(d.severity == "error" for d in diags)
     return res
+
+
+def _integrate_on_arc(fn, psi, x0: float, length: float) -> np.ndarray:
+    """Running integral over the cycle (n + 1 values from carrier angle 0, the last the
+    total) of a law that is smooth on the arc [x0, x0 + length] of carrier angles and
+    zero elsewhere; ``fn(x)`` evaluates it anywhere on the arc. A cubic spline through
+    the arc ends and the samples inside is integrated exactly, so the jumps at the arc
+    ends cost nothing (the trapezoid rule would lose O(step) there)."""
+    x = x0 + np.mod(psi - x0, TWO_PI)
+    inside = x < x0 + length
+    nodes = np.unique(np.r_[x0, x[inside], x0 + length])
+    prim = CubicSpline(nodes, fn(nodes)).antiderivative()
+    total = float(prim(x0 + length))
+    F = np.where(inside, prim(np.minimum(x, x0 + length)), total)
+    cum = F - F[0] + total * (x < x[0])
+    return np.r_[cum, total]
 
 
 def _apply_dwell(dw: DwellSpec, psi, planet_rel, g, point_psi):
