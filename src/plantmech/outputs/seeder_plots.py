@@ -249,29 +249,34 @@ def plot_forward_attitude(path: Path, job) -> None:
 
 
 def plot_forward_pitch_curves(path: Path, job) -> None:
-    """Gears 2 and 3 and their mates (sun, planet) as closed polar curves."""
+    """Both pairs drawn in mesh at the start (carrier angle 0): gear 2 (3) about the
+    origin, the sun (planet) about (-a, 0), touching on the line of centres."""
     from plantmech.objectives.seeder import mate_curves
 
     tr = job.train
-    t = np.linspace(0, 2 * np.pi, 1441)
     mates = mate_curves(tr)
-    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
-    for ax, (title, curve, mate, a) in zip(axes, (
-            ("sun (1) - gear 2", tr.gear2, "sun", tr.a1),
-            ("gear 3 - planet (4)", tr.gear3, "planet", tr.a2)), strict=True):
-        r = curve(t)
-        ax.plot(r * np.cos(t), r * np.sin(t), "tab:blue", label=title.split(" - ")[1])
-        ang, rm = mates[mate]
-        # mate drawn at its centre distance along -x, contact on the line of centres
-        ax.plot(-a - rm * np.cos(ang), rm * np.sin(ang), "tab:red",
-                label=title.split(" - ")[0])
+    t = np.linspace(0, 2 * np.pi, 4097)
+    fig, axes = plt.subplots(1, 2, figsize=(13, 6))
+    for ax, (gear, mate, curve, c0, a) in zip(axes, (
+            ("gear 2", "sun (1)", tr.gear2, tr.gear2_contact0, tr.a1),
+            ("gear 3", "planet (4)", tr.gear3, tr.gear3_contact0, tr.a2)), strict=True):
+        r = curve(c0 + t)
+        # the gear point that reaches the contact after a turn t starts at angle pi + t
+        ax.plot(r * np.cos(np.pi + t), r * np.sin(np.pi + t), "tab:blue", label=gear)
+        ang, rm = mates["sun" if mate.startswith("sun") else "planet"]
+        # the mate turns the other way: its point meeting the contact after the gear's
+        # turn t starts at angle -ang(t) about its own centre
+        ax.plot(-a + rm * np.cos(-ang), rm * np.sin(-ang), "tab:red", label=mate)
         ax.plot([0, -a], [0, 0], "k+", ms=10)
+        ax.plot([-r[0]], [0], "ko", ms=4, label="contact at the start")
         ax.set_aspect("equal")
-        ax.set_title(f"{title}, a = {a:.2f} mm (shapes, not in mesh position)")
+        ax.set_title(f"{mate} - {gear}, centre distance {a:.2f} mm")
         ax.set_xlabel("x / mm")
         ax.set_ylabel("y / mm")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
+    fig.suptitle("Pitch curves in mesh at carrier angle 0 (carrier frame, line of centres "
+                 "along x)")
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
