@@ -7,7 +7,10 @@ from tests.conftest import EXAMPLES
 def test_examples_load():
     for f in EXAMPLES.glob("*.toml"):
         d = load_design(f)
-        assert len(d.trajectory.points) == 27
+        if d.mechanism == "sugarcane_seeder":
+            assert len(d.trajectory.points) == 27
+        else:
+            assert d.carrier.arms in (2, 3)
 
 
 def write(tmp_path, text):

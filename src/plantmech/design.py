@@ -264,7 +264,187 @@ def _format_error(path: Path, err: ValidationError) -> str:
     return "\n".join(lines)
 
 
-def load_design(path: str | Path) -> SeederDesign:
+# --- seed 001: rice transplanting mechanisms ----------------------------------------
+
+
+class InternalGearSpec(_Strict):
+    """Lobed non-circular internal gear (seed 001): control radii over one lobe."""
+
+    lobes: int = Field(4, ge=2, description="n: lobes = mean ratio planet : internal gear")
+    radii_mm: list[PositiveMM] = Field(description="r_i over one lobe")
+    phases_deg: list[FiniteFloat] | None = Field(
+        None, description="lobe phase of each r_i (360 per lobe, in the order the mesh "
+        "point meets them); default uniform")
+    interpolation: Literal["hermite", "spline"] = "hermite"
+    initial_phase_deg: FiniteFloat = Field(0.0, description="sigma: lobe phase of arm 1's "
+                                           "mesh point at the start")
+    teeth: int | None = Field(None, ge=3, description="tooth count (for the module)")
+    centre_distance_mm: PositiveMM | None = Field(None, description="default: solved so the "
+                                                  "planet turns once per lobe")
+    min_planet_radius_mm: PositiveMM = 2.0
+    rim_mm: float = Field(5.0, ge=0, allow_inf_nan=False,
+                          description="gearbox wall outside the internal gear's root")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if len(self.radii_mm) < 4:
+            raise ValueError(f"need at least 4 radii, got {len(self.radii_mm)}")
+        if self.phases_deg is not None:
+            if len(self.phases_deg) != len(self.radii_mm):
+                raise ValueError(f"phases_deg has {len(self.phases_deg)} values but radii_mm "
+                                 f"has {len(self.radii_mm)}")
+            a = self.phases_deg
+            for k in range(1, len(a)):
+                if a[k] <= a[k - 1]:
+                    raise ValueError(f"phases_deg must increase: point {k} at {a[k]:g} deg "
+                                     f"follows {a[k - 1]:g} deg")
+            if a[-1] - a[0] >= 360.0:
+                raise ValueError("phases_deg must span less than one lobe (360 deg)")
+        if self.teeth is not None and self.teeth % self.lobes:
+            raise ValueError(f"teeth = {self.teeth} is not a multiple of lobes = {self.lobes}: "
+                             "every lobe must carry whole teeth")
+        return self
+
+    def phases(self) -> list[float]:
+        n = len(self.radii_mm)
+        return self.phases_deg if self.phases_deg is not None else [360.0 * k / n
+                                                                    for k in range(n)]
+
+
+class SunGearSpec(_Strict):
+    """Fixed sun of a K-H-V train: control radii at absolute angles (deg, CCW from +x)."""
+
+    radii_mm: list[PositiveMM]
+    angles_deg: list[FiniteFloat] | None = None
+    interpolation: Literal["hermite", "spline"] = "hermite"
+    teeth: int | None = Field(None, ge=3)
+    rim_mm: float = Field(5.0, ge=0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if len(self.radii_mm) < 4:
+            raise ValueError(f"need at least 4 radii, got {len(self.radii_mm)}")
+        if self.angles_deg is not None:
+            a = self.angles_deg
+            if len(a) != len(self.radii_mm):
+                raise ValueError("angles_deg and radii_mm differ in length")
+            for k in range(1, len(a)):
+                if a[k] <= a[k - 1]:
+                    raise ValueError(f"angles_deg must increase: point {k} at {a[k]:g} deg "
+                                     f"follows {a[k - 1]:g} deg")
+            if a[-1] - a[0] >= 360.0:
+                raise ValueError("angles_deg must span less than 360 deg")
+        return self
+
+    def angles(self) -> list[float]:
+        n = len(self.radii_mm)
+        return self.angles_deg if self.angles_deg is not None else [360.0 * k / n
+                                                                    for k in range(n)]
+
+
+class Drive(_Strict):
+    carrier_speed_deg_s: PositiveMM = Field(360.0, description="omega_2, clockwise")
+    speed_ratio: float | None = Field(None, gt=0, allow_inf_nan=False,
+                                      description="omega_1/omega_2; default (n - 1)/n")
+
+
+class Carrier(_Strict):
+    initial_angle_deg: FiniteFloat = Field(description="phi_H0, CCW from +x")
+    arms: int = Field(3, ge=1, le=6)
+
+
+class Arm(_Strict):
+    S_mm: PositiveMM = Field(description="planet axis to needle tip B")
+    H1_mm: PositiveMM = Field(description="planet axis to break point A")
+    beta_deg: FiniteFloat = Field(description="arm installation angle on the planet")
+    needle_length_mm: PositiveMM = 60.0
+    outline: dict[str, list[tuple[FiniteFloat, FiniteFloat]]] | None = Field(
+        None, description="{layer: polygon} in the arm frame (mm); default documented")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.H1_mm > self.S_mm:
+            raise ValueError(f"H1_mm = {self.H1_mm:g} exceeds S_mm = {self.S_mm:g}: the break "
+                             "point must lie between the planet axis and the tip")
+        return self
+
+
+class SeedlingBox(_Strict):
+    x_mm: FiniteFloat = Field(description="Yx: door point")
+    y_mm: FiniteFloat = Field(description="Yy: door point")
+    inclination_deg: FiniteFloat = Field(description="Ya: floor direction, CCW from +x")
+    mat_thickness_mm: PositiveMM = 20.0
+    sample_mm: PositiveMM = 8.0
+    length_mm: PositiveMM = 300.0
+    door_length_mm: float = Field(15.0, ge=0, allow_inf_nan=False)
+    floor_thickness_mm: PositiveMM = 5.0
+
+
+class FieldSpec(_Strict):
+    planting_depth_mm: PositiveMM = Field(25.0, description="ground above the lowest tip point")
+    plant_spacing_mm: PositiveMM = 120.0
+    spacing_range_mm: tuple[PositiveMM, PositiveMM] = (60.0, 180.0)
+    check_height_mm: PositiveMM = Field(100.0, description="height over which the forward "
+                                        "inclination is measured")
+
+
+class TransplanterLimitsSpec(_Strict):
+    picking_angle_deg: tuple[FiniteFloat, FiniteFloat] = (320.0, 350.0)
+    pushing_angle_deg: tuple[FiniteFloat, FiniteFloat] = (270.0, 310.0)
+    angle_difference_deg: tuple[FiniteFloat, FiniteFloat] = (45.0, 65.0)
+    rectangularity_mm: PositiveMM = 0.5
+    min_trajectory_height_mm: PositiveMM = 200.0
+    min_forward_inclination_deg: PositiveMM = 70.0
+    max_hole_width_mm: PositiveMM = 30.0
+    min_gearbox_clearance_mm: FiniteFloat = 20.0
+    min_module_mm: PositiveMM = 2.5
+    min_needle_angle_deg: FiniteFloat = 10.0
+
+
+class _TransplanterBase(_Strict):
+    name: str = "unnamed design"
+    description: str = ""
+    samples: int = Field(3600, ge=90, le=200_000)
+    drive: Drive = Drive()
+    carrier: Carrier
+    arm: Arm
+    seedling_box: SeedlingBox
+    field: FieldSpec = FieldSpec()
+    limits: TransplanterLimitsSpec = TransplanterLimitsSpec()
+
+
+class TransplanterDesign(_TransplanterBase):
+    """Differential internal-engagement train (seed 001)."""
+
+    mechanism: Literal["rice_transplanter"]
+    internal_gear: InternalGearSpec
+
+    @model_validator(mode="after")
+    def _ratio(self):
+        n = self.internal_gear.lobes
+        k = self.drive.speed_ratio
+        if k is not None:
+            m = n * (1 - k)
+            if abs(m - round(m)) > 1e-9 or round(m) == 0:
+                raise ValueError(
+                    f"drive.speed_ratio = {k:g} with {n} lobes moves the mesh point {m:.6g} "
+                    "lobes per carrier turn; the arms repeat every carrier turn only for a "
+                    f"whole non-zero number (swinging arm: speed_ratio = {(n - 1) / n:.6g})")
+        return self
+
+
+class KHVDesign(_TransplanterBase):
+    """Single-DOF K-H-V non-circular planetary train (seed 001 Fig. 1)."""
+
+    mechanism: Literal["rice_transplanter_khv"]
+    sun_gear: SunGearSpec
+
+
+MECHANISMS = {"sugarcane_seeder": SeederDesign, "rice_transplanter": TransplanterDesign,
+              "rice_transplanter_khv": KHVDesign}
+
+
+def load_design(path: str | Path):
     """Read and validate a design file; raise DesignError naming file and field."""
     path = Path(path)
     try:
@@ -276,12 +456,17 @@ def load_design(path: str | Path) -> SeederDesign:
     except UnicodeDecodeError:
         raise DesignError(f"{path}: not a UTF-8 text file") from None
     mech = raw.get("mechanism")
+    known = ", ".join(f'"{m}"' for m in MECHANISMS)
     if mech is None:
-        raise DesignError(f"{path}: field 'mechanism' is missing "
-                          "(expected \"sugarcane_seeder\")")
-    if mech != "sugarcane_seeder":
+        raise DesignError(f"{path}: field 'mechanism' is missing (expected one of {known})")
+    if mech not in MECHANISMS:
         raise DesignError(f"{path}: field 'mechanism': unknown mechanism {mech!r} "
-                          "(expected \"sugarcane_seeder\")")
+                          f"(expected one of {known})")
+    if mech != "sugarcane_seeder":
+        try:
+            return MECHANISMS[mech].model_validate(raw)
+        except ValidationError as exc:
+            raise DesignError(_format_error(path, exc)) from None
     if "trajectory" not in raw and "train" not in raw:
         raise DesignError(f"{path}: field 'trajectory' is missing: give a [trajectory] "
                           "(inverse design) or a [train] (pitch curves), or both")

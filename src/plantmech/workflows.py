@@ -321,3 +321,112 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
         tool_pressure_angle_deg=design.gear_checks.tool_pressure_angle_deg,
         max_working_pressure_angle_deg=design.gear_checks.max_working_pressure_angle_deg)
     return SeederPopulation(motion, ev, section_psi)
+
+
+# --- seed 001: rice transplanting mechanisms ------------------------------------------
+
+
+@dataclass
+class TransplanterJob:
+    design: object  # TransplanterDesign | KHVDesign
+    pair: object  # LobedInternalPair | KHVPair
+    motion: object  # TransplanterMotion
+    evaluation: object  # TransplanterEvaluation
+    perimeter_mm: float
+    gearbox_radius_mm: float
+    summary: dict
+
+
+def field_setup(design):
+    from plantmech.objectives.transplanter import FieldSetup
+
+    b, f = design.seedling_box, design.field
+    return FieldSetup(
+        box_x=b.x_mm, box_y=b.y_mm, box_inclination_deg=b.inclination_deg,
+        mat_thickness=b.mat_thickness_mm, sample=b.sample_mm, box_length=b.length_mm,
+        door_length=b.door_length_mm, floor_thickness=b.floor_thickness_mm,
+        planting_depth=f.planting_depth_mm, spacing_nominal=f.plant_spacing_mm,
+        spacing_range=tuple(f.spacing_range_mm), check_height=f.check_height_mm,
+        carrier_speed_deg_s=design.drive.carrier_speed_deg_s,
+        needle_length=design.arm.needle_length_mm,
+        outline={k: list(v) for k, v in design.arm.outline.items()} if design.arm.outline
+        else None)
+
+
+def transplanter_limits(design):
+    from plantmech.objectives.transplanter import TransplanterLimits
+
+    return TransplanterLimits(**{k: (tuple(v) if isinstance(v, list | tuple) else v)
+                                 for k, v in design.limits.model_dump().items()})
+
+
+def simulate_transplanter(design, radii=None, samples: int | None = None, dense: int = 4096):
+    """(pair, motion, perimeter (P,), gearbox radius (P,)) for ``design`` or for P
+    variants of its gear radii (P, N)."""
+    from plantmech.gears.internal import internal_perimeter, lobed_internal_pair
+    from plantmech.mechanisms.transplanter import (
+        ArmGeometry,
+        khv_pair,
+        simulate_differential,
+        simulate_khv,
+    )
+
+    samples = samples or design.samples
+    arm = ArmGeometry(design.arm.S_mm, design.arm.H1_mm, np.radians(design.arm.beta_deg))
+    carrier0 = np.radians(design.carrier.initial_angle_deg)
+    if design.mechanism == "rice_transplanter":
+        g = design.internal_gear
+        r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
+        pair = lobed_internal_pair(np.radians(g.phases()), r, g.lobes, g.interpolation, dense,
+                                   g.min_planet_radius_mm, g.centre_distance_mm)
+        k = design.drive.speed_ratio
+        k = (g.lobes - 1) / g.lobes if k is None else k
+        motion = simulate_differential(pair, k, carrier0, arm, np.radians(g.initial_phase_deg),
+                                       design.carrier.arms, samples)
+        perimeter = internal_perimeter(pair)
+        module = perimeter / (np.pi * g.teeth) if g.teeth else np.zeros_like(perimeter)
+        box = pair.R.max(axis=1) + 1.25 * module + g.rim_mm
+    else:
+        g = design.sun_gear
+        r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
+        pair = khv_pair(np.radians(g.angles()), r, carrier0, g.interpolation, dense)
+        motion = simulate_khv(pair, carrier0, arm, design.carrier.arms, samples)
+        h = pair.sigma[1] - pair.sigma[0]
+        # sun perimeter: polar curve over absolute angle (sigma runs clockwise)
+        dr = np.gradient(pair.r_sun, h, axis=1)
+        ds = np.sqrt(pair.r_sun**2 + dr**2)
+        perimeter = np.sum(0.5 * (ds[:, 1:] + ds[:, :-1]), axis=1) * h
+        module = perimeter / (np.pi * g.teeth) if g.teeth else np.zeros_like(perimeter)
+        # the carrier box holds the planets at 2a: its reach is 2a + largest planet radius
+        box = 2 * pair.a + pair.r_sun.max(axis=1) + 1.25 * module + g.rim_mm
+    return pair, motion, perimeter, box
+
+
+def run_transplanter(design) -> TransplanterJob:
+    """Simulate a transplanting mechanism and evaluate objectives (i)-(xii)."""
+    from plantmech.objectives.transplanter import evaluate
+    from plantmech.outputs.transplanter_report import transplanter_summary
+
+    pair, motion, perimeter, box = simulate_transplanter(design)
+    teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
+             else design.sun_gear.teeth)
+    ev = evaluate(motion, field_setup(design), transplanter_limits(design), perimeter, teeth,
+                  box)
+    job = TransplanterJob(design, pair, motion, ev, float(perimeter[0]), float(box[0]), {})
+    job.summary = transplanter_summary(job)
+    return job
+
+
+def evaluate_transplanter_population(design, radii, samples: int = 720,
+                                    interference: bool = False):
+    """Simulate and evaluate P variants of the design's gear radii (P, N) at once:
+    (motion, evaluation). Interference checks (shapely) are optional: they dominate
+    the cost."""
+    from plantmech.objectives.transplanter import evaluate
+
+    pair, motion, perimeter, box = simulate_transplanter(design, radii, samples, dense=1024)
+    teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
+             else design.sun_gear.teeth)
+    ev = evaluate(motion, field_setup(design), transplanter_limits(design), perimeter, teeth,
+                  box, interference=interference)
+    return motion, ev

@@ -131,3 +131,20 @@ def pressure_angle_proxy(curve: RadiusCurve, samples: int = 3600) -> tuple[float
     mu = np.arctan(np.abs(curve(th, 1)) / curve(th))
     k = int(np.argmax(mu))
     return float(mu[k]), float(np.mod(th[k], TWO_PI))
+
+
+def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
+                           kind: str = "spline") -> np.ndarray:
+    """Matrix M (len(at) x len(nodes)) with M @ r = nu-th derivative of the periodic
+    interpolant through (nodes, r) at angles ``at`` (rad): ``spline`` (periodic cubic
+    spline) or ``hermite`` (periodic cubic Hermite, centred-difference tangents, as
+    ``RadiusCurve``)."""
+    n = len(nodes)
+    eye = np.eye(n)
+    x = np.r_[nodes, nodes[0] + TWO_PI]
+    if kind == "spline":
+        spl = CubicSpline(x, np.vstack([eye, eye[:1]]), bc_type="periodic")
+        return spl(nodes[0] + np.mod(at - nodes[0], TWO_PI), nu)
+    cols = [RadiusCurve.from_samples(nodes, eye[k] + 1.0, kind=kind, theta0=float(nodes[0]))(
+        at, nu) - (1.0 if nu == 0 else 0.0) for k in range(n)]  # linear: shift keeps r > 0
+    return np.stack(cols, axis=-1)

@@ -83,6 +83,8 @@ def _forward(args) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    if design.mechanism != "sugarcane_seeder":
+        return _forward_transplanter(args, design, out)
     t0 = time.perf_counter()
     try:
         job = run_seeder_forward(design)
@@ -110,6 +112,45 @@ def _forward(args) -> int:
             fn(out / name, job)
             written.append(out / name)
     _print_forward(job.summary)
+    print("wrote: " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
+def _forward_transplanter(args, design, out) -> int:
+    from plantmech.gears.internal import InternalPairError
+    from plantmech.outputs.transplanter_report import write_transplanter_outputs
+    from plantmech.workflows import run_transplanter
+
+    t0 = time.perf_counter()
+    try:
+        job = run_transplanter(design)
+    except (InternalPairError, ValueError) as exc:
+        gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
+        print(f"error: {args.design}: [{gear}]: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
+    written = write_transplanter_outputs(out, job)
+    if not args.no_plots:
+        from plantmech.outputs import transplanter_plots as tp
+
+        for name, fn in (("trajectories.png", tp.plot_trajectories),
+                         ("attitude_speed.png", tp.plot_attitude_speed),
+                         ("ratio.png", tp.plot_ratio), ("gears.png", tp.plot_gears)):
+            fn(out / name, job)
+            written.append(out / name)
+    s = job.summary
+    print(f"{s['name']}: {s['mechanism']}, centre distance {s['centre_distance_mm']:.3f} mm, "
+          f"closure error {s['closure_error_rad']:.1e} rad")
+    for c in s["objectives"]:
+        val = "n/a" if c["value"] is None else f"{c['value']:.2f} {c['unit']}"
+        print(f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<24} {val:>14}   limit {c['limit']}")
+    for arm, st in s["stages_deg"].items():
+        parts = ", ".join(f"{k} {v[0]:.1f}-{v[1]:.1f}" for k, v in st.items() if v)
+        print(f"  {arm}: {parts} deg")
+    dev = s["arm_phase_deviation_mm"]
+    print("  arms repeat each other after the carrier phase shift to "
+          f"{max(dev):.1e} mm" if max(dev) < 1e-6 else
+          f"  arms differ after the carrier phase shift by up to {max(dev):.2f} mm")
     print("wrote: " + ", ".join(str(p) for p in written))
     return EXIT_OK
 

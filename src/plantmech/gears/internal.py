@@ -1,0 +1,140 @@
+"""Internal non-circular gear pairs with a lobed internal gear (seed 001).
+
+Reading of the paper's parameter list (docs/conventions.md, "Seed 001 parameters"):
+the control radii r_i (mm) describe the **internal gear**, one lobe of it, at lobe
+phases theta_i (deg, 360 per lobe, in the order in which the mesh point meets them);
+the internal gear has n identical lobes (n = the paper's mean ratio planet : internal,
+relative to the carrier), so its polar angle is the lobe phase / n. The planet rolls
+inside it at centre distance a:
+
+    r_planet = R - a        (internal engagement, same sense of rotation),
+    d(planet turn) = R / r_planet d(internal turn)   (seed 001 Eq. 5),
+
+and it turns exactly once per lobe, which fixes a (closure):
+    (1 / n) integral_0^{2 pi} R(p) / (R(p) - a) dp = 2 pi   (p = lobe phase).
+
+Everything is vectorised over P designs: radii (P, N) at common lobe phases (N,).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from plantmech.geometry.periodic import periodic_spline_matrix
+
+TWO_PI = 2.0 * np.pi
+
+
+class InternalPairError(ValueError):
+    """An internal pair that cannot mesh (message names the lobe phase)."""
+
+
+def solve_internal_centre_distance(R: np.ndarray, lobes: float) -> np.ndarray:
+    """Centre distance a (P,) closing each internal pair: mean(R / (R - a)) = lobes for
+    R (P, D) sampled uniformly over one lobe. The left side rises monotonically from
+    1 (a = 0) to +inf (a -> min R), so the root is unique; bisection then Newton."""
+    R = np.atleast_2d(R)
+    if lobes <= 1:
+        raise InternalPairError(f"n = {lobes:g}: the planet must turn faster than the internal "
+                                "gear relative to the carrier (n > 1)")
+    lo = np.zeros(R.shape[0])
+    hi = R.min(axis=1) * (1 - 1e-12)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        f = np.mean(R / (R - mid[:, None]), axis=1) - lobes
+        lo, hi = np.where(f < 0, mid, lo), np.where(f < 0, hi, mid)
+    a = 0.5 * (lo + hi)
+    for _ in range(3):
+        q = 1.0 / (R - a[:, None])
+        f = np.mean(R * q, axis=1) - lobes
+        df = np.mean(R * q * q, axis=1)
+        a = np.clip(a - f / df, lo, hi)
+    return a
+
+
+@dataclass
+class LobedInternalPair:
+    """P internal pairs sampled on a dense lobe-phase grid p (D+1,), 0..2 pi.
+
+    R, dR: internal pitch radius and dR/dp (P, D+1); a (P,); planet radius R - a;
+    Q (P, D+1): planet turn relative to the carrier as the mesh point advances from
+    p = 0 to p (rad), Q(2 pi) = 2 pi when closed.
+    """
+
+    lobes: float
+    p: np.ndarray
+    R: np.ndarray
+    dR: np.ndarray
+    a: np.ndarray
+    Q: np.ndarray
+
+    @property
+    def planet_radius(self) -> np.ndarray:
+        return self.R - self.a[:, None]
+
+    @property
+    def closure_error(self) -> np.ndarray:
+        return np.abs(self.Q[:, -1] - TWO_PI)
+
+    def internal_polar(self, k: int = 0, lobes_drawn: int | None = None):
+        """(angle rad, radius mm) of design k's internal pitch curve over all lobes,
+        body angle = -p / n (the mesh point moves clockwise in the gear)."""
+        n = int(round(self.lobes)) if lobes_drawn is None else lobes_drawn
+        ang = np.concatenate([-(self.p[:-1] + TWO_PI * j) / self.lobes for j in range(n)])
+        return ang, np.tile(self.R[k, :-1], n)
+
+    def planet_polar(self, k: int = 0):
+        """(angle rad, radius mm) of design k's planet pitch curve: body angle -Q."""
+        return -self.Q[k], self.planet_radius[k]
+
+
+def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
+                        dense: int = 4096, min_planet_radius: float = 0.0,
+                        centre_distance=None) -> LobedInternalPair:
+    """Build P internal pairs from control radii (P, N) mm at lobe phases (N,) rad.
+
+    ``centre_distance`` None: solved for closure (one planet turn per lobe).
+    Raises InternalPairError naming the lobe phase where the planet radius is not
+    above ``min_planet_radius``.
+    """
+    from scipy.interpolate import CubicSpline
+
+    radii = np.atleast_2d(np.asarray(radii, dtype=float))
+    phases = np.asarray(phases, dtype=float)
+    if np.any(radii <= 0):
+        k = np.argwhere(radii <= 0)[0]
+        raise InternalPairError(f"internal gear radius r_{k[1]} = {radii[tuple(k)]:g} mm "
+                                "is not positive")
+    p = np.linspace(0.0, TWO_PI, dense + 1)
+    R = radii @ periodic_spline_matrix(phases, p, 0, kind).T
+    dR = radii @ periodic_spline_matrix(phases, p, 1, kind).T
+    if np.any(R <= 0):
+        k = np.argwhere(R <= 0)[0]
+        raise InternalPairError(f"the interpolated internal pitch curve reaches "
+                                f"{R[tuple(k)]:.3f} mm at lobe phase "
+                                f"{np.degrees(p[k[1]]):.2f} deg")
+    if centre_distance is None:
+        a = solve_internal_centre_distance(R[:, :-1], lobes)
+    else:
+        a = np.broadcast_to(np.asarray(centre_distance, dtype=float), (R.shape[0],)).copy()
+    rp = R - a[:, None]
+    bad = rp <= min_planet_radius
+    if bad.any():
+        d, k = np.argwhere(bad)[0]
+        raise InternalPairError(
+            f"planet pitch radius {rp[d, k]:.3f} mm at lobe phase {np.degrees(p[k]):.2f} deg "
+            f"(internal radius {R[d, k]:.3f} mm, centre distance {a[d]:.3f} mm) is not above "
+            f"{min_planet_radius:g} mm: the planet cannot mesh there")
+    Q = CubicSpline(p, R / (lobes * rp), axis=1).antiderivative()(p)
+    return LobedInternalPair(float(lobes), p, R, dR, a, Q)
+
+
+def internal_perimeter(pair: LobedInternalPair) -> np.ndarray:
+    """Perimeter (P,) of the whole internal pitch curve (all lobes), mm:
+    n * integral sqrt(R^2 + (dR/dTheta)^2) dTheta with Theta = p / n."""
+    n = pair.lobes
+    integrand = np.sqrt(pair.R**2 + (n * pair.dR) ** 2) / n
+    h = pair.p[1] - pair.p[0]
+    return n * np.sum(0.5 * (integrand[:, 1:] + integrand[:, :-1]), axis=1) * h

@@ -1,0 +1,221 @@
+"""Rice transplanting mechanisms of seed 001, vectorised over designs x arms x samples.
+
+Conventions (docs/conventions.md, "Seed 001"):
+- Frame: origin at the carrier axis O, x to the right, y up, absolute angles CCW
+  from +x. Positions are complex numbers x + i y (mm) internally.
+- ``carrier_angle`` psi = theta_2 of Eq. 2: clockwise carrier turn from the start.
+- Arm j (0-based) is mounted on the carrier at phi_H0 - 2 pi j / J (it reaches the
+  place of arm 0 after 2 pi j / J more carrier turn).
+- Planting arm (Eq. 9-10): tip B at S from the planet axis along phi_2 + beta, break
+  point A at H1 along phi_2 + beta + arccos(H1 / S) (right angle at A).
+
+Differential internal train (Eq. 1-8): internal gear and carrier both turn clockwise,
+theta_1 = k psi with k = omega_1 / omega_2; relative to the carrier the internal gear
+turns gamma_1 = (1 - k) psi counter-clockwise and the mesh point advances over the
+lobed internal pitch curve by lobe phase n (1 - k) psi (``gears.internal``); the planet
+turns gamma_2 (Eq. 5) counter-clockwise relative to the carrier.
+
+K-H-V train (paper's Fig. 1): fixed sun, and per arm a middle gear and a planet on one
+line of the carrier (O -> middle at a, O -> planet at 2 a), external pairs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from plantmech.gears.internal import LobedInternalPair
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass
+class ArmGeometry:
+    """Planting arm (seed 001 Eq. 9-10): S, H1 in mm, beta in rad."""
+
+    S: float
+    H1: float
+    beta: float
+
+    def __post_init__(self):
+        if not (0 < self.H1 <= self.S):
+            raise ValueError(f"the break point must lie between the planet axis and the tip: "
+                             f"H1 = {self.H1:g} mm, S = {self.S:g} mm (need 0 < H1 <= S)")
+
+    @property
+    def break_angle(self) -> float:
+        return float(np.arccos(self.H1 / self.S))
+
+
+@dataclass
+class TransplanterMotion:
+    """Motion of P designs x J arms at S carrier angles (complex positions, mm)."""
+
+    carrier_angle: np.ndarray  # (S,) rad
+    centre: np.ndarray  # (P, J, S) planet axes
+    A: np.ndarray  # (P, J, S) break points
+    B: np.ndarray  # (P, J, S) tips
+    planet_angle: np.ndarray  # (P, J, S) phi_2, absolute, rad
+    arm_angle: np.ndarray  # (P, J, S) phi_2 + beta
+    tip_rate: np.ndarray  # (P, J, S) dB/dpsi, mm/rad (analytic)
+    planet_rate: np.ndarray  # (P, J, S) d gamma_2 / d psi (planet per carrier, rel.)
+    closure_error: np.ndarray  # (P,) rad
+    centre_distance: np.ndarray  # (P,) mm
+    arm_geometry: ArmGeometry
+    kind: str
+
+    @property
+    def needle_angle(self) -> np.ndarray:
+        """Direction of the needle A -> B, deg in [0, 360) (the paper's arm angle)."""
+        return np.mod(np.degrees(np.angle(self.B - self.A)), 360.0)
+
+    def velocity(self, carrier_speed_deg_s: float) -> np.ndarray:
+        """Tip velocity (complex, m/s) for the carrier speed (deg/s, clockwise)."""
+        return self.tip_rate * np.radians(carrier_speed_deg_s) / 1000.0
+
+
+def _arm_points(centre, phi2, dcentre, dphi2, arm: ArmGeometry):
+    ang = phi2 + arm.beta
+    B = centre + arm.S * np.exp(1j * ang)
+    A = centre + arm.H1 * np.exp(1j * (ang + arm.break_angle))
+    rate = dcentre + 1j * arm.S * dphi2 * np.exp(1j * ang)
+    return A, B, ang, rate
+
+
+def lobe_advance_per_turn(lobes: float, speed_ratio: float) -> float:
+    """Lobes the mesh point passes per carrier turn, m = n (1 - omega_1/omega_2)."""
+    return lobes * (1.0 - speed_ratio)
+
+
+def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0: float,
+                          arm: ArmGeometry, phase0: float = 0.0, arms: int = 3,
+                          samples: int = 3600) -> TransplanterMotion:
+    """Differential internal-engagement train (seed 001 Eq. 1-10) for P designs.
+
+    speed_ratio k = omega_1 / omega_2; carrier0 = phi_H0 (rad); phase0 = lobe phase of
+    the mesh point of arm 0 at the start (rad). The motion repeats every carrier turn
+    only when m = n (1 - k) is a whole number (m = 1: the arm swings, net turn 0).
+    """
+    n = pair.lobes
+    m = lobe_advance_per_turn(n, speed_ratio)
+    if abs(m - round(m)) > 1e-9 or round(m) == 0:
+        raise ValueError(
+            f"omega_1/omega_2 = {speed_ratio:g} with n = {n:g} lobes moves the mesh point "
+            f"{m:.6g} lobes per carrier turn; the arms repeat their motion every carrier turn "
+            f"only for a whole non-zero number (1 for a swinging arm: omega_1/omega_2 = "
+            f"{(n - 1) / n:.6g})")
+    psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    P = pair.R.shape[0]
+    j = np.arange(arms)
+    offset = TWO_PI * j / arms  # (J,)
+    # mesh point of arm j: lobe phase (P, J, S)
+    ph = phase0 + m * psi[None, :] + n * offset[:, None]  # (J, S)
+    turns = np.floor(ph / TWO_PI)
+    frac = ph - turns * TWO_PI
+    p, h = pair.p, pair.p[1] - pair.p[0]
+    k = np.clip((frac / h).astype(int), 0, len(p) - 2)
+    s = (frac - p[k]) / h
+    rows = np.arange(P)[:, None, None]
+    rp = pair.planet_radius
+    q_rate = pair.R / (n * rp)  # dQ/dp (P, D+1)
+    dq_rate = (pair.dR * rp - pair.R * pair.dR) / (n * rp**2)  # d2Q/dp2
+
+    def herm(y, dy):
+        y0, y1 = y[rows, k], y[rows, k + 1]
+        d0, d1 = dy[rows, k], dy[rows, k + 1]
+        return ((2 * s**3 - 3 * s**2 + 1) * y0 + (s**3 - 2 * s**2 + s) * h * d0
+                + (-2 * s**3 + 3 * s**2) * y1 + (s**3 - s**2) * h * d1)
+
+    Q = herm(pair.Q, q_rate) + TWO_PI * turns  # (P, J, S), closed pair: Q(p + 2pi) = Q + 2pi
+    rate = herm(q_rate, dq_rate)  # dQ/dp at the mesh point
+    f0 = phase0 - np.floor(phase0 / TWO_PI) * TWO_PI
+    Q0 = np.interp(f0, p, pair.Q[0]) if P == 1 else np.array(
+        [np.interp(f0, p, pair.Q[d]) for d in range(P)])  # P scalars, not per sample
+    Q0 = np.asarray(Q0, dtype=float).reshape(-1, 1, 1) + TWO_PI * np.floor(phase0 / TWO_PI)
+    phiH = carrier0 - offset[:, None] - psi[None, :]  # (J, S)
+    a = pair.a[:, None, None]
+    centre = a * np.exp(1j * phiH)[None]
+    phi2 = phiH[None] + (Q - Q0)
+    planet_rate = m * rate  # d gamma_2 / d psi
+    A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, planet_rate - 1.0, arm)
+    return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, planet_rate,
+                              pair.closure_error, pair.a.copy(), arm, "differential")
+
+
+@dataclass
+class KHVPair:
+    """Sun of a K-H-V train sampled by contact progress sigma (D+1,) over one turn:
+    r_sun (P, D+1) at absolute angle carrier0 - sigma, a (P,), M (P, D+1): middle-gear
+    turn relative to the carrier, M(2 pi) = 2 pi when closed."""
+
+    sigma: np.ndarray
+    r_sun: np.ndarray
+    a: np.ndarray
+    M: np.ndarray
+
+    @property
+    def closure_error(self) -> np.ndarray:
+        return np.abs(self.M[:, -1] - TWO_PI)
+
+
+def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int = 4096,
+             min_radius: float = 1.0) -> KHVPair:
+    """Sun pitch curve from control radii (P, N) mm at absolute angles (N,) rad, and the
+    centre distance a that makes the middle gear turn once per carrier turn (Eq. 8 of
+    seed 000 for this pair)."""
+    from plantmech.geometry.periodic import periodic_spline_matrix
+    from plantmech.mechanisms.seeder_batch import solve_centre_distances
+
+    radii = np.atleast_2d(np.asarray(radii, dtype=float))
+    sigma = np.linspace(0.0, TWO_PI, dense + 1)
+    r = radii @ periodic_spline_matrix(np.asarray(angles, float), carrier0 - sigma, 0, kind).T
+    if np.any(r <= min_radius):
+        d, k = np.argwhere(r <= min_radius)[0]
+        where = np.degrees(carrier0 - sigma[k]) % 360
+        raise ValueError(f"sun pitch radius {r[d, k]:.3f} mm at {where:.2f} deg is not above "
+                         f"{min_radius:g} mm")
+    a = solve_centre_distances(r[:, :-1], TWO_PI)
+    M = CubicSpline(sigma, r / (a[:, None] - r), axis=1).antiderivative()(sigma)
+    return KHVPair(sigma, r, a, M)
+
+
+def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2,
+                 samples: int = 3600) -> TransplanterMotion:
+    """Single-DOF K-H-V non-circular planetary train (seed 001 Fig. 1) for P designs.
+
+    Middle gear i: d M = r_s / (a - r_s) d sigma (clockwise rel. carrier); its other
+    contact (with the planet) is half a middle turn away, M + pi, at the contact
+    progress sigma' = M^-1(M + pi), where the middle radius is a - r_s(sigma'); the
+    planet there has radius r_s(sigma') and turns counter-clockwise rel. the carrier:
+    d gamma_2 / d psi = [r_s / (a - r_s)](sigma) * [(a - r_s) / r_s](sigma').
+    """
+    P = pair.r_sun.shape[0]
+    psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    offset = TWO_PI * np.arange(arms) / arms
+    sg, ad = pair.sigma, pair.a[:, None]
+    # planet rate as a function of the contact progress sigma on the dense grid (P, D+1)
+    rate = np.empty_like(pair.r_sun)
+    for d in range(P):  # M^-1 by interpolation in a monotone table (vectorised over sigma)
+        Md = pair.M[d]
+        target = np.mod(Md + 0.5 * Md[-1], Md[-1])
+        sig2 = np.interp(target, Md, sg)
+        rs2 = np.interp(sig2, sg, pair.r_sun[d])
+        rate[d] = (pair.r_sun[d] / (pair.a[d] - pair.r_sun[d])) * (pair.a[d] - rs2) / rs2
+    del ad
+    turn = CubicSpline(sg, rate, axis=1).antiderivative()(sg)  # planet turn P(sigma)
+    closure = np.abs(turn[:, -1] - TWO_PI)
+    # every arm runs through the same chain: arm j at psi is at contact progress psi + 2 pi j/J
+    x = psi[None, :] + offset[:, None]  # (J, S)
+    wraps = np.floor(x / TWO_PI)
+    xf = x - wraps * TWO_PI
+    gamma2 = np.stack([np.interp(xf, sg, turn[d]) for d in range(P)]) + TWO_PI * wraps[None]
+    out_rate = np.stack([np.interp(xf, sg, rate[d]) for d in range(P)])
+    phiH = carrier0 - offset[:, None] - psi[None, :]
+    centre = 2 * pair.a[:, None, None] * np.exp(1j * phiH)[None]
+    phi2 = phiH[None] + gamma2
+    A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, out_rate - 1.0, arm)
+    return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, out_rate,
+                              np.maximum(closure, pair.closure_error), pair.a.copy(), arm,
+                              "khv")

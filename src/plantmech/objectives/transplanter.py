@@ -1,0 +1,380 @@
+"""Stages and the twelve objectives (i)-(xii) of seed 001 for transplanting mechanisms,
+computed from a ``TransplanterMotion`` (arrays over designs x arms x samples).
+
+Every definition the paper leaves open is written down in docs/conventions.md
+("Seed 001 objectives") with its default; the numbers here follow it:
+
+- seedling box frame: origin at the door point (Yx, Yy), u along the box floor
+  (direction Ya, up the slope), v normal to it on the mat side; the mat lies in
+  0 <= v <= thickness.
+- ground: ``planting_depth`` above the lowest tip point of arm 0.
+- stages per arm: picking = tip inside the mat layer near the door; planting = from
+  entering the ground to the lowest point; conveying in between; return the rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from plantmech.mechanisms.transplanter import TransplanterMotion
+from plantmech.objectives import Check
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass
+class FieldSetup:
+    """Everything around the mechanism (mm, deg)."""
+
+    box_x: float = 165.0
+    box_y: float = 70.0
+    box_inclination_deg: float = 52.0
+    mat_thickness: float = 20.0
+    sample: float = 8.0
+    box_length: float = 300.0
+    door_length: float = 15.0  # slotted floor at the door: the needle may pass
+    floor_thickness: float = 5.0
+    planting_depth: float = 25.0
+    spacing_nominal: float = 120.0
+    spacing_range: tuple = (60.0, 180.0)
+    carrier_speed_deg_s: float = 360.0
+    check_height: float = 100.0  # height above ground for the forward inclination
+    gearbox_radius: float | None = None
+    needle_length: float = 40.0  # last part of A->B allowed through the seedling door
+    outline: dict | None = None  # {layer: polygon (K, 2)} in the arm frame (mm)
+
+
+@dataclass
+class TransplanterLimits:
+    picking_angle_deg: tuple = (320.0, 350.0)
+    pushing_angle_deg: tuple = (270.0, 310.0)
+    angle_difference_deg: tuple = (45.0, 65.0)
+    rectangularity_mm: float = 0.5
+    min_trajectory_height_mm: float = 200.0
+    min_forward_inclination_deg: float = 70.0
+    max_hole_width_mm: float = 30.0
+    min_gearbox_clearance_mm: float = 20.0
+    min_module_mm: float = 2.5
+    min_needle_angle_deg: float = 10.0
+
+
+def default_outline(arm) -> dict[str, np.ndarray]:
+    """Arm outline (mm) in the arm frame: origin at the planet axis, x along the arm line
+    towards the tip B = (S, 0), break point A at H1 e^{i acos(H1/S)}. Two layers, as on
+    rotary planting arms where the fork is mounted outside the housing: ``housing``, a
+    20 mm wide band from 15 mm behind the planet axis to A, and ``fork``, an 8 mm wide
+    band from A to the tip (documented default; any polygons can be given)."""
+    a = arm.H1 * np.exp(1j * arm.break_angle)
+    b = complex(arm.S, 0.0)
+
+    def band(p, q, half, back=0.0):
+        d = (q - p) / abs(q - p)
+        p = p - back * d
+        nrm = 1j * d
+        pts = [p + half * nrm, q + half * nrm, q - half * nrm, p - half * nrm]
+        return np.array([[z.real, z.imag] for z in pts])
+
+    return {"housing": band(0j, a, 10.0, back=15.0), "fork": band(a, b, 4.0)}
+
+
+def _circular_mean_deg(values, mask):
+    z = np.where(mask, np.exp(1j * np.radians(values)), 0.0)
+    s = z.sum(axis=-1)
+    out = np.mod(np.degrees(np.angle(s)), 360.0)
+    return np.where(mask.any(axis=-1), out, np.nan)
+
+
+def _run_around(mask, centre):
+    """Start and end indices (cyclic) of the True run of ``mask`` (..., S) that contains
+    index ``centre`` (...,)."""
+    S = mask.shape[-1]
+    k = np.arange(S)
+    c = centre[..., None]
+    back = np.where(~mask, np.mod(c - k, S), S)
+    back = np.where(back == 0, S, back).min(axis=-1)
+    fwd = np.where(~mask, np.mod(k - c, S), S)
+    fwd = np.where(fwd == 0, S, fwd).min(axis=-1)
+    return np.mod(centre - back + 1, S), np.mod(centre + fwd - 1, S)
+
+
+def _span_mask(S, start, end):
+    k = np.arange(S)
+    return np.mod(k - start[..., None], S) <= np.mod(end - start, S)[..., None]
+
+
+def _take(a, idx):
+    return np.take_along_axis(a, np.mod(idx, a.shape[-1])[..., None], axis=-1)[..., 0]
+
+
+@dataclass
+class TransplanterEvaluation:
+    names: list[str]
+    units: list[str]
+    limits: list[str]
+    values: np.ndarray  # (P, K)
+    ok: np.ndarray
+    violation: np.ndarray
+    metrics: dict = field(default_factory=dict)
+
+    @property
+    def feasible(self):
+        return self.ok.all(axis=1)
+
+    def checks(self, p: int = 0) -> list[Check]:
+        notes = self.metrics.get("notes", {})
+        out = []
+        for n, u, lim, v, o in zip(self.names, self.units, self.limits, self.values[p],
+                                   self.ok[p], strict=True):
+            note = notes.get(n, "")
+            if not np.isfinite(v):
+                note = (f"not computed: {PICK_MISSING}" if n in PICK_DEPENDENT
+                        else "not computed") + (f". {note}" if note else "")
+            out.append(Check(n, None if not np.isfinite(v) else round(float(v), 6), lim,
+                             bool(o), u, note))
+        return out
+
+
+PICK_DEPENDENT = {"picking_angle", "angle_difference", "seedling_block_skew",
+                  "needle_seedling_angle"}
+PICK_MISSING = "the tip never passes through the seedling mat (check the box position)"
+
+
+def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
+    """Stage boundaries (sample indices, (P, J)) and the box/ground geometry."""
+    B = motion.B
+    S = B.shape[-1]
+    u_dir = np.exp(1j * np.radians(setup.box_inclination_deg))
+    box = (B - complex(setup.box_x, setup.box_y)) / u_dir
+    u, v = box.real, box.imag
+    in_mat = ((v >= 0) & (v <= setup.mat_thickness) & (u >= -setup.sample - 10.0)
+              & (u <= setup.box_length))
+    has_pick = in_mat.any(axis=-1)
+    deepest = np.argmin(np.where(in_mat, v, np.inf), axis=-1)
+    p0, p1 = _run_around(in_mat, deepest)
+    ground = B[:, :1].imag.min(axis=-1) + setup.planting_depth  # (P, 1): arm 0 of each design
+    ground = ground[:, 0]
+    below = B.imag < ground[:, None, None]
+    kmin = np.argmin(B.imag, axis=-1)
+    g0, _ = _run_around(below, kmin)
+    g_start, g_end = _run_around(below, kmin)
+    return {"u": u, "v": v, "in_mat": in_mat, "has_pick": has_pick, "pick": (p0, p1),
+            "plant": (g0, kmin), "below": (g_start, g_end), "ground_y": ground, "S": S}
+
+
+def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: TransplanterLimits,
+             perimeter=None, teeth: int | None = None, gearbox_radius=None,
+             interference: bool = True) -> TransplanterEvaluation:
+    """The twelve objectives for all designs (values (P, K))."""
+    st = stages(motion, setup)
+    P, J, S = motion.B.shape
+    psi_deg = np.degrees(motion.carrier_angle)
+    needle = motion.needle_angle
+    names, units, lims, vals, viol, notes = [], [], [], [], [], {}
+
+    def add(name, value, lo, hi, unit, note=""):
+        value = np.asarray(value, dtype=float)
+        names.append(name)
+        units.append(unit)
+        parts = (([f"> {lo:g}"] if lo is not None else [])
+                 + ([f"< {hi:g}"] if hi is not None else []))
+        lims.append(" and ".join(parts) + f" {unit}")
+        scale = max(abs(lo or 0), abs(hi or 0), 1.0)
+        v = np.zeros_like(value)
+        if lo is not None:
+            v = v + np.maximum(lo - value, 0.0) / scale
+        if hi is not None:
+            v = v + np.maximum(value - hi, 0.0) / scale
+        v = np.where(np.isfinite(value), v, np.inf)
+        vals.append(value)
+        viol.append(v)
+        if note:
+            notes[name] = note
+
+    # --- (i), (ii) interference (outline polygons) -------------------------------
+    if interference:
+        clear_arms, clear_box = _interference(motion, setup)
+    else:
+        clear_arms = clear_box = np.full(P, np.nan)
+    add("arms_clearance", clear_arms, 0.0, None, "mm",
+        "(i) smallest distance between any two arm outlines over the cycle")
+    add("arm_box_clearance", clear_box, 0.0, None, "mm",
+        "(ii) smallest distance between an arm (without its needle) and the seedling mat "
+        "or the box floor")
+    # --- (iii)-(v) angles over the stages of arm 0 ---------------------------------
+    p0, p1 = st["pick"]
+    g0, g1 = st["plant"]
+    pick_mask = _span_mask(S, p0, p1) & st["has_pick"][..., None]
+    plant_mask = _span_mask(S, g0, g1)
+    pick_ang = _circular_mean_deg(needle, pick_mask)[:, 0]
+    push_ang = _circular_mean_deg(needle, plant_mask)[:, 0]
+    add("picking_angle", pick_ang, *limits.picking_angle_deg, "deg",
+        "(iii) mean needle angle (A -> B, CCW from +x) while the tip is in the seedling mat")
+    add("pushing_angle", push_ang, *limits.pushing_angle_deg, "deg",
+        "(iv) mean needle angle from entering the ground to the lowest point")
+    diff = np.mod(pick_ang - push_ang + 180.0, 360.0) - 180.0
+    add("angle_difference", diff, *limits.angle_difference_deg, "deg",
+        "(v) picking angle - pushing angle")
+    # --- (vi) rectangular seedling block ------------------------------------------
+    u, v = st["u"][:, 0], st["v"][:, 0]
+    a0, a1 = p0[:, 0], p1[:, 0]
+    rows = np.arange(P)
+    th = setup.mat_thickness
+
+    def cross(i0, i1, level):
+        ua, ub = u[rows, np.mod(i0, S)], u[rows, np.mod(i1, S)]
+        va, vb = v[rows, np.mod(i0, S)], v[rows, np.mod(i1, S)]
+        t = (level - va) / np.where(vb == va, np.nan, vb - va)
+        ok = (t >= -1e-9) & (t <= 1 + 1e-9)
+        return np.where(ok, ua + t * (ub - ua), np.nan)
+
+    u_top = cross(a0 - 1, a0, th)
+    u_bot = cross(a1, a1 + 1, 0.0)
+    add("seedling_block_skew", np.abs(u_top - u_bot), None, limits.rectangularity_mm, "mm",
+        "(vi) |upper - lower surface length| of the picked block: where the needle's pass "
+        "crosses the mat's top and bottom surfaces, along the box floor")
+    # --- (vii) trajectory height above ground ---------------------------------------
+    yB = motion.B[:, 0].imag
+    height = yB.max(axis=-1) - st["ground_y"]
+    add("trajectory_height", height, limits.min_trajectory_height_mm, None, "mm",
+        "(vii) highest tip point above the ground (against bridging)")
+    # --- (viii), (ix) absolute trajectory -------------------------------------------
+    w = np.radians(setup.carrier_speed_deg_s)
+    vel = motion.tip_rate[:, 0] * w  # mm/s (P, S)
+    kmin = g1[:, 0]
+    fwd_sign = -np.sign(_take(vel.real, kmin))  # machine moves against the tip at the bottom
+    fwd_sign = np.where(fwd_sign == 0, 1.0, fwd_sign)
+    per_turn = J  # one plant per arm per carrier turn
+    incl = _forward_inclination(motion.B[:, 0], kmin, st["ground_y"], fwd_sign,
+                                setup.spacing_nominal * per_turn, setup.check_height)
+    add("forward_inclination", incl, limits.min_forward_inclination_deg, None, "deg",
+        "(viii) angle to the forward ground of the absolute path from leaving the ground to "
+        f"{setup.check_height:g} mm above it (nominal spacing {setup.spacing_nominal:g} mm)")
+    spacings = np.arange(setup.spacing_range[0], setup.spacing_range[1] + 1e-9, 10.0)
+    widths = _hole_width(motion.B[:, 0], st["below"][0][:, 0], st["below"][1][:, 0], fwd_sign,
+                         spacings * per_turn)
+    add("hole_width", widths.max(axis=1), None, limits.max_hole_width_mm, "mm",
+        f"(ix) widest hole over plant spacings {spacings[0]:g}-{spacings[-1]:g} mm")
+    # --- (x) gearbox clearance -------------------------------------------------------
+    if gearbox_radius is None:
+        gearbox_radius = np.full(P, np.nan)
+    clearance = -np.asarray(gearbox_radius) - st["ground_y"]
+    add("gearbox_clearance", clearance, limits.min_gearbox_clearance_mm, None, "mm",
+        "(x) ground below the gearbox's lowest point")
+    # --- (xi) module ---------------------------------------------------------------------
+    module = (np.asarray(perimeter) / (np.pi * teeth) if perimeter is not None and teeth
+              else np.full(P, np.nan))
+    add("module", module, limits.min_module_mm, None, "mm",
+        f"(xi) pitch-curve perimeter / (pi z), z = {teeth}")
+    # --- (xii) needle vs seedlings at picking ------------------------------------------
+    nd = np.radians(_take(needle[:, 0], a0))
+    into_mat = np.radians(setup.box_inclination_deg) - np.pi / 2  # -v direction
+    ang = np.degrees(np.arccos(np.abs(np.cos(nd - into_mat))))
+    ang = np.where(st["has_pick"][:, 0], ang, np.nan)
+    add("needle_seedling_angle", ang, limits.min_needle_angle_deg, None, "deg",
+        "(xii) angle between the needle and the seedlings' growth direction (normal to the "
+        "box floor) where the needle enters the mat")
+    values = np.stack(vals, axis=1)
+    violation = np.stack(viol, axis=1)
+    stage_deg = {}
+    for name, (s0, s1) in (("picking", (p0, p1)), ("planting", (g0, g1))):
+        stage_deg[name] = np.stack([psi_deg[s0], psi_deg[s1]], axis=-1)  # (P, J, 2)
+    stage_deg["picking"] = np.where(st["has_pick"][..., None], stage_deg["picking"], np.nan)
+    metrics = {"notes": notes, "ground_y_mm": st["ground_y"], "stages_deg": stage_deg,
+               "u_top_mm": u_top, "u_bottom_mm": u_bot, "hole_widths_mm": widths,
+               "spacings_mm": spacings, "forward_sign": fwd_sign,
+               "block_upper_mm": setup.sample + (u_top - u_bot) / 2,
+               "block_lower_mm": setup.sample - (u_top - u_bot) / 2}
+    return TransplanterEvaluation(names, units, lims, values, violation <= 0, violation, metrics)
+
+
+def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_height):
+    """Angle (deg) between the forward ground direction and the chord of the absolute
+    path from where the tip leaves the ground to where it is ``check_height`` above it."""
+    P, S = B.shape
+    t = np.arange(S) / S  # fraction of a carrier turn
+    out = np.full(P, np.nan)
+    for d in range(P):  # a few array operations per design
+        order = np.mod(kmin[d] + np.arange(S), S)
+        y = B[d, order].imag
+        x = B[d, order].real * fwd_sign[d] + advance_per_turn * t[np.arange(S)]
+        up = np.flatnonzero(y >= ground[d])
+        if not len(up):
+            continue
+        k0 = up[0]
+        hi = np.flatnonzero((y >= ground[d] + check_height) & (np.arange(S) > k0))
+        if not len(hi):
+            continue
+        k1 = hi[0]
+        dx, dy = x[k1] - x[k0], y[k1] - y[k0]
+        out[d] = np.degrees(np.arctan2(dy, dx))
+    return out
+
+
+def _hole_width(B, start, end, fwd_sign, advances):
+    """Horizontal extent (mm) of the absolute path under the ground for each machine
+    advance per carrier turn (P, len(advances))."""
+    P, S = B.shape
+    k = np.arange(S)
+    mask = _span_mask(S, start, end)  # (P, S)
+    t = np.mod(k - start[:, None], S) / S
+    x = B.real * fwd_sign[:, None]
+    xa = x[:, None, :] + advances[None, :, None] * t[:, None, :]
+    m = mask[:, None, :]
+    return np.where(m, xa, -np.inf).max(axis=-1) - np.where(m, xa, np.inf).min(axis=-1)
+
+
+def _interference(motion: TransplanterMotion, setup: FieldSetup):
+    """Smallest clearance (mm) between parts of different arms on the same layer (i) and
+    between an arm without its needle and the seedling box (ii), for every design, with
+    shapely; -1 where outlines overlap."""
+    import shapely
+
+    P, J, S = motion.B.shape
+    arm = motion.arm_geometry
+    outline = setup.outline or default_outline(arm)
+    layers = {k: shapely.Polygon(np.asarray(v, dtype=float)) for k, v in outline.items()}
+    # the needle: the last needle_length of A -> B, cut away for the box check
+    a = arm.H1 * np.exp(1j * arm.break_angle)
+    d = (arm.S - a) / abs(arm.S - a)
+    cut_at = arm.S - setup.needle_length * d
+    big = 1e4
+    keep = shapely.Polygon([(p.real, p.imag) for p in (
+        cut_at + 1j * d * big - d * big, cut_at - 1j * d * big - d * big,
+        cut_at - 1j * d * big, cut_at + 1j * d * big)])
+
+    def place(poly):
+        xy = np.asarray(poly.exterior.coords)[:-1]
+        z = xy[:, 0] + 1j * xy[:, 1]
+        rot = np.exp(1j * motion.arm_angle[..., None]) * z + motion.centre[..., None]
+        coords = np.stack([rot.real, rot.imag], axis=-1)  # (P, J, S, K, 2)
+        return shapely.polygons(coords.reshape(-1, len(z), 2)).reshape(P, J, S)
+
+    clear_arms = np.full(P, np.inf if J > 1 else np.nan)
+    for poly in layers.values():
+        placed = place(poly)
+        for j in range(J):
+            for jj in range(j + 1, J):
+                dist = shapely.distance(placed[:, j], placed[:, jj])
+                hit = shapely.intersects(placed[:, j], placed[:, jj])
+                clear_arms = np.minimum(clear_arms, np.where(hit, -1.0, dist).min(axis=-1))
+    u_dir = np.exp(1j * np.radians(setup.box_inclination_deg))
+    o = complex(setup.box_x, setup.box_y)
+    # solid parts: the seedling mat on the floor and the floor plate (slotted at the door)
+    corners = [complex(0, 0), complex(setup.box_length, 0),
+               complex(setup.box_length, setup.mat_thickness), complex(0, setup.mat_thickness)]
+    floor = [complex(setup.door_length, -setup.floor_thickness),
+             complex(setup.box_length, -setup.floor_thickness),
+             complex(setup.box_length, 0.0), complex(setup.door_length, 0.0)]
+    box = shapely.union(*(shapely.Polygon([((o + c * u_dir).real, (o + c * u_dir).imag)
+                                           for c in cs]) for cs in (corners, floor)))
+    clear_box = np.full(P, np.inf)
+    for poly in layers.values():
+        part = poly.intersection(keep)
+        if part.is_empty:
+            continue
+        placed = place(part)
+        dist = np.where(shapely.intersects(placed, box), -1.0, shapely.distance(placed, box))
+        clear_box = np.minimum(clear_box, dist.min(axis=(1, 2)))
+    return clear_arms, clear_box
