@@ -92,12 +92,14 @@ class LobedInternalPair:
 
 def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
                         dense: int = 4096, min_planet_radius: float = 0.0,
-                        centre_distance=None) -> LobedInternalPair:
+                        centre_distance=None, tolerance: float = np.radians(0.01),
+                        ) -> LobedInternalPair:
     """Build P internal pairs from control radii (P, N) mm at lobe phases (N,) rad.
 
-    ``centre_distance`` None: solved for closure (one planet turn per lobe).
+    ``centre_distance`` None: solved for closure (one planet turn per lobe); given: the
+    pair must close within ``tolerance`` (rad) or it is refused.
     Raises InternalPairError naming the lobe phase where the planet radius is not
-    above ``min_planet_radius``.
+    above ``min_planet_radius``, or the turn an unclosed pair makes.
     """
     from scipy.interpolate import CubicSpline
 
@@ -122,12 +124,25 @@ def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
     rp = R - a[:, None]
     bad = rp <= min_planet_radius
     if bad.any():
-        d, k = np.argwhere(bad)[0]
+        d = int(np.argwhere(bad)[0][0])
+        k = int(np.argmin(rp[d]))
+        span = np.degrees(p[np.flatnonzero(bad[d])])
         raise InternalPairError(
-            f"planet pitch radius {rp[d, k]:.3f} mm at lobe phase {np.degrees(p[k]):.2f} deg "
-            f"(internal radius {R[d, k]:.3f} mm, centre distance {a[d]:.3f} mm) is not above "
-            f"{min_planet_radius:g} mm: the planet cannot mesh there")
+            f"planet pitch radius falls to {rp[d, k]:.3f} mm at lobe phase "
+            f"{np.degrees(p[k]):.2f} deg (internal radius {R[d, k]:.3f} mm, centre distance "
+            f"{a[d]:.3f} mm), not above {min_planet_radius:g} mm between lobe phases "
+            f"{span.min():.1f} and {span.max():.1f} deg: the planet cannot mesh there")
     Q = CubicSpline(p, R / (lobes * rp), axis=1).antiderivative()(p)
+    if centre_distance is not None:
+        err = np.abs(Q[:, -1] - TWO_PI)
+        if np.any(err > tolerance):
+            d = int(np.argmax(err))
+            closing = solve_internal_centre_distance(R[d:d + 1, :-1], lobes)[0]
+            raise InternalPairError(
+                f"the pair does not close: over one lobe ({360 / lobes:g} deg of the internal "
+                f"gear) the planet turns {np.degrees(Q[d, -1]):.3f} deg, 360 needed, at centre "
+                f"distance {a[d]:.3f} mm; it closes at {closing:.3f} mm (omit "
+                "centre_distance_mm to solve it)")
     return LobedInternalPair(float(lobes), p, R, dR, a, Q)
 
 
