@@ -65,6 +65,22 @@ def main() -> None:
         print(f"population evaluation (Hermite, dwell, solved centre distances, located "
               f"sections, every objective), {P} designs x {samples} samples: {t:.2f} s "
               f"({P / t:.0f} designs/s)")
+    from plantmech.workflows import evaluate_transplanter_population, run_transplanter
+
+    rice = load_design(ROOT / "examples" / "rice_transplanter.toml")
+    t = timeit(lambda: run_transplanter(rice), repeat=3)
+    print(f"transplanter job (3 arms, 3600 samples, all 12 objectives incl. shapely "
+          f"interference): {t * 1e3:.1f} ms")
+    R = np.asarray(rice.internal_gear.radii_mm) + rng.uniform(-1.5, 1.5, (P, 12))
+    for samples in (360, 720):
+        t = timeit(lambda s=samples: evaluate_transplanter_population(rice, R, samples=s),
+                   repeat=2)
+        print(f"transplanter population evaluation (no interference), {P} designs x 3 arms x "
+              f"{samples} samples: {t:.2f} s ({P / t:.0f} designs/s)")
+    t = timeit(lambda: evaluate_transplanter_population(rice, R[:100], samples=360,
+                                                        interference=True), repeat=1)
+    print(f"transplanter population evaluation with interference, 100 designs x 360 samples: "
+          f"{t:.2f} s ({100 / t:.0f} designs/s)")
 
 
 if __name__ == "__main__":

@@ -291,25 +291,20 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
 
 def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_height):
     """Angle (deg) between the forward ground direction and the chord of the absolute
-    path from where the tip leaves the ground to where it is ``check_height`` above it."""
+    path from where the tip leaves the ground to where it is ``check_height`` above it
+    (all designs at once)."""
     P, S = B.shape
-    t = np.arange(S) / S  # fraction of a carrier turn
-    out = np.full(P, np.nan)
-    for d in range(P):  # a few array operations per design
-        order = np.mod(kmin[d] + np.arange(S), S)
-        y = B[d, order].imag
-        x = B[d, order].real * fwd_sign[d] + advance_per_turn * t[np.arange(S)]
-        up = np.flatnonzero(y >= ground[d])
-        if not len(up):
-            continue
-        k0 = up[0]
-        hi = np.flatnonzero((y >= ground[d] + check_height) & (np.arange(S) > k0))
-        if not len(hi):
-            continue
-        k1 = hi[0]
-        dx, dy = x[k1] - x[k0], y[k1] - y[k0]
-        out[d] = np.degrees(np.arctan2(dy, dx))
-    return out
+    idx = np.mod(kmin[:, None] + np.arange(S)[None, :], S)  # from the lowest point on
+    z = np.take_along_axis(B, idx, axis=1)
+    y = z.imag
+    x = z.real * fwd_sign[:, None] + advance_per_turn * np.arange(S)[None, :] / S
+    up = y >= ground[:, None]
+    k0 = np.argmax(up, axis=1)
+    hi = (y >= (ground + check_height)[:, None]) & (np.arange(S)[None, :] > k0[:, None])
+    k1 = np.argmax(hi, axis=1)
+    rows = np.arange(P)
+    ang = np.degrees(np.arctan2(y[rows, k1] - y[rows, k0], x[rows, k1] - x[rows, k0]))
+    return np.where(up.any(axis=1) & hi.any(axis=1), ang, np.nan)
 
 
 def _hole_width(B, start, end, fwd_sign, advances):
