@@ -28,6 +28,31 @@ FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 PositiveMM = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
 
+def _check_polar_points(radii: list, angles: list | None, field: str, unit: str) -> None:
+    """Angles of a closed polar curve's control points: as many as radii, strictly
+    increasing, spanning less than one turn (otherwise the curve would cross itself)."""
+    if len(radii) < 4:
+        raise ValueError(f"need at least 4 radii, got {len(radii)}")
+    if angles is None:
+        return
+    if len(angles) != len(radii):
+        raise ValueError(f"{field} has {len(angles)} values but radii_mm has {len(radii)}")
+    for k in range(1, len(angles)):
+        if angles[k] <= angles[k - 1]:
+            raise ValueError(
+                f"{field} must increase: point {k} at {angles[k]:g} deg follows "
+                f"{angles[k - 1]:g} deg (out-of-order angles make the polar pitch curve "
+                "cross itself)")
+    if angles[-1] - angles[0] >= 360.0:
+        raise ValueError(f"{field} span {angles[-1] - angles[0]:g} deg; a closed pitch curve "
+                         f"takes each {unit} once (span < 360 deg), more would make it cross "
+                         "itself")
+
+
+def _uniform(values: list | None, n: int) -> list[float]:
+    return values if values is not None else [360.0 * k / n for k in range(n)]
+
+
 class Sections(_Strict):
     """Type-value point indices (0-based, q0 = 0) of the section boundaries of the
     "8" trajectory: picking ab, transport bcd, seeding de, return efca (seed 000 §2)."""
@@ -120,37 +145,13 @@ class GearPointsSpec(_Strict):
         0.0, description="body angle at the contact point (gear 2: with the sun; "
         "gear 3: with the planet) at carrier angle 0")
 
-    @field_validator("radii_mm")
-    @classmethod
-    def _enough(cls, v):
-        if len(v) < 4:
-            raise ValueError(f"need at least 4 interpolation radii, got {len(v)}")
-        return v
-
     @model_validator(mode="after")
     def _angles(self):
-        if self.angles_deg is None:
-            return self
-        a = self.angles_deg
-        if len(a) != len(self.radii_mm):
-            raise ValueError(f"angles_deg has {len(a)} values but radii_mm has "
-                             f"{len(self.radii_mm)}")
-        for k in range(1, len(a)):
-            if a[k] <= a[k - 1]:
-                raise ValueError(
-                    f"angles_deg must increase: point {k} at {a[k]:g} deg follows "
-                    f"{a[k - 1]:g} deg (out-of-order angles make the polar pitch curve "
-                    "cross itself)")
-        if a[-1] - a[0] >= 360.0:
-            raise ValueError(f"angles_deg span {a[-1] - a[0]:g} deg; a closed pitch curve "
-                             "takes each body angle once (span < 360 deg), more would make "
-                             "it cross itself")
+        _check_polar_points(self.radii_mm, self.angles_deg, "angles_deg", "body angle")
         return self
 
     def angles(self) -> list[float]:
-        n = len(self.radii_mm)
-        return self.angles_deg if self.angles_deg is not None else [360.0 * k / n
-                                                                    for k in range(n)]
+        return _uniform(self.angles_deg, len(self.radii_mm))
 
 
 class TrainDwell(_Strict):
@@ -287,28 +288,14 @@ class InternalGearSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self):
-        if len(self.radii_mm) < 4:
-            raise ValueError(f"need at least 4 radii, got {len(self.radii_mm)}")
-        if self.phases_deg is not None:
-            if len(self.phases_deg) != len(self.radii_mm):
-                raise ValueError(f"phases_deg has {len(self.phases_deg)} values but radii_mm "
-                                 f"has {len(self.radii_mm)}")
-            a = self.phases_deg
-            for k in range(1, len(a)):
-                if a[k] <= a[k - 1]:
-                    raise ValueError(f"phases_deg must increase: point {k} at {a[k]:g} deg "
-                                     f"follows {a[k - 1]:g} deg")
-            if a[-1] - a[0] >= 360.0:
-                raise ValueError("phases_deg must span less than one lobe (360 deg)")
+        _check_polar_points(self.radii_mm, self.phases_deg, "phases_deg", "lobe phase")
         if self.teeth is not None and self.teeth % self.lobes:
             raise ValueError(f"teeth = {self.teeth} is not a multiple of lobes = {self.lobes}: "
                              "every lobe must carry whole teeth")
         return self
 
     def phases(self) -> list[float]:
-        n = len(self.radii_mm)
-        return self.phases_deg if self.phases_deg is not None else [360.0 * k / n
-                                                                    for k in range(n)]
+        return _uniform(self.phases_deg, len(self.radii_mm))
 
 
 class SunGearSpec(_Strict):
@@ -322,24 +309,11 @@ class SunGearSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self):
-        if len(self.radii_mm) < 4:
-            raise ValueError(f"need at least 4 radii, got {len(self.radii_mm)}")
-        if self.angles_deg is not None:
-            a = self.angles_deg
-            if len(a) != len(self.radii_mm):
-                raise ValueError("angles_deg and radii_mm differ in length")
-            for k in range(1, len(a)):
-                if a[k] <= a[k - 1]:
-                    raise ValueError(f"angles_deg must increase: point {k} at {a[k]:g} deg "
-                                     f"follows {a[k - 1]:g} deg")
-            if a[-1] - a[0] >= 360.0:
-                raise ValueError("angles_deg must span less than 360 deg")
+        _check_polar_points(self.radii_mm, self.angles_deg, "angles_deg", "angle")
         return self
 
     def angles(self) -> list[float]:
-        n = len(self.radii_mm)
-        return self.angles_deg if self.angles_deg is not None else [360.0 * k / n
-                                                                    for k in range(n)]
+        return _uniform(self.angles_deg, len(self.radii_mm))
 
 
 class Drive(_Strict):

@@ -354,10 +354,8 @@ def field_setup(design):
 
 
 def transplanter_limits(design):
-    from plantmech.objectives.transplanter import TransplanterLimits
-
-    return TransplanterLimits(**{k: (tuple(v) if isinstance(v, list | tuple) else v)
-                                 for k, v in design.limits.model_dump().items()})
+    """The design file's limits of objectives (iii)-(xii)."""
+    return design.limits
 
 
 def simulate_transplanter(design, radii=None, samples: int | None = None, dense: int = 4096):

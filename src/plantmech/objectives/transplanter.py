@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from plantmech.design import TransplanterLimitsSpec as TransplanterLimits  # noqa: F401
 from plantmech.mechanisms.transplanter import TransplanterMotion
 from plantmech.objectives import Check
 
@@ -44,20 +45,6 @@ class FieldSetup:
     gearbox_radius: float | None = None
     needle_length: float = 40.0  # last part of A->B allowed through the seedling door
     outline: dict | None = None  # {layer: polygon (K, 2)} in the arm frame (mm)
-
-
-@dataclass
-class TransplanterLimits:
-    picking_angle_deg: tuple = (320.0, 350.0)
-    pushing_angle_deg: tuple = (270.0, 310.0)
-    angle_difference_deg: tuple = (45.0, 65.0)
-    rectangularity_mm: float = 0.5
-    min_trajectory_height_mm: float = 200.0
-    min_forward_inclination_deg: float = 70.0
-    max_hole_width_mm: float = 30.0
-    min_gearbox_clearance_mm: float = 20.0
-    min_module_mm: float = 2.5
-    min_needle_angle_deg: float = 10.0
 
 
 def default_outline(arm) -> dict[str, np.ndarray]:
