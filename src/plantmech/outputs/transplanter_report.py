@@ -105,14 +105,25 @@ def transplanter_summary(job, k: int = 0) -> dict:
 def motion_table(job, k: int = 0) -> dict[str, np.ndarray]:
     m = job.motion
     v = m.velocity(job.design.drive.carrier_speed_deg_s)[k]
-    cols = {"carrier_angle_deg": m.carrier_angle * DEG}
-    for j in range(m.B.shape[1]):
+    d = job.design
+    cols = {"carrier_angle_deg": m.carrier_angle * DEG,
+            "time_s": m.carrier_angle * DEG / d.drive.carrier_speed_deg_s}
+    if d.mechanism == "rice_transplanter":
+        ratio = d.drive.speed_ratio or (d.internal_gear.lobes - 1) / d.internal_gear.lobes
+        cols["internal_gear_angle_deg"] = m.carrier_angle * DEG * ratio  # theta_1, clockwise
+    J = m.B.shape[1]
+    sign = job.evaluation.metrics["forward_sign"][k]
+    advance = d.field.plant_spacing_mm * J  # mm per carrier turn
+    for j in range(J):
         tag = f"arm{j + 1}"
         cols[f"{tag}_tip_x_mm"] = m.B[k, j].real
         cols[f"{tag}_tip_y_mm"] = m.B[k, j].imag
         cols[f"{tag}_break_x_mm"] = m.A[k, j].real
         cols[f"{tag}_break_y_mm"] = m.A[k, j].imag
         cols[f"{tag}_needle_angle_deg"] = m.needle_angle[k, j]
+        cols[f"{tag}_planet_angle_deg"] = np.mod(m.planet_angle[k, j] * DEG, 360.0)
+        cols[f"{tag}_absolute_x_mm"] = (m.B[k, j].real * sign
+                                        + advance * m.carrier_angle / (2 * np.pi))
         cols[f"{tag}_speed_m_s"] = np.abs(v[j])
         cols[f"{tag}_planet_ratio"] = m.planet_rate[k, j]
     return cols
