@@ -337,12 +337,30 @@ class TransplanterJob:
     summary: dict
 
 
-def field_setup(design):
+# per-design overrides of scalar design values for populations (name -> (P,) array)
+TRANSPLANTER_PARAMS = ("initial_angle_deg", "initial_phase_deg", "S_mm", "H1_mm", "beta_deg",
+                       "box_x_mm", "box_y_mm", "box_inclination_deg")
+
+
+def _param(design, params, name):
+    if params and name in params:
+        return np.asarray(params[name], dtype=float)
+    return {"initial_angle_deg": lambda: design.carrier.initial_angle_deg,
+            "initial_phase_deg": lambda: design.internal_gear.initial_phase_deg,
+            "S_mm": lambda: design.arm.S_mm, "H1_mm": lambda: design.arm.H1_mm,
+            "beta_deg": lambda: design.arm.beta_deg,
+            "box_x_mm": lambda: design.seedling_box.x_mm,
+            "box_y_mm": lambda: design.seedling_box.y_mm,
+            "box_inclination_deg": lambda: design.seedling_box.inclination_deg}[name]()
+
+
+def field_setup(design, params=None):
     from plantmech.objectives.transplanter import FieldSetup
 
     b, f = design.seedling_box, design.field
     return FieldSetup(
-        box_x=b.x_mm, box_y=b.y_mm, box_inclination_deg=b.inclination_deg,
+        box_x=_param(design, params, "box_x_mm"), box_y=_param(design, params, "box_y_mm"),
+        box_inclination_deg=_param(design, params, "box_inclination_deg"),
         mat_thickness=b.mat_thickness_mm, sample=b.sample_mm, box_length=b.length_mm,
         door_length=b.door_length_mm, floor_thickness=b.floor_thickness_mm,
         planting_depth=f.planting_depth_mm, spacing_nominal=f.plant_spacing_mm,
@@ -358,9 +376,11 @@ def transplanter_limits(design):
     return design.limits
 
 
-def simulate_transplanter(design, radii=None, samples: int | None = None, dense: int = 4096):
+def simulate_transplanter(design, radii=None, samples: int | None = None, dense: int = 4096,
+                          params: dict | None = None):
     """(pair, motion, perimeter (P,), gearbox radius (P,)) for ``design`` or for P
-    variants of its gear radii (P, N)."""
+    variants of its gear radii (P, N) and of the scalars in ``params`` (name -> (P,),
+    names in TRANSPLANTER_PARAMS)."""
     from plantmech.gears.internal import internal_perimeter, lobed_internal_pair
     from plantmech.mechanisms.transplanter import (
         ArmGeometry,
@@ -370,8 +390,9 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
     )
 
     samples = samples or design.samples
-    arm = ArmGeometry(design.arm.S_mm, design.arm.H1_mm, np.radians(design.arm.beta_deg))
-    carrier0 = np.radians(design.carrier.initial_angle_deg)
+    arm = ArmGeometry(_param(design, params, "S_mm"), _param(design, params, "H1_mm"),
+                      np.radians(_param(design, params, "beta_deg")))
+    carrier0 = np.radians(_param(design, params, "initial_angle_deg"))
     if design.mechanism == "rice_transplanter":
         g = design.internal_gear
         r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
@@ -379,7 +400,8 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
                                    g.min_planet_radius_mm, g.centre_distance_mm)
         k = design.drive.speed_ratio
         k = (g.lobes - 1) / g.lobes if k is None else k
-        motion = simulate_differential(pair, k, carrier0, arm, np.radians(g.initial_phase_deg),
+        motion = simulate_differential(pair, k, carrier0, arm,
+                                       np.radians(_param(design, params, "initial_phase_deg")),
                                        design.carrier.arms, samples)
         perimeter = internal_perimeter(pair)
         module = perimeter / (np.pi * g.teeth) if g.teeth else np.zeros_like(perimeter)
@@ -415,16 +437,17 @@ def run_transplanter(design) -> TransplanterJob:
     return job
 
 
-def evaluate_transplanter_population(design, radii, samples: int = 720,
-                                    interference: bool = False):
-    """Simulate and evaluate P variants of the design's gear radii (P, N) at once:
-    (motion, evaluation). Interference checks (shapely) are optional: they dominate
-    the cost."""
+def evaluate_transplanter_population(design, radii=None, samples: int = 720,
+                                    interference: bool = False, params: dict | None = None):
+    """Simulate and evaluate P variants of the design at once: gear radii (P, N) and
+    scalars ``params`` (name -> (P,)): (motion, evaluation). Interference checks
+    (shapely) are optional: they dominate the cost."""
     from plantmech.objectives.transplanter import evaluate
 
-    pair, motion, perimeter, box = simulate_transplanter(design, radii, samples, dense=1024)
+    pair, motion, perimeter, box = simulate_transplanter(design, radii, samples, dense=1024,
+                                                         params=params)
     teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
              else design.sun_gear.teeth)
-    ev = evaluate(motion, field_setup(design), transplanter_limits(design), perimeter, teeth,
-                  box, interference=interference)
+    ev = evaluate(motion, field_setup(design, params), transplanter_limits(design), perimeter,
+                  teeth, box, interference=interference)
     return motion, ev

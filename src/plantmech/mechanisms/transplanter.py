@@ -33,20 +33,36 @@ TWO_PI = 2.0 * np.pi
 
 @dataclass
 class ArmGeometry:
-    """Planting arm (seed 001 Eq. 9-10): S, H1 in mm, beta in rad."""
+    """Planting arm (seed 001 Eq. 9-10): S, H1 in mm, beta in rad; scalars, or (P,)
+    arrays for a population."""
 
-    S: float
-    H1: float
-    beta: float
+    S: float | np.ndarray
+    H1: float | np.ndarray
+    beta: float | np.ndarray
 
     def __post_init__(self):
-        if not (0 < self.H1 <= self.S):
+        S, H1 = np.broadcast_arrays(np.asarray(self.S, float), np.asarray(self.H1, float))
+        bad = ~((H1 > 0) & (H1 <= S))
+        if np.any(bad):
+            k = int(np.flatnonzero(bad.ravel())[0])
             raise ValueError(f"the break point must lie between the planet axis and the tip: "
-                             f"H1 = {self.H1:g} mm, S = {self.S:g} mm (need 0 < H1 <= S)")
+                             f"H1 = {H1.ravel()[k]:g} mm, S = {S.ravel()[k]:g} mm "
+                             "(need 0 < H1 <= S)")
 
     @property
-    def break_angle(self) -> float:
-        return float(np.arccos(self.H1 / self.S))
+    def break_angle(self):
+        return np.arccos(np.asarray(self.H1, float) / np.asarray(self.S, float))
+
+    def column(self, name: str):
+        """The parameter shaped to broadcast against (P, J, S) arrays."""
+        v = np.asarray(getattr(self, name) if name != "break_angle" else self.break_angle,
+                       float)
+        return v.reshape(-1, 1, 1) if v.ndim else v
+
+    def take(self, k: int) -> ArmGeometry:
+        """Design k's arm (scalars)."""
+        pick = [np.asarray(getattr(self, f), float) for f in ("S", "H1", "beta")]
+        return ArmGeometry(*(float(v.ravel()[k] if v.ndim else v) for v in pick))
 
 
 @dataclass
@@ -77,11 +93,17 @@ class TransplanterMotion:
 
 
 def _arm_points(centre, phi2, dcentre, dphi2, arm: ArmGeometry):
-    ang = phi2 + arm.beta
-    B = centre + arm.S * np.exp(1j * ang)
-    A = centre + arm.H1 * np.exp(1j * (ang + arm.break_angle))
-    rate = dcentre + 1j * arm.S * dphi2 * np.exp(1j * ang)
+    S, H1 = arm.column("S"), arm.column("H1")
+    ang = phi2 + arm.column("beta")
+    B = centre + S * np.exp(1j * ang)
+    A = centre + H1 * np.exp(1j * (ang + arm.column("break_angle")))
+    rate = dcentre + 1j * S * dphi2 * np.exp(1j * ang)
     return A, B, ang, rate
+
+
+def _column(v):
+    v = np.asarray(v, dtype=float)
+    return v.reshape(-1, 1, 1) if v.ndim else v
 
 
 def lobe_advance_per_turn(lobes: float, speed_ratio: float) -> float:
@@ -95,7 +117,8 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
     """Differential internal-engagement train (seed 001 Eq. 1-10) for P designs.
 
     speed_ratio k = omega_1 / omega_2; carrier0 = phi_H0 (rad); phase0 = lobe phase of
-    the mesh point of arm 0 at the start (rad). The motion repeats every carrier turn
+    the mesh point of arm 0 at the start (rad); carrier0, phase0 and the arm may be
+    scalars or (P,) arrays. The motion repeats every carrier turn
     only when m = n (1 - k) is a whole number (m = 1: the arm swings, net turn 0).
     """
     n = pair.lobes
@@ -111,7 +134,8 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
     j = np.arange(arms)
     offset = TWO_PI * j / arms  # (J,)
     # mesh point of arm j: lobe phase (P, J, S)
-    ph = phase0 + m * psi[None, :] + n * offset[:, None]  # (J, S)
+    ph = _column(phase0) + (m * psi[None, :] + n * offset[:, None])[None]
+    ph = np.broadcast_to(ph, (P, arms, samples))
     turns = np.floor(ph / TWO_PI)
     frac = ph - turns * TWO_PI
     p, h = pair.p, pair.p[1] - pair.p[0]
@@ -130,14 +154,19 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
 
     Q = herm(pair.Q, q_rate) + TWO_PI * turns  # (P, J, S), closed pair: Q(p + 2pi) = Q + 2pi
     rate = herm(q_rate, dq_rate)  # dQ/dp at the mesh point
-    f0 = phase0 - np.floor(phase0 / TWO_PI) * TWO_PI
-    Q0 = np.interp(f0, p, pair.Q[0]) if P == 1 else np.array(
-        [np.interp(f0, p, pair.Q[d]) for d in range(P)])  # P scalars, not per sample
-    Q0 = np.asarray(Q0, dtype=float).reshape(-1, 1, 1) + TWO_PI * np.floor(phase0 / TWO_PI)
-    phiH = carrier0 - offset[:, None] - psi[None, :]  # (J, S)
+    phase0 = np.broadcast_to(np.asarray(phase0, dtype=float), (P,))
+    f0 = np.mod(phase0, TWO_PI)
+    kk = np.clip((f0 / h).astype(int), 0, len(p) - 2)
+    s0 = (f0 - p[kk]) / h
+    r0 = np.arange(P)
+    Q0 = ((2 * s0**3 - 3 * s0**2 + 1) * pair.Q[r0, kk] + (s0**3 - 2 * s0**2 + s0) * h
+          * q_rate[r0, kk] + (-2 * s0**3 + 3 * s0**2) * pair.Q[r0, kk + 1]
+          + (s0**3 - s0**2) * h * q_rate[r0, kk + 1])
+    Q0 = (Q0 + TWO_PI * np.floor(phase0 / TWO_PI)).reshape(-1, 1, 1)
+    phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (P or 1, J, S)
     a = pair.a[:, None, None]
-    centre = a * np.exp(1j * phiH)[None]
-    phi2 = phiH[None] + (Q - Q0)
+    centre = a * np.exp(1j * phiH)
+    phi2 = phiH + (Q - Q0)
     planet_rate = m * rate  # d gamma_2 / d psi
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, planet_rate - 1.0, arm)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, planet_rate,

@@ -47,23 +47,26 @@ class FieldSetup:
     outline: dict | None = None  # {layer: polygon (K, 2)} in the arm frame (mm)
 
 
-def default_outline(arm) -> dict[str, np.ndarray]:
+def default_outline(arm, needle_cut: float = 0.0) -> dict[str, np.ndarray]:
     """Arm outline (mm) in the arm frame: origin at the planet axis, x along the arm line
     towards the tip B = (S, 0), break point A at H1 e^{i acos(H1/S)}. Two layers, as on
     rotary planting arms where the fork is mounted outside the housing: ``housing``, a
     20 mm wide band from 15 mm behind the planet axis to A, and ``fork``, an 8 mm wide
-    band from A to the tip (documented default; any polygons can be given)."""
-    a = arm.H1 * np.exp(1j * arm.break_angle)
-    b = complex(arm.S, 0.0)
+    band from A to the tip, shortened by ``needle_cut`` mm (documented default; any
+    polygons can be given). Arrays (K, 2), or (P, K, 2) for a population of arms."""
+    S = np.asarray(arm.S, float)
+    a = np.asarray(arm.H1, float) * np.exp(1j * arm.break_angle)
+    b = S + 0j
 
-    def band(p, q, half, back=0.0):
-        d = (q - p) / abs(q - p)
+    def band(p, q, half, back=0.0, cut=0.0):
+        d = (q - p) / np.abs(q - p)
         p = p - back * d
+        q = q - cut * d
         nrm = 1j * d
-        pts = [p + half * nrm, q + half * nrm, q - half * nrm, p - half * nrm]
-        return np.array([[z.real, z.imag] for z in pts])
+        pts = np.stack([p + half * nrm, q + half * nrm, q - half * nrm, p - half * nrm], -1)
+        return np.stack([pts.real, pts.imag], -1)
 
-    return {"housing": band(0j, a, 10.0, back=15.0), "fork": band(a, b, 4.0)}
+    return {"housing": band(0j * a, a, 10.0, back=15.0), "fork": band(a, b, 4.0, cut=needle_cut)}
 
 
 def _circular_mean_deg(values, mask):
@@ -132,8 +135,9 @@ def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
     """Stage boundaries (sample indices, (P, J)) and the box/ground geometry."""
     B = motion.B
     S = B.shape[-1]
-    u_dir = np.exp(1j * np.radians(setup.box_inclination_deg))
-    box = (B - complex(setup.box_x, setup.box_y)) / u_dir
+    col = lambda v: np.asarray(v, float).reshape(-1, 1, 1)  # noqa: E731
+    u_dir = np.exp(1j * np.radians(col(setup.box_inclination_deg)))
+    box = (B - (col(setup.box_x) + 1j * col(setup.box_y))) / u_dir
     u, v = box.real, box.imag
     in_mat = ((v >= 0) & (v <= setup.mat_thickness) & (u >= -setup.sample - 10.0)
               & (u <= setup.box_length))
@@ -256,7 +260,7 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         f"(xi) pitch-curve perimeter / (pi z), z = {teeth}")
     # --- (xii) needle vs seedlings at picking ------------------------------------------
     nd = np.radians(_take(needle[:, 0], a0))
-    into_mat = np.radians(setup.box_inclination_deg) - np.pi / 2  # -v direction
+    into_mat = np.radians(np.asarray(setup.box_inclination_deg, float)) - np.pi / 2  # -v
     ang = np.degrees(np.arccos(np.abs(np.cos(nd - into_mat))))
     ang = np.where(st["has_pick"][:, 0], ang, np.nan)
     add("needle_seedling_angle", ang, limits.min_needle_angle_deg, None, "deg",
@@ -307,6 +311,37 @@ def _hole_width(B, start, end, fwd_sign, advances):
     return np.where(m, xa, -np.inf).max(axis=-1) - np.where(m, xa, np.inf).min(axis=-1)
 
 
+def _place(motion: TransplanterMotion, coords):
+    """Polygons (P, J, S) of an outline (K, 2) or (P, K, 2) carried by every arm."""
+    import shapely
+
+    P, J, S = motion.B.shape
+    xy = np.asarray(coords, float)
+    z = xy[..., 0] + 1j * xy[..., 1]
+    z = z[None] if z.ndim == 1 else z  # (P or 1, K)
+    rot = (np.exp(1j * motion.arm_angle[..., None]) * z[:, None, None, :]
+           + motion.centre[..., None])
+    out = np.stack([rot.real, rot.imag], axis=-1)  # (P, J, S, K, 2)
+    return shapely.polygons(out.reshape(-1, z.shape[-1], 2)).reshape(P, J, S)
+
+
+def _box_polygons(setup: FieldSetup, P: int):
+    """(P,) polygons of the solid parts of the seedling box: the mat on the floor and
+    the floor plate (slotted over ``door_length`` at the door)."""
+    import shapely
+
+    col = lambda v: np.broadcast_to(np.asarray(v, float), (P,))  # noqa: E731
+    u = np.exp(1j * np.radians(col(setup.box_inclination_deg)))[:, None]
+    o = (col(setup.box_x) + 1j * col(setup.box_y))[:, None]
+    L, t, door, fl = setup.box_length, setup.mat_thickness, setup.door_length, setup.floor_thickness
+    parts = []
+    for corners in ([0, L, L + 1j * t, 1j * t],
+                    [door - 1j * fl, L - 1j * fl, L + 0j, door + 0j]):
+        z = o + np.asarray(corners, complex)[None, :] * u
+        parts.append(shapely.polygons(np.stack([z.real, z.imag], -1)))
+    return shapely.union(parts[0], parts[1])
+
+
 def _interference(motion: TransplanterMotion, setup: FieldSetup):
     """Smallest clearance (mm) between parts of different arms on the same layer (i) and
     between an arm without its needle and the seedling box (ii), for every design, with
@@ -315,48 +350,37 @@ def _interference(motion: TransplanterMotion, setup: FieldSetup):
 
     P, J, S = motion.B.shape
     arm = motion.arm_geometry
-    outline = setup.outline or default_outline(arm)
-    layers = {k: shapely.Polygon(np.asarray(v, dtype=float)) for k, v in outline.items()}
-    # the needle: the last needle_length of A -> B, cut away for the box check
-    a = arm.H1 * np.exp(1j * arm.break_angle)
-    d = (arm.S - a) / abs(arm.S - a)
-    cut_at = arm.S - setup.needle_length * d
-    big = 1e4
-    keep = shapely.Polygon([(p.real, p.imag) for p in (
-        cut_at + 1j * d * big - d * big, cut_at - 1j * d * big - d * big,
-        cut_at - 1j * d * big, cut_at + 1j * d * big)])
-
-    def place(poly):
-        xy = np.asarray(poly.exterior.coords)[:-1]
-        z = xy[:, 0] + 1j * xy[:, 1]
-        rot = np.exp(1j * motion.arm_angle[..., None]) * z + motion.centre[..., None]
-        coords = np.stack([rot.real, rot.imag], axis=-1)  # (P, J, S, K, 2)
-        return shapely.polygons(coords.reshape(-1, len(z), 2)).reshape(P, J, S)
-
+    if setup.outline:
+        layers = {k: np.asarray(v, float) for k, v in setup.outline.items()}
+        # the needle: the last needle_length of A -> B, cut away for the box check
+        a0 = arm.take(0)
+        a = a0.H1 * np.exp(1j * a0.break_angle)
+        d = (a0.S - a) / abs(a0.S - a)
+        cut_at = a0.S - setup.needle_length * d
+        big = 1e4
+        keep = shapely.Polygon([(p.real, p.imag) for p in (
+            cut_at + 1j * d * big - d * big, cut_at - 1j * d * big - d * big,
+            cut_at - 1j * d * big, cut_at + 1j * d * big)])
+        cut = {}
+        for k, v in layers.items():
+            part = shapely.Polygon(v).intersection(keep)
+            if not part.is_empty:
+                cut[k] = np.asarray(part.exterior.coords)[:-1]
+    else:
+        layers = default_outline(arm)
+        cut = default_outline(arm, needle_cut=setup.needle_length)
     clear_arms = np.full(P, np.inf if J > 1 else np.nan)
-    for poly in layers.values():
-        placed = place(poly)
+    for coords in layers.values():
+        placed = _place(motion, coords)
         for j in range(J):
             for jj in range(j + 1, J):
                 dist = shapely.distance(placed[:, j], placed[:, jj])
                 hit = shapely.intersects(placed[:, j], placed[:, jj])
                 clear_arms = np.minimum(clear_arms, np.where(hit, -1.0, dist).min(axis=-1))
-    u_dir = np.exp(1j * np.radians(setup.box_inclination_deg))
-    o = complex(setup.box_x, setup.box_y)
-    # solid parts: the seedling mat on the floor and the floor plate (slotted at the door)
-    corners = [complex(0, 0), complex(setup.box_length, 0),
-               complex(setup.box_length, setup.mat_thickness), complex(0, setup.mat_thickness)]
-    floor = [complex(setup.door_length, -setup.floor_thickness),
-             complex(setup.box_length, -setup.floor_thickness),
-             complex(setup.box_length, 0.0), complex(setup.door_length, 0.0)]
-    box = shapely.union(*(shapely.Polygon([((o + c * u_dir).real, (o + c * u_dir).imag)
-                                           for c in cs]) for cs in (corners, floor)))
+    box = _box_polygons(setup, P)[:, None, None]
     clear_box = np.full(P, np.inf)
-    for poly in layers.values():
-        part = poly.intersection(keep)
-        if part.is_empty:
-            continue
-        placed = place(part)
+    for coords in cut.values():
+        placed = _place(motion, coords)
         dist = np.where(shapely.intersects(placed, box), -1.0, shapely.distance(placed, box))
         clear_box = np.minimum(clear_box, dist.min(axis=(1, 2)))
     return clear_arms, clear_box
