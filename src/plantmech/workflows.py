@@ -278,7 +278,8 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
 
     radii2, radii3: (P, N) interpolation radii (mm) at the design's angles (default:
     the design's own, P = 1). Centre distances follow the design's closure method
-    ("centre_distance": solved per design; otherwise as given, unclosed pairs show in
+    ("centre_distance" or "scale": solved per design — the two give the same motion, the
+    turn depends on r / a only; otherwise as given, unclosed pairs show in
     ``metrics['closure_error_rad']``). Section points: the design's ``sections_deg``,
     or located on each variant's path within +-window of where the base design passes
     them.
@@ -294,7 +295,7 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     nodes = np.radians(t.gear2.angles())
     R2 = np.atleast_2d(t.gear2.radii_mm if radii2 is None else radii2).astype(float)
     R3 = np.atleast_2d(t.gear3.radii_mm if radii3 is None else radii3).astype(float)
-    solve = t.closure == "centre_distance"
+    solve = t.closure in ("centre_distance", "scale")
     c2, c3 = np.radians(t.gear2.contact_angle_deg), np.radians(t.gear3.contact_angle_deg)
     dwell = t.dwell
     motion = simulate_population(
@@ -451,3 +452,143 @@ def evaluate_transplanter_population(design, radii=None, samples: int = 720,
     ev = evaluate(motion, field_setup(design, params), transplanter_limits(design), perimeter,
                   teeth, box, interference=interference)
     return motion, ev
+
+
+# --- helpers for the optimizer ----------------------------------------------------------
+
+
+def seeder_inverse_checks(design: SeederDesign, samples: int = 720) -> dict:
+    """Layer-1 evaluation of one candidate trajectory: Table 1 planning checks, the three
+    attitude objectives and the three speed objectives of the inverse-designed train (its
+    path is the planned one, its timing the inverse's carrier law — which the path fixes:
+    docs/optimization.md). Values NaN and large violations when the inverse design is
+    infeasible."""
+    from scipy.interpolate import CubicSpline
+
+    from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
+
+    d = design.model_copy(deep=True)
+    d.trajectory.samples = samples
+    names = ["small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
+             "cd_central_angle", "sowing_height_difference", "centre_to_trench_bottom",
+             "picking_swing", "seeding_swing", "sowing_angle", "seeding_peak_speed",
+             "return_min_speed_static", "return_min_speed_dynamic"]
+    try:
+        job = run_seeder_inverse(d)
+    except Exception:  # a candidate whose curve cannot even be fitted
+        job = None
+    if job is None or not job.result.feasible:
+        # graded: errors, plus how much of the cycle they cover (an optimizer needs a slope)
+        n_err = 10.0
+        if job is not None:
+            errs = [x for x in job.result.diagnostics if x.severity == "error"]
+            spans = [abs(x.carrier_angle_deg[1] - x.carrier_angle_deg[0])
+                     for x in errs if x.carrier_angle_deg]
+            n_err = len(errs) + sum(spans) / 30.0
+        return {"names": names, "units": [""] * len(names), "limits": [""] * len(names),
+                "values": [np.nan] * len(names), "ok": [False] * len(names),
+                "violation": [10.0] * len(names), "infeasible": float(max(n_err, 1.0)),
+                "objectives": [1e3, 1e3, 1e3]}
+    res = job.result
+    checks = [c for c in job.summary["trajectory_checks"]]
+    checks += job.summary["objectives"]
+    psi = res.carrier_angle
+    tip = res.tip_realized
+    spl = CubicSpline(np.r_[psi, 2 * np.pi], np.vstack([tip, tip[:1]]), bc_type="periodic")
+    vel = spl(psi, 1) * np.radians(d.operation.carrier_speed_deg_s) / 1000.0
+    sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
+    att = job.summary["attitude_deg"]
+    zero = zero_speed_travel(psi, vel, att["sowing_angle"], sec["e"])
+    travel = (zero["zero_speed_travel_m_s"] if d.operation.travel_speed_m_s is None
+              else d.operation.travel_speed_m_s)
+    speeds = speed_by_section(psi, vel, travel, sec)
+    checks += [c.as_dict() for c in speed_checks(speeds, d.speed)]
+    by = {c["name"]: c for c in checks}
+    values, ok, viol, units, limits = [], [], [], [], []
+    for n in names:
+        c = by[n]
+        v = np.nan if c["value"] is None else float(c["value"])
+        values.append(v)
+        ok.append(bool(c["ok"]))
+        units.append(c["unit"])
+        limits.append(c["limit"])
+        viol.append(_check_violation(n, v, design))
+    objectives = [values[names.index(n)] for n in ("picking_swing", "seeding_swing",
+                                                   "sowing_angle")]
+    return {"names": names, "units": units, "limits": limits, "values": values, "ok": ok,
+            "violation": viol, "infeasible": 0.0, "objectives": objectives}
+
+
+def _check_violation(name: str, value: float, design: SeederDesign) -> float:
+    """Relative violation of one layer-1 check (0 when met)."""
+    if not np.isfinite(value):
+        return 10.0
+    L = design.planning_limits
+    table = {
+        "small_ring_height": L.small_ring_height_mm, "small_ring_width": L.small_ring_width_mm,
+        "large_ring_height": L.large_ring_height_mm, "large_ring_width": L.large_ring_width_mm,
+        "cd_central_angle": L.cd_central_angle_deg,
+        "sowing_height_difference": L.sowing_height_difference_mm,
+        "centre_to_trench_bottom": L.centre_to_trench_bottom_mm,
+    }
+    if name in table:
+        lo, hi = table[name].min, table[name].max
+    elif name == "picking_swing":
+        lo, hi = None, design.attitude.picking_swing_max_deg
+    elif name == "seeding_swing":
+        lo, hi = None, design.attitude.seeding_swing_max_deg
+    elif name == "sowing_angle":
+        lo, hi = None, design.attitude.sowing_angle_max_deg
+    elif name == "seeding_peak_speed":
+        lo, hi = None, design.speed.seeding_max_m_s
+    else:
+        lo, hi = design.speed.return_min_m_s, None
+    scale = max(abs(lo or 0.0), abs(hi or 0.0), 1.0)
+    v = 0.0
+    if lo is not None:
+        v += max(lo - value, 0.0) / scale
+    if hi is not None:
+        v += max(value - hi, 0.0) / scale
+    return v
+
+
+def trajectory_deviation_batch(design: SeederDesign, tips: np.ndarray,
+                               samples: int = 20000) -> np.ndarray:
+    """Largest distance (mm) of each design's tip samples (P, S, 2) from the planned
+    trajectory (point to segment; all designs in one k-d tree query)."""
+    traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
+    _, u = traj.arc_length_samples(samples)
+    plan = traj(u)
+    P, S, _ = tips.shape
+    d = _distance_to_closed_polyline(tips.reshape(-1, 2), plan).reshape(P, S)
+    return d.max(axis=1)
+
+
+def train_from_inverse_job(job: SeederInverseJob, points: int = 8):
+    """A [train] table (the forward model's input) sampled from an inverse design:
+    ``points`` radii per intermediate gear at uniform body angles, its L1, L2, a1, a2,
+    initial angles and dwell. Closure by ``scale`` keeps a1 + a2 = L1 (the resampled
+    curves close at a slightly different size). The section points stay located on the
+    trajectory."""
+    from plantmech.design import GearPointsSpec, Train, TrainDwell
+    from plantmech.verification import train_from_inverse
+
+    res = job.result
+    tr = train_from_inverse(res)
+    ang = np.arange(points) * 360.0 / points
+    gears = {}
+    for name, curve, c0 in (("gear2", tr.gear2, tr.gear2_contact0),
+                            ("gear3", tr.gear3, tr.gear3_contact0)):
+        r = curve(np.radians(ang))
+        gears[name] = GearPointsSpec(radii_mm=[float(x) for x in r], angles_deg=list(ang),
+                                     contact_angle_deg=float(np.degrees(np.mod(c0, 2 * np.pi))))
+    dwell = None
+    if res.dwell is not None:
+        dwell = TrainDwell(start_deg=float(np.degrees(res.dwell["carrier_start"])),
+                           sector_deg=float(np.degrees(res.dwell["theta1"])))
+    return Train(L1_mm=res.L1, L2_mm=res.L2, a1_mm=res.a1, a2_mm=res.a2,
+                 gear2=gears["gear2"], gear3=gears["gear3"], interpolation="hermite",
+                 closure="scale",
+                 initial_carrier_angle_deg=float(np.degrees(tr.carrier0)),
+                 initial_arm_angle_deg=float(np.degrees(tr.arm0)), dwell=dwell,
+                 samples=job.design.trajectory.samples)

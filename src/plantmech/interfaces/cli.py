@@ -2,9 +2,12 @@
 
 ``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
 ``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
+``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
 
-Exit status: 0 done (objectives are reported, met or not), 2 invalid input (names the
-field, gear or angle), 3 infeasible design.
+Exit status: 0 done (forward: objectives are reported, met or not; optimize: a design
+meeting every objective was found), 2 invalid input (names the field, gear or angle),
+3 infeasible design, 4 optimize found no design meeting every objective (the closest
+one is written).
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from pathlib import Path
 
 from plantmech import __version__
 
-EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE = 0, 2, 3
+EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
 
 
 def _inverse(args) -> int:
@@ -155,6 +158,31 @@ def _forward_transplanter(args, design, out) -> int:
     return EXIT_OK
 
 
+def _optimize(args) -> int:
+    from plantmech.design import DesignError, load_design
+    from plantmech.optimize.jobs import optimize, summary_lines
+    from plantmech.outputs.files import OutputError, prepare_out_dir
+
+    try:
+        design = load_design(args.design)
+        out = prepare_out_dir(args.out, [Path(args.design)])
+    except (DesignError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    try:
+        outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
+                           generations=args.generations, pop=args.pop,
+                           algorithm=args.algorithm, progress=not args.quiet,
+                           layer2_points=args.points)
+    except ValueError as exc:
+        print(f"error: {args.design}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    for line in summary_lines(outcome.record):
+        print(line)
+    print("wrote: " + ", ".join(str(p) for p in outcome.written))
+    return EXIT_OK if outcome.feasible else EXIT_NOT_MET
+
+
 def _print_forward(s: dict) -> None:
     t = s["train"]
     print(f"{s['name']}: forward simulation ({s['source']})")
@@ -224,6 +252,21 @@ def build_parser() -> argparse.ArgumentParser:
     fwd.add_argument("--out", required=True, help="output directory")
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     fwd.set_defaults(func=_forward)
+    from plantmech.optimize.jobs import PROBLEMS
+
+    opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")
+    opt.add_argument("design", help="design file (TOML); never overwritten")
+    opt.add_argument("--problem", required=True, choices=PROBLEMS)
+    opt.add_argument("--out", required=True, help="output directory")
+    opt.add_argument("--seed", type=int, default=0)
+    opt.add_argument("--generations", type=int, default=None)
+    opt.add_argument("--pop", type=int, default=None, help="population size")
+    opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
+                     help="default per problem (docs/optimization.md)")
+    opt.add_argument("--points", type=int, default=16,
+                     help="interpolation radii per gear for the seeder's layer 2")
+    opt.add_argument("--quiet", action="store_true", help="no progress bar")
+    opt.set_defaults(func=_optimize)
     return p
 
 

@@ -1,0 +1,462 @@
+"""Optimization problems on the mechanism engines (pymoo style: bounded variables,
+objectives to minimize, constraints as violations >= 0 that must reach 0).
+
+Every problem evaluates a whole population at once: the seeder layer 2 and the
+transplanter through the batch APIs (arrays over designs), the seeder layer 1 through
+the inverse design of each candidate trajectory (one ~20 ms pipeline per design: the
+inverse design is not batched). See docs/optimization.md.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from pymoo.core.problem import Problem
+
+from plantmech.design import SeederDesign
+
+
+@dataclass
+class Variable:
+    name: str
+    x0: float
+    lower: float
+    upper: float
+    unit: str
+    apply: Callable  # apply(design, value): write the value into a design copy
+
+
+@dataclass
+class Batch:
+    """Evaluation of P designs: objectives F (P, m) to minimize, violations G (P, k) >= 0,
+    and every check (values/ok (P, K)) for reporting."""
+
+    F: np.ndarray
+    G: np.ndarray
+    names: list[str]
+    units: list[str]
+    limits: list[str]
+    values: np.ndarray
+    ok: np.ndarray
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def violation(self) -> np.ndarray:
+        return np.where(np.isfinite(self.G), self.G, 1e6).sum(axis=1)
+
+    @property
+    def feasible(self) -> np.ndarray:
+        return self.ok.all(axis=1)
+
+
+class DesignProblem(Problem):
+    """Base class: variables around the design's current values."""
+
+    name = "problem"
+    objective_names: list[str] = []
+
+    def __init__(self, design, variables: list[Variable], n_constr: int):
+        self.design = design
+        self.variables = variables
+        self.evaluations = 0
+        super().__init__(n_var=len(variables), n_obj=len(self.objective_names),
+                         n_ieq_constr=n_constr,
+                         xl=np.array([v.lower for v in variables]),
+                         xu=np.array([v.upper for v in variables]))
+
+    @property
+    def x0(self) -> np.ndarray:
+        return np.array([v.x0 for v in self.variables])
+
+    def decode(self, x):
+        """The design with the variables ``x`` applied (a new object)."""
+        d = self.design.model_copy(deep=True)
+        for v, val in zip(self.variables, x, strict=True):
+            v.apply(d, float(val))
+        if not d.name.endswith(f"(optimized: {self.name})"):
+            d.name = f"{d.name} (optimized: {self.name})"
+        return d.__class__.model_validate(d.model_dump())
+
+    def evaluate_batch(self, X: np.ndarray) -> Batch:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _evaluate(self, X, out, *args, **kwargs):
+        b = self.evaluate_batch(np.atleast_2d(X))
+        self.evaluations += len(X)
+        self.remember(np.atleast_2d(X), b)
+        out["F"] = np.where(np.isfinite(b.F), b.F, 1e6)
+        out["G"] = np.where(np.isfinite(b.G), b.G, 1e6)
+
+    def remember(self, X, b: Batch):
+        """Keep the best design ever evaluated (population-based algorithms such as
+        CMA-ES do not keep an archive): feasible first, then least violation."""
+        viol = b.violation
+        score = np.where(b.feasible, -1.0 + 1e-3 * np.tanh(
+            np.where(np.isfinite(b.F), b.F, 1e6).sum(axis=1) / 100.0), viol)
+        k = int(np.argmin(score))
+        if getattr(self, "best_score", np.inf) > score[k]:
+            self.best_score = float(score[k])
+            self.best_x = np.array(X[k], dtype=float)
+
+
+def _violations(values, lo, hi, scale):
+    """Relative violations of lo < value < hi (None: open), NaN -> large."""
+    v = np.zeros_like(values)
+    if lo is not None:
+        v = v + np.maximum(lo - values, 0) / scale
+    if hi is not None:
+        v = v + np.maximum(values - hi, 0) / scale
+    return np.where(np.isfinite(values), v, 10.0)
+
+
+# --- seeder, layer 1: type-value point offsets -> attitude (seed 000 §4.2) ---------------
+
+
+def default_layer1_points(design: SeederDesign) -> list[int]:
+    """Type-value points that steer the layer-1 objectives: those after d up to one past
+    e (seeding section: seeding swing, sowing angle, the path at the seeding point), the
+    point nearest the rotation centre and its neighbours (it sets L2 - L1, hence every
+    attitude), and a, the middle of ab and b (picking swing)."""
+    s = design.trajectory.sections
+    pts = np.asarray(design.trajectory.points, dtype=float)
+    n = len(pts)
+
+    def span(i, j):
+        out = [i]
+        while i != j:
+            i = (i + 1) % n
+            out.append(i)
+        return out
+
+    seeding = span((s.d + 1) % n, (s.e + 1) % n)
+    near = int(np.argmin(np.hypot(*pts.T)))
+    picking = span(s.a, s.b)
+    chosen = seeding + [(near - 1) % n, near, (near + 1) % n] + [
+        picking[0], picking[len(picking) // 2], picking[-1]]
+    return sorted(set(chosen), key=chosen.index)
+
+
+def _map(fn, items, workers: int):
+    """fn over items, in ``workers`` processes when there are enough items."""
+    if workers <= 1 or len(items) < 4:
+        return [fn(x) for x in items]
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as ex:
+        return list(ex.map(fn, items, chunksize=max(1, len(items) // (2 * workers))))
+
+
+def _layer1_row(args):
+    from plantmech.workflows import seeder_inverse_checks
+
+    design, samples = args
+    return seeder_inverse_checks(design, samples)
+
+
+class SeederLayer1(DesignProblem):
+    """Offsets (mm) of chosen type-value points -> attitude objectives under Table 1's
+    planning limits and the inverse design's feasibility. The speed objectives are
+    constraints here too: the path fixes the carrier angle at every tip position (three-
+    bar inverse kinematics), so it fixes the speeds; layer 2 can only keep them
+    (docs/optimization.md)."""
+
+    name = "seeder-layer1"
+    objective_names = ["picking_swing", "seeding_swing", "sowing_angle"]
+
+    def __init__(self, design: SeederDesign, points: list[int] | None = None,
+                 bound_mm: float = 40.0, samples: int = 360, workers: int | None = None,
+                 speed_constraints: bool = True):
+        import os
+
+        self.speed_constraints = speed_constraints
+        self.points = default_layer1_points(design) if points is None else list(points)
+        self.samples = samples
+        self.workers = (os.cpu_count() or 1) if workers is None else workers
+        base = np.asarray(design.trajectory.points, dtype=float)
+        variables = []
+        for i in self.points:
+            for axis, label in ((0, "x"), (1, "y")):
+                def apply(d, val, i=i, axis=axis):
+                    p = list(d.trajectory.points[i])
+                    p[axis] = float(base[i, axis] + val)
+                    d.trajectory.points[i] = tuple(p)
+                variables.append(Variable(f"q{i}_d{label}", 0.0, -bound_mm, bound_mm, "mm",
+                                          apply))
+        self.check_names = None
+        super().__init__(design, variables, n_constr=1 + 7 + 3 + 3)
+
+    def evaluate_batch(self, X):
+        rows = _map(_layer1_row, [(self.decode(x), self.samples) for x in X], self.workers)
+        names = rows[0]["names"]
+        values = np.array([r["values"] for r in rows])
+        ok = np.array([r["ok"] for r in rows])
+        viol = np.array([r["violation"] for r in rows])
+        infeasible = np.array([r["infeasible"] for r in rows], dtype=float)
+        F = np.array([r["objectives"] for r in rows])
+        if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
+            viol = viol.copy()
+            viol[:, [names.index(n) for n in names if "speed" in n]] = 0.0
+            ok = ok.copy()
+            ok[:, [names.index(n) for n in names if "speed" in n]] = True
+        G = np.c_[infeasible, viol]
+        return Batch(F, G, ["feasible_inverse"] + names, [""] + rows[0]["units"],
+                     ["= 0 errors"] + rows[0]["limits"],
+                     np.c_[infeasible, values], np.c_[infeasible == 0, ok])
+
+
+# --- seeder, layer 2: interpolation radii of gears 2 and 3 -> speeds (§4.4) ---------------
+
+
+class SeederLayer2(DesignProblem):
+    """Radii of gears 2 and 3 (mm, around the design's [train]) -> seeding peak speed and
+    return minimum speed, with every §4.1 objective, convexity of all four pitch curves,
+    the working pressure angle and a bound on the deviation from the planned trajectory
+    as constraints. Closure: each candidate is closed by the design's restoration
+    (``scale`` when it says ``check``: same motion as a solved centre distance, with
+    a1 + a2 kept equal to L1)."""
+
+    name = "seeder-layer2"
+    objective_names = ["seeding_peak_speed", "neg_return_min_speed_dynamic"]
+
+    def __init__(self, design: SeederDesign, bound_mm: float = 8.0,
+                 max_deviation_mm: float = 20.0, samples: int = 720):
+        if design.train is None:
+            raise ValueError("layer 2 needs a [train] (run layer 1 first, or give one)")
+        self.samples = samples
+        self.max_deviation_mm = max_deviation_mm
+        d = design.model_copy(deep=True)
+        if d.train.closure == "check":
+            d.train.closure = "scale"  # every candidate closes; a1 + a2 keeps L1
+        variables = []
+        for gear in ("gear2", "gear3"):
+            radii = getattr(d.train, gear).radii_mm
+            for k, r in enumerate(radii):
+                def apply(dd, val, gear=gear, k=k):
+                    getattr(dd.train, gear).radii_mm[k] = float(val)
+                variables.append(Variable(f"r_{gear[-1]}_{k + 1}", float(r), max(r - bound_mm, 1.0),
+                                          r + bound_mm, "mm", apply))
+        self.n2 = len(d.train.gear2.radii_mm)
+        super().__init__(d, variables, n_constr=12 + 1 + 1)
+        self._plan = None
+
+    def evaluate_batch(self, X):
+        from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
+
+        pop = evaluate_seeder_population(self.design, X[:, :self.n2], X[:, self.n2:],
+                                         samples=self.samples, dense=2048)
+        ev = pop.evaluation
+        names, units, limits = list(ev.names), list(ev.units), list(ev.limits)
+        values, ok, viol = ev.values, ev.ok, ev.violation
+        if self.design.trajectory is not None:
+            dev = trajectory_deviation_batch(self.design, pop.motion.tip)
+            dv = _violations(dev, None, self.max_deviation_mm, self.max_deviation_mm)
+            names.append("deviation_from_plan")
+            units.append("mm")
+            limits.append(f"< {self.max_deviation_mm:g} mm")
+            values = np.c_[values, dev]
+            ok = np.c_[ok, dv <= 0]
+            viol = np.c_[viol, dv]
+        peak = values[:, names.index("seeding_peak_speed")]
+        ret = values[:, names.index("return_min_speed_dynamic")]
+        closure = pop.motion.closure_error.max(axis=1)
+        G = np.c_[viol, np.maximum(closure - 1e-6, 0)]
+        if G.shape[1] < self.n_ieq_constr:
+            G = np.c_[G, np.zeros((len(X), self.n_ieq_constr - G.shape[1]))]
+        return Batch(np.c_[peak, -ret], G, names, units, limits, values, ok)
+
+
+# --- seeder, joint: both layers' variables in one problem ---------------------------------
+
+
+class SeederJoint(DesignProblem):
+    """Type-value point offsets and radius corrections of gears 2 and 3 in one problem
+    (for comparison with the layered method): each candidate trajectory is inverse-
+    designed, its gears resampled at ``points`` radii, corrected, and simulated."""
+
+    name = "seeder-joint"
+    objective_names = ["picking_swing", "seeding_peak_speed", "neg_return_min_speed_dynamic"]
+
+    def __init__(self, design: SeederDesign, points: int = 16, bound_mm: float = 20.0,
+                 radius_bound_mm: float = 6.0, max_deviation_mm: float = 20.0,
+                 samples: int = 360):
+        self.layer1 = SeederLayer1(design, bound_mm=bound_mm, samples=samples)
+        self.points = points
+        self.samples = samples
+        self.max_deviation_mm = max_deviation_mm
+        variables = list(self.layer1.variables)
+        for gear in ("2", "3"):
+            for k in range(points):
+                variables.append(Variable(f"dr_{gear}_{k + 1}", 0.0, -radius_bound_mm,
+                                          radius_bound_mm, "mm", lambda d, v: None))
+        super().__init__(design, variables, n_constr=1 + 7 + 12 + 1)  # noqa: E501
+
+    def decode(self, x):
+        """Trajectory from the offsets; [train] resampled from its inverse design with the
+        radius corrections added."""
+        from plantmech.optimize.jobs import with_train
+
+        n1 = self.layer1.n_var
+        d = self.layer1.decode(x[:n1]).model_copy(update={"train": None})
+        d = with_train(d, self.points)
+        dr = x[n1:]
+        d.train.gear2.radii_mm = [float(r + c) for r, c in zip(d.train.gear2.radii_mm,
+                                                               dr[:self.points], strict=True)]
+        d.train.gear3.radii_mm = [float(r + c) for r, c in zip(d.train.gear3.radii_mm,
+                                                               dr[self.points:], strict=True)]
+        return d.__class__.model_validate(d.model_dump())
+
+    def evaluate_batch(self, X):
+        from plantmech.workflows import (
+            evaluate_seeder_population,
+            seeder_inverse_checks,
+            trajectory_deviation_batch,
+        )
+
+        rows = []
+        for x in X:
+            l1 = seeder_inverse_checks(self.layer1.decode(x[:self.layer1.n_var]), self.samples)
+            if l1["infeasible"]:
+                rows.append(None)
+                continue
+            try:
+                d = self.decode(x)
+                pop = evaluate_seeder_population(d, samples=self.samples, dense=2048)
+                dev = trajectory_deviation_batch(d, pop.motion.tip)
+            except (ValueError, RuntimeError):
+                rows.append(None)
+                continue
+            rows.append((l1, pop.evaluation, float(dev[0])))
+        good = next((r for r in rows if r is not None), None)
+        names = (good[0]["names"][:7] + list(good[1].names) + ["deviation_from_plan"]
+                 if good else ["feasible_inverse"])
+        K = len(names)
+        F = np.full((len(X), 3), 1e6)
+        G = np.full((len(X), self.n_ieq_constr), 10.0)
+        values = np.full((len(X), K), np.nan)
+        ok = np.zeros((len(X), K), bool)
+        units, limits = [""] * K, [""] * K
+        for i, r in enumerate(rows):
+            if r is None:
+                continue
+            l1, ev, dev = r
+            dv = _violations(np.array([dev]), None, self.max_deviation_mm,
+                             self.max_deviation_mm)[0]
+            values[i] = np.r_[l1["values"][:7], ev.values[0], dev]
+            ok[i] = np.r_[l1["ok"][:7], ev.ok[0], dv <= 0]
+            G[i] = np.r_[0.0, l1["violation"][:7], ev.violation[0], dv]
+            units = l1["units"][:7] + list(ev.units) + ["mm"]
+            limits = l1["limits"][:7] + list(ev.limits) + [f"< {self.max_deviation_mm:g} mm"]
+            v = dict(zip(ev.names, ev.values[0], strict=True))
+            F[i] = [v["picking_swing"], v["seeding_peak_speed"], -v["return_min_speed_dynamic"]]
+        return Batch(F, G, names if good else ["feasible_inverse"] * K, units, limits, values,
+                     ok)
+
+
+# --- transplanter: published variables -> twelve objectives --------------------------------
+
+
+TRANSPLANTER_BOUNDS = {  # half-widths around the design's values
+    "initial_angle_deg": 15.0, "initial_phase_deg": 30.0, "S_mm": 15.0, "H1_mm": 10.0,
+    "beta_deg": 10.0, "box_x_mm": 15.0, "box_y_mm": 15.0, "box_inclination_deg": 5.0,
+}
+
+
+class Transplanter(DesignProblem):
+    """The published parameter set's variables (internal-gear radii, phi_H0, sigma, S,
+    H1, beta, box position) -> the twelve objectives (i)-(xii) as constraints;
+    objectives: seedling-block skew, widest hole and the margin of the angle difference
+    from the middle of its range."""
+
+    name = "transplanter"
+    objective_names = ["seedling_block_skew", "hole_width", "angle_difference_offcentre"]
+
+    def __init__(self, design, radius_bound_mm: float = 6.0, samples: int = 360,
+                 interference: bool = True):
+        if design.mechanism != "rice_transplanter":
+            raise ValueError("the transplanter problem optimizes a rice_transplanter design")
+        self.samples = samples
+        self.interference = interference
+        g = design.internal_gear
+        variables = []
+        for k, r in enumerate(g.radii_mm):
+            def apply(d, val, k=k):
+                d.internal_gear.radii_mm[k] = float(val)
+            variables.append(Variable(f"r{k}", float(r), max(r - radius_bound_mm, 1.0),
+                                      r + radius_bound_mm, "mm", apply))
+        from plantmech.workflows import _param
+
+        setters = {
+            "initial_angle_deg": lambda d, v: setattr(d.carrier, "initial_angle_deg", v),
+            "initial_phase_deg": lambda d, v: setattr(d.internal_gear, "initial_phase_deg", v),
+            "S_mm": lambda d, v: setattr(d.arm, "S_mm", v),
+            "H1_mm": lambda d, v: setattr(d.arm, "H1_mm", v),
+            "beta_deg": lambda d, v: setattr(d.arm, "beta_deg", v),
+            "box_x_mm": lambda d, v: setattr(d.seedling_box, "x_mm", v),
+            "box_y_mm": lambda d, v: setattr(d.seedling_box, "y_mm", v),
+            "box_inclination_deg": lambda d, v: setattr(d.seedling_box, "inclination_deg", v),
+        }
+        self.param_names = list(TRANSPLANTER_BOUNDS)
+        for name in self.param_names:
+            x0 = float(_param(design, None, name))
+            b = TRANSPLANTER_BOUNDS[name]
+            variables.append(Variable(name, x0, x0 - b, x0 + b,
+                                      "deg" if name.endswith("deg") else "mm", setters[name]))
+        self.n_r = len(g.radii_mm)
+        super().__init__(design, variables, n_constr=12)
+
+    def evaluate_batch(self, X):
+        from plantmech.gears.internal import InternalPairError
+        from plantmech.workflows import evaluate_transplanter_population
+
+        params = {n: X[:, self.n_r + i] for i, n in enumerate(self.param_names)}
+        # H1 must stay below S
+        params["H1_mm"] = np.minimum(params["H1_mm"], params["S_mm"])
+        try:
+            motion, ev = evaluate_transplanter_population(
+                self.design, X[:, :self.n_r], self.samples, self.interference, params)
+        except InternalPairError:
+            return self._one_by_one(X)
+        return self._batch(ev)
+
+    def _batch(self, ev):
+        names = ev.names
+        v = ev.values
+        lo, hi = self.design.limits.angle_difference_deg
+        F = np.c_[v[:, names.index("seedling_block_skew")], v[:, names.index("hole_width")],
+                  np.abs(v[:, names.index("angle_difference")] - 0.5 * (lo + hi))]
+        return Batch(F, ev.violation, names, ev.units, ev.limits, v, ev.ok)
+
+    def _one_by_one(self, X):
+        """Fallback when some candidate's planet cannot mesh: evaluate the others, give
+        the broken ones a large violation."""
+        from plantmech.gears.internal import InternalPairError
+
+        parts = []
+        for x in X:
+            try:
+                parts.append(self._batch(self._single(x)))
+            except InternalPairError:
+                parts.append(None)
+        good = next(p for p in parts if p is not None) if any(parts) else None
+        if good is None:
+            raise RuntimeError("no candidate in the population has a meshing planet")
+        K = good.values.shape[1]
+        rows = [p if p is not None else Batch(np.full((1, 3), 1e6), np.full((1, K), 1e6),
+                                              good.names, good.units, good.limits,
+                                              np.full((1, K), np.nan), np.zeros((1, K), bool))
+                for p in parts]
+        return Batch(np.vstack([r.F for r in rows]), np.vstack([r.G for r in rows]),
+                     good.names, good.units, good.limits, np.vstack([r.values for r in rows]),
+                     np.vstack([r.ok for r in rows]))
+
+    def _single(self, x):
+        from plantmech.workflows import evaluate_transplanter_population
+
+        X = x[None, :]
+        params = {n: X[:, self.n_r + i] for i, n in enumerate(self.param_names)}
+        params["H1_mm"] = np.minimum(params["H1_mm"], params["S_mm"])
+        return evaluate_transplanter_population(self.design, X[:, :self.n_r], self.samples,
+                                                self.interference, params)[1]

@@ -1,0 +1,118 @@
+import json
+
+import numpy as np
+import pytest
+
+from plantmech.design import load_design
+from plantmech.optimize.problems import Batch, DesignProblem, Transplanter, Variable
+from plantmech.optimize.runner import run
+from tests.conftest import EXAMPLES
+
+
+class RecoverRadii(DesignProblem):
+    """Known optimum: three radii of the Table 4 train were changed; find the radii whose
+    speed profile equals the original train's (unique here: the speed responds to each)."""
+
+    name = "recover-radii"
+    objective_names = ["speed_profile_rms"]
+
+    def __init__(self, design, which, truth, start):
+        from plantmech.workflows import evaluate_seeder_population
+
+        self.which, self.truth = which, truth
+        self.base = np.r_[design.train.gear2.radii_mm, design.train.gear3.radii_mm]
+        pop = evaluate_seeder_population(design, samples=360, dense=1024)
+        self.target = np.hypot(*pop.motion.tip_rate[0].T)
+        variables = [Variable(f"r{k}", s, s - 4.0, s + 4.0, "mm", lambda d, v: None)
+                     for k, s in zip(which, start, strict=True)]
+        super().__init__(design, variables, n_constr=0)
+
+    def evaluate_batch(self, X):
+        from plantmech.workflows import evaluate_seeder_population
+
+        R = np.tile(self.base, (len(X), 1))
+        R[:, self.which] = X
+        pop = evaluate_seeder_population(self.design, R[:, :8], R[:, 8:], samples=360,
+                                         dense=1024)
+        speed = np.hypot(pop.motion.tip_rate[..., 0], pop.motion.tip_rate[..., 1])
+        rms = np.sqrt(np.mean((speed - self.target) ** 2, axis=1))
+        return Batch(rms[:, None], np.zeros((len(X), 0)), ["rms"], ["mm/rad"], [""],
+                     rms[:, None], np.ones((len(X), 1), bool))
+
+
+def test_optimizer_recovers_known_radii():
+    design = load_design(EXAMPLES / "sugarcane_table4.toml")
+    which = [3, 4, 10]  # r_2,4, r_2,5 and r_3,3: the paper's speed-tuning radii
+    truth = np.r_[design.train.gear2.radii_mm, design.train.gear3.radii_mm][which]
+    p = RecoverRadii(design, which, truth, truth + np.array([2.5, -2.0, 3.0]))
+    res = run(p, "cmaes", seed=3, generations=60, pop_size=12, progress=False)
+    assert np.abs(res.best_x - truth).max() < 0.05
+    assert res.best.values[0, 0] < 1e-2
+
+
+def test_same_seed_same_result_and_transplanter_meets_every_objective():
+    d = load_design(EXAMPLES / "rice_transplanter.toml")
+    p = Transplanter(d, samples=180)
+    a = run(p, "de", seed=7, generations=6, pop_size=16, progress=False)
+    b = run(p, "de", seed=7, generations=6, pop_size=16, progress=False)
+    c = run(p, "de", seed=8, generations=6, pop_size=16, progress=False)
+    assert np.array_equal(a.best_x, b.best_x)
+    assert not np.array_equal(a.best_x, c.best_x)
+    assert a.evaluations == b.evaluations
+
+
+def test_cli_transplanter_run_writes_a_record_and_never_touches_the_input(tmp_path):
+    from plantmech.interfaces.cli import main
+
+    src = tmp_path / "rice.toml"
+    text = (EXAMPLES / "rice_transplanter.toml").read_text()
+    src.write_text(text)
+    out = tmp_path / "opt"
+    rc = main(["optimize", str(src), "--problem", "transplanter", "--out", str(out),
+               "--seed", "1", "--generations", "12", "--quiet"])
+    assert src.read_text() == text
+    rec = json.loads((out / "run.json").read_text())
+    assert rc == (0 if rec["feasible"] else 4)
+    assert rec["feasible"], "the published design is one step from feasible; 12 generations do"
+    for key in ("problem", "algorithm", "seed", "evaluations", "wall_s", "feasible",
+                "objectives", "machine", "settings"):
+        assert key in rec
+    assert rec["verified_full_resolution"]["all_met"]
+    best = load_design(out / "best.toml")
+    assert best.mechanism == "rice_transplanter"
+    assert (out / "pareto.csv").read_text().count("\n") >= 2
+    assert (out / "history.csv").exists() and (out / "convergence.png").exists()
+
+
+def test_cli_exit_4_when_nothing_meets_every_objective(tmp_path):
+    from plantmech.interfaces.cli import main
+
+    out = tmp_path / "opt"
+    rc = main(["optimize", str(EXAMPLES / "sugarcane_seeder.toml"), "--problem",
+               "seeder-layer1", "--out", str(out), "--generations", "2", "--pop", "8",
+               "--quiet"])
+    assert rc == 4
+    rec = json.loads((out / "run.json").read_text())
+    assert rec["feasible"] is False
+    assert load_design(out / "best.toml").trajectory is not None  # closest design written
+
+
+def test_bad_problem_for_the_mechanism_is_refused(tmp_path, capsys):
+    from plantmech.interfaces.cli import main
+
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter.toml"), "--problem",
+               "seeder-layer1", "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2
+    assert "needs a sugarcane_seeder design" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["seeder-layer1", "seeder-layer2", "transplanter"])
+def test_problem_starts_from_the_design(name):
+    from plantmech.optimize.jobs import make_problem
+
+    f = "rice_transplanter.toml" if name == "transplanter" else "sugarcane_seeder.toml"
+    p = make_problem(load_design(EXAMPLES / f), name)
+    assert np.all(p.xl <= p.x0) and np.all(p.x0 <= p.xu)
+    d = p.decode(p.x0)
+    if name == "seeder-layer1":
+        assert d.trajectory.points == load_design(EXAMPLES / f).trajectory.points
