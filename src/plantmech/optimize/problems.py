@@ -202,8 +202,12 @@ class SeederLayer1(DesignProblem):
             ok = ok.copy()
             ok[:, [names.index(n) for n in names if "speed" in n]] = True
         G = np.c_[infeasible, viol]
+        limits = list(rows[0]["limits"])
+        if not self.speed_constraints:
+            limits = [f"{lim} (reported, not a constraint here)" if "speed" in n else lim
+                      for n, lim in zip(names, limits, strict=True)]
         return Batch(F, G, ["feasible_inverse"] + names, [""] + rows[0]["units"],
-                     ["= 0 errors"] + rows[0]["limits"],
+                     ["= 0 errors"] + limits,
                      np.c_[infeasible, values], np.c_[infeasible == 0, ok])
 
 
