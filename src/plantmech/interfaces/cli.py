@@ -22,22 +22,32 @@ from plantmech import __version__
 EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
 
 
-def _inverse(args) -> int:
+def _load(args, require_trajectory: bool = False):
+    """(design, out dir) or None after printing the input error."""
     from plantmech.design import DesignError, load_design
-    from plantmech.geometry.trajectory import TrajectoryError
-    from plantmech.outputs.files import OutputError, prepare_out_dir, write_json
-    from plantmech.outputs.seeder_report import write_inverse_outputs
-    from plantmech.workflows import run_seeder_inverse
+    from plantmech.outputs.files import OutputError, prepare_out_dir
 
     try:
         design = load_design(args.design)
-        if design.trajectory is None:
+        if require_trajectory and design.trajectory is None:
             raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
                               "design (this file gives a [train]: use 'plantmech forward')")
-        out = prepare_out_dir(args.out, [Path(args.design)])
+        return design, prepare_out_dir(args.out, [Path(args.design)])
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return None
+
+
+def _inverse(args) -> int:
+    from plantmech.geometry.trajectory import TrajectoryError
+    from plantmech.outputs.files import write_json
+    from plantmech.outputs.seeder_report import write_inverse_outputs
+    from plantmech.workflows import run_seeder_inverse
+
+    loaded = _load(args, require_trajectory=True)
+    if loaded is None:
         return EXIT_INPUT
+    design, out = loaded
     t0 = time.perf_counter()
     try:
         job = run_seeder_inverse(design)
@@ -72,20 +82,17 @@ def _inverse(args) -> int:
 
 
 def _forward(args) -> int:
-    from plantmech.design import DesignError, load_design
     from plantmech.gears.closure import ClosureError
     from plantmech.geometry.periodic import PitchCurveError
     from plantmech.geometry.trajectory import TrajectoryError
-    from plantmech.outputs.files import OutputError, prepare_out_dir, write_json
+    from plantmech.outputs.files import write_json
     from plantmech.outputs.seeder_forward_report import write_forward_outputs
     from plantmech.workflows import InfeasibleDesign, run_seeder_forward
 
-    try:
-        design = load_design(args.design)
-        out = prepare_out_dir(args.out, [Path(args.design)])
-    except (DesignError, OutputError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    loaded = _load(args)
+    if loaded is None:
         return EXIT_INPUT
+    design, out = loaded
     if design.mechanism != "sugarcane_seeder":
         return _forward_transplanter(args, design, out)
     t0 = time.perf_counter()
@@ -159,16 +166,12 @@ def _forward_transplanter(args, design, out) -> int:
 
 
 def _optimize(args) -> int:
-    from plantmech.design import DesignError, load_design
     from plantmech.optimize.jobs import optimize, summary_lines
-    from plantmech.outputs.files import OutputError, prepare_out_dir
 
-    try:
-        design = load_design(args.design)
-        out = prepare_out_dir(args.out, [Path(args.design)])
-    except (DesignError, OutputError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    loaded = _load(args)
+    if loaded is None:
         return EXIT_INPUT
+    design, out = loaded
     try:
         outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
                            generations=args.generations, pop=args.pop,
