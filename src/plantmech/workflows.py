@@ -592,3 +592,107 @@ def train_from_inverse_job(job: SeederInverseJob, points: int = 8):
                  initial_carrier_angle_deg=float(np.degrees(tr.carrier0)),
                  initial_arm_angle_deg=float(np.degrees(tr.arm0)), dwell=dwell,
                  samples=job.design.trajectory.samples)
+
+
+# --- teeth -------------------------------------------------------------------------------
+
+
+def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
+               samples: int = 3000, min_teeth: int = 20):
+    """Toothed gear pairs of a design: the seeder's sun-gear 2 and gear 3-planet pairs
+    (from its [train], or from the inverse design of its trajectory), the transplanter's
+    internal gear-planet pair. Returns [(GearPair, ToothSpec)]."""
+    from plantmech.gears.teeth import (
+        PitchPolyline,
+        ToothSpec,
+        make_pair,
+        standard_module,
+        teeth_count,
+    )
+
+    out = []
+    if design.mechanism == "sugarcane_seeder":
+        if design.train is not None:
+            tr, _ = train_from_design(design)
+        else:
+            from plantmech.verification import train_from_inverse
+
+            job = run_seeder_inverse(design)
+            if not job.result.feasible:
+                raise ValueError("the trajectory's inverse design is infeasible: no gears")
+            tr = train_from_inverse(job.result)
+        for name, curve, a in (("gear2_sun", tr.gear2, tr.a1), ("gear3_planet", tr.gear3,
+                                                                  tr.a2)):
+            th = curve.theta0 + np.linspace(0.0, 2 * np.pi, samples)
+            r = curve(th)
+            P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+            m0 = module or standard_module(P, min_teeth)
+            z, m = teeth_count(P, m0)
+            spec = ToothSpec(module=m, backlash_mm=backlash)
+            bore = _bore(r.min(), spec)
+            out.append((make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
+                                  bore_b=_bore((a - r).min(), spec)), spec))
+    elif design.mechanism == "rice_transplanter":
+        pair, *_ = simulate_transplanter(design, samples=360)
+        g = design.internal_gear
+        ang, R = pair.internal_polar(0)
+        order = np.argsort(np.mod(ang, 2 * np.pi))
+        th = np.r_[np.mod(ang, 2 * np.pi)[order], 2 * np.pi + np.mod(ang, 2 * np.pi)[order][0]]
+        r = np.r_[R[order], R[order][0]]
+        P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+        if g.teeth:
+            z, m = g.teeth, P / (np.pi * g.teeth)
+        else:
+            z, m = teeth_count(P, module or standard_module(P, min_teeth * g.lobes), g.lobes)
+        spec = ToothSpec(module=m, backlash_mm=backlash)
+        a = float(pair.a[0])
+        out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
+                              samples=samples, rim=g.rim_mm + 3.0,
+                              bore_b=_bore((r - a).min(), spec)), spec))
+    else:
+        raise ValueError("tooth generation for the K-H-V train is not implemented yet")
+    return out
+
+
+def _bore(min_pitch_radius: float, spec) -> float | None:
+    """A bore leaving 1.5 modules of material below the tooth roots; none if < 3 mm."""
+    d = 2 * (min_pitch_radius - (spec.dedendum + 1.5) * spec.module)
+    return float(min(d, 30.0)) if d >= 3.0 else None
+
+
+def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
+              backlash: float = 0.1, steps: int = 360) -> dict:
+    """Generate, check and write every gear of ``design`` into ``out``; returns the
+    verification record (also written as verification.json)."""
+    from plantmech.gears.teeth import gear_checks, mesh_check, placed
+    from plantmech.outputs import gear_files as gf
+    from plantmech.outputs.files import write_json
+
+    record = {"gears": [], "mesh": [], "files": [], "face_width_mm": face_width,
+              "backlash_mm": backlash}
+    for pair, spec in gear_pairs(design, module, backlash):
+        spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
+        names = pair.name.split("_")
+        for gname, poly, pitch, z, internal in (
+                (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal),
+                (names[1], pair.gear_b, pair.pitch_b, pair.teeth_b, False)):
+            c = gear_checks(gname, pitch, spec, z, internal)
+            for ext, writer in (("dxf", lambda p, g=poly, n=gname: gf.write_dxf(p, {n: g})),
+                                ("svg", lambda p, g=poly, n=gname: gf.write_svg(p, g, n))):
+                writer(out / f"{gname}.{ext}")
+                record["files"].append(f"{gname}.{ext}")
+            c["stl_watertight"] = gf.write_stl(out / f"{gname}.stl", poly, face_width)
+            record["files"].append(f"{gname}.stl")
+            why = gf.write_step(out / f"{gname}.step", poly, face_width)
+            if why is None:
+                record["files"].append(f"{gname}.step")
+            else:
+                record["step"] = why
+            record["gears"].append(c)
+        record["mesh"].append(mesh_check(pair, steps))
+        ga, gb = placed(pair, pair.phi_a[0], pair.phi_b[0])
+        gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb)
+        record["files"].append(f"{pair.name}_mesh.png")
+    record["all_pairs_mesh"] = all(m["ok"] for m in record["mesh"])
+    write_json(out / "verification.json", record)
+    return record

@@ -3,11 +3,12 @@
 ``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
 ``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
 ``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
+``plantmech gears DESIGN.toml --out DIR``: teeth, checks and manufacturing files.
 
 Exit status: 0 done (forward: objectives are reported, met or not; optimize: a design
 meeting every objective was found), 2 invalid input (names the field, gear or angle),
 3 infeasible design, 4 optimize found no design meeting every objective (the closest
-one is written).
+one is written) / gears: a pair does not mesh without interference.
 """
 
 from __future__ import annotations
@@ -186,6 +187,38 @@ def _optimize(args) -> int:
     return EXIT_OK if outcome.feasible else EXIT_NOT_MET
 
 
+def _gears(args) -> int:
+    from plantmech.workflows import run_gears
+
+    loaded = _load(args)
+    if loaded is None:
+        return EXIT_INPUT
+    design, out = loaded
+    try:
+        rec = run_gears(design, out, module=args.module, face_width=args.face_width,
+                        backlash=args.backlash)
+    except ValueError as exc:
+        print(f"error: {args.design}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    for g in rec["gears"]:
+        flags = [k for k in ("undercut", "pointed") if g[k]]
+        if not g["cutter_fits"]:
+            flags.append(f"concave radius {g['min_concave_curvature_radius_mm']:.2f} mm < "
+                         f"cutter {g['cutter_pitch_radius_mm']:.2f} mm")
+        print(f"  {g['name']:<9} z = {g['teeth']:>3}, m = {g['module_mm']:.4f} mm, "
+              f"max pressure angle {g['max_pressure_angle_deg']:.1f} deg"
+              + (f"  WARNING: {', '.join(flags)}" if flags else ""))
+    for mm in rec["mesh"]:
+        bl = mm["max_backlash_mm"]
+        print(f"  {'ok  ' if mm['ok'] else 'FAIL'} mesh {mm['pair']}: interference "
+              f"{mm['max_interference_mm']:.4f} mm, backlash up to "
+              + ("n/a" if bl is None else f"{bl:.4f} mm"))
+    if "step" in rec:
+        print(f"  STEP skipped: {rec['step']}")
+    print(f"wrote {len(rec['files'])} files and verification.json to {out}")
+    return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
+
+
 def _print_forward(s: dict) -> None:
     t = s["train"]
     print(f"{s['name']}: forward simulation ({s['source']})")
@@ -255,6 +288,16 @@ def build_parser() -> argparse.ArgumentParser:
     fwd.add_argument("--out", required=True, help="output directory")
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     fwd.set_defaults(func=_forward)
+    gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
+    gears.add_argument("design", help="design file (TOML)")
+    gears.add_argument("--out", required=True, help="output directory")
+    gears.add_argument("--module", type=float, default=None,
+                       help="target module (mm); default: the largest standard module "
+                       "leaving 20 teeth (transplanter: from internal_gear.teeth)")
+    gears.add_argument("--face-width", type=float, default=12.0, help="mm, for STL/STEP")
+    gears.add_argument("--backlash", type=float, default=0.1,
+                       help="circumferential backlash per pair, mm")
+    gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
     opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")

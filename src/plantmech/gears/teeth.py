@@ -1,0 +1,505 @@
+"""Teeth of non-circular gears by simulated cutting (seed 001, Eq. 11-18 in spirit):
+a pinion-shaped (shaper) cutter rolls without slip along the pitch curve and its swept
+teeth are subtracted from the blank (shapely Booleans), for external and internal gears.
+
+Conventions: a pitch curve is a closed polyline (mm) around its gear's rotation centre
+at the origin, counter-clockwise; s is arc length from its first point; n(s) the unit
+normal pointing away from the centre side (outward for a convex curve). Module m,
+pressure angle alpha, addendum ha m, dedendum hf m (defaults 1.0, 1.25). Backlash is a
+circumferential allowance per gear: each gear's teeth are thinned by half of it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+STANDARD_MODULES = (0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
+
+
+@dataclass
+class ToothSpec:
+    module: float
+    pressure_angle_deg: float = 20.0
+    addendum: float = 1.0  # x m
+    dedendum: float = 1.25  # x m
+    backlash_mm: float = 0.0  # circumferential, per pair
+    cutter_teeth: int = 20
+
+    @property
+    def alpha(self) -> float:
+        return np.radians(self.pressure_angle_deg)
+
+    @property
+    def pitch(self) -> float:
+        return np.pi * self.module
+
+
+def inv(a):
+    return np.tan(a) - a
+
+
+def teeth_count(perimeter: float, module: float, multiple: int = 1) -> tuple[int, float]:
+    """Whole number of teeth z (a multiple of ``multiple``, e.g. per lobe) closest to
+    perimeter / (pi m), and the exact module perimeter / (pi z) that makes the closed
+    curve carry z whole teeth."""
+    z = max(multiple, int(round(perimeter / (np.pi * module) / multiple)) * multiple)
+    return z, perimeter / (np.pi * z)
+
+
+def standard_module(perimeter: float, min_teeth: int = 12, multiple: int = 1) -> float:
+    """The largest standard module that leaves at least ``min_teeth`` teeth."""
+    ok = [m for m in STANDARD_MODULES if perimeter / (np.pi * m) >= min_teeth]
+    return max(ok) if ok else STANDARD_MODULES[0]
+
+
+def involute_tooth(rp: float, m: float, alpha: float, ha: float, hf: float,
+                   thickness: float, n_flank: int = 12) -> np.ndarray:
+    """One involute tooth of a spur gear with pitch radius rp, centred on angle 0: points
+    (K, 2) from the root at -half a pitch angle, up the right flank, over the tip, down
+    the left flank to the root at +half a pitch angle. ``thickness``: tooth thickness on
+    the pitch circle (mm)."""
+    rb = rp * np.cos(alpha)
+    ra, rf = rp + ha * m, rp - hf * m
+    half_pitch = np.pi * m / (2 * rp)  # angle of half a pitch
+    r0 = max(rb, rf)
+    r = np.linspace(r0, ra, n_flank)
+    a_r = np.arccos(np.clip(rb / r, -1.0, 1.0))
+    psi = thickness / (2 * rp) + inv(alpha) - inv(a_r)  # half tooth angle at r
+    psi = np.minimum(psi, half_pitch)
+    right = np.c_[r * np.cos(-psi), r * np.sin(-psi)]
+    left = np.c_[r * np.cos(psi), r * np.sin(psi)][::-1]
+    tip_a = np.linspace(-psi[-1], psi[-1], 5)[1:-1]
+    tip = np.c_[ra * np.cos(tip_a), ra * np.sin(tip_a)]
+    root_r = np.c_[rf * np.cos(-half_pitch), rf * np.sin(-half_pitch)]
+    root_l = np.c_[rf * np.cos(half_pitch), rf * np.sin(half_pitch)]
+    pts = [root_r]
+    if rf < r0:  # radial flank below the base circle
+        pts.append(np.c_[rf * np.cos(-psi[0]), rf * np.sin(-psi[0])])
+    pts += [right, tip, left]
+    if rf < r0:
+        pts.append(np.c_[rf * np.cos(psi[0]), rf * np.sin(psi[0])])
+    pts.append(root_l)
+    return np.vstack(pts)
+
+
+def spur_gear_polygon(z: int, spec: ToothSpec, thickness: float | None = None,
+                      ha: float | None = None, hf: float | None = None):
+    """A whole involute spur gear (shapely Polygon) centred at the origin."""
+    import shapely
+
+    m = spec.module
+    rp = m * z / 2
+    t = np.pi * m / 2 if thickness is None else thickness
+    tooth = involute_tooth(rp, m, spec.alpha, spec.addendum if ha is None else ha,
+                           spec.dedendum if hf is None else hf, t)
+    z_c = tooth[:, 0] + 1j * tooth[:, 1]
+    ring = np.concatenate([z_c * np.exp(1j * TWO_PI * k / z) for k in range(z)])
+    return shapely.Polygon(np.c_[ring.real, ring.imag]).buffer(0)
+
+
+@dataclass
+class PitchPolyline:
+    """A closed pitch curve sampled as a polyline around the origin (CCW)."""
+
+    xy: np.ndarray  # (N, 2)
+
+    @classmethod
+    def from_polar(cls, theta, r, samples: int = 4000) -> PitchPolyline:
+        """From a closed polar curve sampled at increasing angles over one turn."""
+        from plantmech.geometry.periodic import RadiusCurve
+
+        th = np.mod(np.asarray(theta, float), TWO_PI)
+        rr = np.asarray(r, float)
+        order = np.argsort(th, kind="stable")
+        th, rr = th[order], rr[order]
+        keep = np.r_[True, np.diff(th) > 1e-9]  # a curve swept more than once: one copy
+        th, rr = th[keep], rr[keep]
+        if TWO_PI - th[-1] + th[0] <= 1e-9:
+            th, rr = th[:-1], rr[:-1]
+        # a periodic cubic spline, so the polyline's vertices lie on a smooth curve
+        curve = RadiusCurve.from_samples(th, rr, kind="spline", theta0=0.0)
+        grid = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+        rg = curve(grid)
+        return cls(np.c_[rg * np.cos(grid), rg * np.sin(grid)])
+
+    @property
+    def seg(self):
+        return np.roll(self.xy, -1, axis=0) - self.xy
+
+    @property
+    def perimeter(self) -> float:
+        return float(np.hypot(*self.seg.T).sum())
+
+    def at(self, s: np.ndarray):
+        """Points, unit tangents and outward normals at arc lengths s (mm)."""
+        seg = self.seg
+        ln = np.hypot(*seg.T)
+        cum = np.r_[0.0, np.cumsum(ln)]
+        s = np.mod(s, cum[-1])
+        k = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(ln) - 1)
+        f = (s - cum[k]) / ln[k]
+        p = self.xy[k] + f[:, None] * seg[k]
+        # tangent from a centred difference over neighbouring segments (smooth normals)
+        t = seg[k] / ln[k, None] + seg[(k + 1) % len(ln)] / ln[(k + 1) % len(ln), None] * f[
+            :, None] + seg[k - 1] / ln[k - 1, None] * (1 - f[:, None])
+        t = t / np.hypot(*t.T)[:, None]
+        n = np.c_[t[:, 1], -t[:, 0]]  # right of the CCW tangent: outward
+        return p, t, n
+
+    def curvature_radius(self) -> np.ndarray:
+        """Signed radius of curvature at the vertices (mm): positive convex, negative
+        concave (seen from outside)."""
+        a, b, c = np.roll(self.xy, 1, 0), self.xy, np.roll(self.xy, -1, 0)
+        ab, bc, ca = b - a, c - b, a - c
+        cross = ab[:, 0] * bc[:, 1] - ab[:, 1] * bc[:, 0]
+        la, lb, lc = np.hypot(*ab.T), np.hypot(*bc.T), np.hypot(*ca.T)
+        with np.errstate(divide="ignore"):
+            return np.where(cross == 0, np.inf, la * lb * lc / (2 * cross))
+
+
+def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
+             tooth_at: float = 0.0, rim: float = 8.0, bore: float | None = None,
+             steps_per_pitch: int = 12, toothless: tuple[float, float] | None = None):
+    """Generate a gear by rolling the shaper cutter along ``pitch``.
+
+    External: the cutter rolls outside, the blank is the pitch curve grown by the
+    addendum. Internal: the cutter rolls inside, the blank is the ring between the pitch
+    curve shrunk by the addendum and grown by dedendum + ``rim``. ``phase`` (pitches):
+    where along the curve a tooth of the gear is centred at s = 0 (0 = a tooth; 0.5 = a
+    space). ``toothless``: arc-length interval (mm) left uncut (a toothless sector keeps
+    its blank). Returns a shapely Polygon with the bore as a hole.
+    """
+    import shapely
+
+    m, zc = spec.module, spec.cutter_teeth
+    rc = m * zc / 2
+    P = pitch.perimeter
+    # cutter: teeth thicker by half the backlash so the gear's teeth are thinner by it
+    tooth = involute_tooth(rc, m, spec.alpha, spec.dedendum, spec.addendum + 0.05,
+                           np.pi * m / 2 + spec.backlash_mm / 2)
+    wedge = np.vstack([[0.0, 0.0], tooth])
+    wz = wedge[:, 0] + 1j * wedge[:, 1]
+    pitch_angle = TWO_PI / zc
+    n_pos = int(np.ceil(P / spec.pitch * steps_per_pitch))
+    s = np.linspace(0.0, P, n_pos, endpoint=False)
+    if toothless is not None:
+        a, b = toothless
+        keep = ~((np.mod(s - a, P)) <= np.mod(b - a, P))
+        s = s[keep]
+    p, _, n = pitch.at(s)
+    nz = n[:, 0] + 1j * n[:, 1]
+    pz = p[:, 0] + 1j * p[:, 1]
+    sign = -1.0 if internal else 1.0
+    centre = pz + sign * rc * nz
+    face = np.angle(-sign * nz)  # direction from the cutter centre to the contact
+    # rolling without slip: the cutter's body angle at the contact moves by -/+ s / rc
+    # (external / internal); a cutter space faces the contact where the gear gets a tooth
+    s_eff, t_eff = s, tooth_at
+    if toothless is not None:
+        # a partial gear's teeth are evenly spaced along its meshing arc: run the rolling
+        # parameter continuously over that arc, with the wrap inside the toothless gap
+        b0 = toothless[1]
+        s_eff = b0 + np.mod(s - b0, P)
+        t_eff = b0 + np.mod(tooth_at - b0, P)
+    beta = 0.5 * pitch_angle - sign * (s_eff - t_eff) / rc
+    rot = face - beta  # absolute orientation of the cutter's body frame
+    # only the cutter teeth within +-3 pitches of the contact can touch the blank
+    k0 = np.round(beta / pitch_angle)
+    ang = rot[:, None] + (k0[:, None] + np.arange(-3, 4)[None, :]) * pitch_angle
+    pts = centre[:, None, None] + np.exp(1j * ang)[:, :, None] * wz[None, None, :]
+    polys = shapely.polygons(np.stack([pts.real, pts.imag], -1).reshape(-1, len(wz), 2))
+    sweep = shapely.union_all(shapely.make_valid(polys))
+    base = shapely.Polygon(pitch.xy)
+    if internal:
+        inner = base.buffer(-spec.addendum * m, join_style="round")
+        outer = base.buffer((spec.dedendum + 0.25) * m + rim, join_style="round")
+        blank = outer.difference(inner)
+        gear = blank.difference(sweep)
+    else:
+        blank = base.buffer(spec.addendum * m, join_style="round")
+        gear = blank.difference(sweep)
+        if toothless is not None:
+            # the toothless sector is turned down to the root curve (a plain locking arc)
+            a0, b0 = toothless
+            span = np.mod(b0 - a0, P)
+            q, _, _ = pitch.at(a0 + np.linspace(0.0, span, 64))
+            big = 10 * np.hypot(*pitch.xy.T).max()
+            ang = np.unwrap(np.arctan2(q[:, 1], q[:, 0]))
+            wedge = shapely.Polygon(np.vstack([[0.0, 0.0], np.c_[big * np.cos(ang),
+                                                                  big * np.sin(ang)]]))
+            root = base.buffer(-spec.dedendum * m, join_style="round")
+            gear = gear.difference(wedge.difference(root))
+        if bore:
+            gear = gear.difference(shapely.Point(0, 0).buffer(bore / 2, 64))
+    gear = _largest(gear)
+    return gear
+
+
+def _largest(geom):
+    """The largest polygon of a (multi)polygon, Boolean crumbs dropped: holes under
+    0.01 mm^2 removed, vertices closer than 1 um merged."""
+    import shapely
+
+    if geom.geom_type == "GeometryCollection":
+        geom = shapely.union_all([g for g in geom.geoms if g.geom_type in (
+            "Polygon", "MultiPolygon")])
+    if geom.geom_type == "MultiPolygon":
+        geom = max(geom.geoms, key=lambda g: g.area)
+    holes = [h for h in geom.interiors if shapely.Polygon(h).area > 1e-2]
+    geom = shapely.Polygon(geom.exterior, holes).simplify(1e-3)
+    if geom.geom_type == "MultiPolygon" or not geom.is_valid:
+        geom = _largest(shapely.make_valid(geom))
+    return geom
+
+
+@dataclass
+class GearPair:
+    """Two pitch curves in mesh and their teeth. Gear A turns phi_A (body angle of its
+    contact, 0..2 pi), gear B's contact is at phi_B(phi_A); B's centre at (a, 0) for an
+    external pair, at (-a, 0)... see ``placed``."""
+
+    name: str
+    pitch_a: PitchPolyline
+    pitch_b: PitchPolyline
+    phi_a: np.ndarray  # contact body angles of A over a cycle (rad)
+    phi_b: np.ndarray  # matching contact body angles of B (rad)
+    a: float
+    internal: bool  # True: A is the internal gear, B the planet inside it
+    teeth_a: int
+    teeth_b: int
+    module: float
+    gear_a: object = None  # shapely polygons
+    gear_b: object = None
+
+
+def polar_contacts(theta_a, r_a, a: float, internal: bool, turn_b: float | None = None):
+    """Rolling partner of a polar pitch curve (theta_a increasing over one turn of A):
+    contact body angles of B and its radii (external: r_b = a - r_a, B turns the other
+    way; internal: r_b = r_a - a, same way)."""
+    th = np.asarray(theta_a, float)
+    r = np.asarray(r_a, float)
+    rb = r - a if internal else a - r
+    rate = r / rb
+    dphi = np.r_[0.0, np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(th))]
+    return (dphi if internal else -dphi), rb
+
+
+def fit_cutter(spec: ToothSpec, *pitches: PitchPolyline, internal_first: bool = False,
+               largest: int = 20, smallest: int = 8) -> ToothSpec:
+    """The shaper with the most teeth (<= ``largest``) whose pitch radius is below every
+    concave radius of curvature of the curves it must cut (a rack or a big cutter would
+    gouge concave spans); at least ``smallest`` teeth."""
+    from dataclasses import replace
+
+    limit = np.inf
+    for i, p in enumerate(pitches):
+        rho = smooth_curvature(p, internal_first and i == 0)[1]
+        concave = -rho[np.isfinite(rho) & (rho < 0)]
+        if len(concave):
+            limit = min(limit, float(concave.min()))
+    zc = int(np.clip(np.floor(2 * limit / spec.module) - 1, smallest, largest)) \
+        if np.isfinite(limit) else largest
+    return replace(spec, cutter_teeth=zc)
+
+
+def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool = False,
+              samples: int = 3000, rim: float = 8.0, bore_a: float | None = None,
+              bore_b: float | None = None) -> GearPair:
+    """Pitch curves and generated teeth of a closed pair; tooth counts from the
+    perimeters (they must carry whole teeth at ``spec.module``). The shaper is sized to
+    the concave spans (``fit_cutter``)."""
+    th = np.asarray(theta_a, float)
+    r = np.asarray(r_a, float)
+    phib, rb = polar_contacts(th, r, a, internal)
+    pa = PitchPolyline.from_polar(th, r, samples)
+    pb = PitchPolyline.from_polar(phib, rb, samples)
+    spec = fit_cutter(spec, pa, pb, internal_first=internal)
+    za = pa.perimeter / spec.pitch
+    # A: a tooth at its contact at the start (body angle th[0]); B: a space at its contact
+    sa = _arc_to_angle(pa, th[0])
+    sb = _arc_to_angle(pb, phib[0])
+    gear_a = cut_gear(pa, spec, internal=internal, tooth_at=sa, rim=rim, bore=bore_a)
+    toothless = None
+    span = abs(phib[-1] - phib[0])
+    if span < TWO_PI * (1 - 1e-4) and abs(span / TWO_PI - round(span / TWO_PI)) > 1e-4:
+        # B turns less than once while A turns once (a toothless sector on B, e.g. the
+        # seeder's sun): leave the arc B's contact never visits uncut
+        end = _arc_to_angle(pb, phib[-1])
+        # the contact sweeps from sb to end; the arc it never visits lies beyond them
+        toothless = (sb, end) if phib[-1] < phib[0] else (end, sb)
+        toothless = (toothless[0] + spec.pitch / 2, toothless[1] - spec.pitch / 2)
+    gear_b = cut_gear(pb, spec, internal=False, tooth_at=sb + spec.pitch / 2, rim=rim,
+                      bore=bore_b, toothless=toothless)
+    zb = (pb.perimeter - (np.mod(toothless[1] - toothless[0], pb.perimeter) + spec.pitch
+                          if toothless else 0.0)) / spec.pitch
+    pair = GearPair(name, pa, pb, th, phib, a, internal, int(round(za)), int(round(zb)),
+                    spec.module, gear_a, gear_b)
+    pair.spec = spec
+    return pair
+
+
+def _arc_to_angle(pitch: PitchPolyline, angle: float) -> float:
+    """Arc length (mm) from the polyline's first point to its point at polar ``angle``."""
+    k = int(np.argmin(np.abs(np.angle(np.exp(1j * (np.arctan2(pitch.xy[:, 1], pitch.xy[:, 0])
+                                                       - angle))))))
+    ln = np.hypot(*pitch.seg.T)
+    return float(np.r_[0.0, np.cumsum(ln)][k])
+
+
+def placed(pair: GearPair, phi_a: float, phi_b: float):
+    """Both toothed outlines in the mesh frame for contact body angles phi_a, phi_b:
+    A at the origin with its contact direction along +x; B at (a, 0) with its contact
+    along -x (external), or B at (a, 0) inside A with its contact along +x (internal)."""
+    import shapely
+    from shapely import affinity
+
+    ga = affinity.rotate(pair.gear_a, -phi_a, origin=(0, 0), use_radians=True)
+    if pair.internal:
+        gb = affinity.rotate(pair.gear_b, -phi_b, origin=(0, 0), use_radians=True)
+        gb = affinity.translate(gb, xoff=pair.a)
+    else:
+        gb = affinity.rotate(pair.gear_b, np.pi - phi_b, origin=(0, 0), use_radians=True)
+        gb = affinity.translate(gb, xoff=pair.a)
+    return shapely.make_valid(ga), shapely.make_valid(gb)
+
+
+def _rotated(geom, angles, dx: float = 0.0):
+    """Copies (T,) of ``geom`` rotated about the origin by ``angles`` (T,) then shifted
+    by dx along x, with one vectorised coordinate transform."""
+    import shapely
+
+    T = len(angles)
+    geoms = np.full(T, geom, dtype=object)
+    K = len(shapely.get_coordinates(geom))
+    c, s_ = np.repeat(np.cos(angles), K), np.repeat(np.sin(angles), K)
+
+    def f(xy):
+        x, y = xy[:, 0], xy[:, 1]
+        return np.c_[c * x - s_ * y + dx, s_ * x + c * y]
+
+    return shapely.transform(geoms, f)
+
+
+def _safe_intersection(a, b, grid):
+    import shapely
+
+    try:
+        return shapely.intersection(a, b, grid_size=grid)
+    except shapely.errors.GEOSException:
+        return shapely.intersection(a.buffer(1e-4), b.buffer(1e-4))
+
+
+def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) -> dict:
+    """Turn the toothed gears through a full cycle by the pitch curves' rolling law and
+    measure, at every step, overlap (interference) and the gap between the outlines,
+    inside a window of +-``window_pitches`` pitches around the line of centres.
+    Interference depth is estimated as 2 x area / perimeter of the overlap (a thin
+    sliver); backlash as the smallest distance between the outlines' boundaries."""
+    import shapely
+
+    idx = np.linspace(0, len(pair.phi_a) - 1, steps).astype(int)
+    pa, pb = pair.phi_a[idx], pair.phi_b[idx]
+    ga = _rotated(pair.gear_a, -pa)
+    gb = _rotated(pair.gear_b, (-pb if pair.internal else np.pi - pb), dx=pair.a)
+    r_a = np.hypot(*pair.pitch_a.xy.T)
+    h = window_pitches * np.pi * pair.module
+    x0 = r_a.min() - 3 * pair.module
+    x1 = r_a.max() + 3 * pair.module
+    window = shapely.box(x0, -h, x1, h)
+    grid = 1e-4  # mm: snap rounding keeps the overlays robust on cut outlines
+    ga = shapely.buffer(shapely.intersection(shapely.buffer(ga, 0), window, grid_size=grid), 0)
+    gb = shapely.buffer(shapely.intersection(shapely.buffer(gb, 0), window, grid_size=grid), 0)
+    try:
+        inter = shapely.intersection(ga, gb, grid_size=grid)
+    except shapely.errors.GEOSException:  # one bad step must not sink the whole check
+        inter = np.array([_safe_intersection(x, y, grid) for x, y in zip(ga, gb, strict=True)])
+    area = shapely.area(inter)
+    length = shapely.length(inter)
+    depth = np.where(area > 1e-6, 2 * area / np.maximum(length, 1e-9), 0.0)
+    gap = np.where(area > 1e-6, 0.0, shapely.distance(shapely.boundary(ga),
+                                                      shapely.boundary(gb)))
+    worst = int(np.argmax(depth))
+    return {"pair": pair.name, "max_interference_mm": float(depth.max()),
+            "worst_at_contact_angle_deg": float(np.degrees(pa[worst])) if depth.max() > 0
+            else None,
+            "max_backlash_mm": float(np.nanmax(gap)) if np.isfinite(gap).any() else None,
+            "min_backlash_mm": float(np.nanmin(gap)) if np.isfinite(gap).any() else None,
+            "ok": bool(depth.max() < 0.01 * pair.module), "steps": steps}
+
+
+def smooth_curvature(pitch: PitchPolyline, internal: bool = False, samples: int = 2880):
+    """(body angles, signed radius of curvature (mm, positive where the gear's material
+    side is convex), r, dr/dtheta) of the smooth periodic spline through the outline's
+    vertices in polar form (the polyline's own vertex curvature is noise)."""
+    from plantmech.geometry.periodic import RadiusCurve
+
+    xy = pitch.xy[:: max(1, len(pitch.xy) // 1440)]
+    curve = RadiusCurve.from_samples(np.arctan2(xy[:, 1], xy[:, 0]), np.hypot(*xy.T),
+                                     kind="spline", theta0=0.0)
+    tt = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    r0, r1, r2 = curve(tt), curve(tt, 1), curve(tt, 2)
+    den = r0**2 + 2 * r1**2 - r0 * r2
+    with np.errstate(divide="ignore"):
+        rho = np.where(den == 0, np.inf, (r0**2 + r1**2) ** 1.5 / den)
+    return tt, (-rho if internal else rho), r0, r1
+
+
+def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
+                internal: bool = False) -> dict:
+    """Checks of one generated gear from its pitch curve (equivalent-spur-gear rules):
+
+    - radius of curvature: smallest convex and concave values; a concave span is cut
+      correctly only if the shaper's pitch radius is smaller than its radius of
+      curvature (``cutter_fits``);
+    - undercut: where the equivalent spur gear z_eq = 2 rho / m of a convex span has
+      fewer teeth than 2 ha / sin^2(alpha) (17.1 at 20 deg, rack limit);
+    - pointed: where the equivalent gear's top land is below 0.2 m;
+    - working pressure angle: alpha + atan(|dr/dtheta| / r) about the gear centre.
+    For an internal gear the material lies outside the pitch curve, so its concave spans
+    (seen from the centre) play the role of convex ones.
+    """
+    m, alpha = spec.module, spec.alpha
+    tt, rho, r0, r1 = smooth_curvature(pitch, internal)
+    convex = np.isfinite(rho) & (rho > 0)
+    concave = np.isfinite(rho) & (rho < 0)
+    z_lim = 2 * spec.addendum / np.sin(alpha) ** 2
+    z_eq = np.where(convex, 2 * rho / m, np.inf)
+    undercut = z_eq < z_lim
+    d = m * z_eq
+    with np.errstate(invalid="ignore", divide="ignore"):
+        da = d + 2 * spec.addendum * m
+        aa = np.arccos(np.clip(d * np.cos(alpha) / da, -1, 1))
+        top = da * (np.pi / (2 * np.where(np.isfinite(z_eq), z_eq, 1e9)) + inv(alpha) - inv(aa))
+    pointed = convex & (top < 0.2 * m)
+    rc = m * spec.cutter_teeth / 2
+    min_concave = float(-rho[concave].max()) if concave.any() else None
+    press = np.degrees(alpha + np.arctan(np.abs(r1) / r0))
+    ang = np.degrees(tt)
+    return {
+        "name": name,
+        "teeth": int(teeth),
+        "module_mm": float(m),
+        "perimeter_mm": float(pitch.perimeter),
+        "internal": internal,
+        "min_curvature_radius_mm": float(np.abs(rho[np.isfinite(rho)]).min()),
+        "min_convex_curvature_radius_mm": float(rho[convex].min()) if convex.any() else None,
+        "min_concave_curvature_radius_mm": min_concave,
+        "cutter_pitch_radius_mm": float(rc),
+        "cutter_fits": bool(min_concave is None or min_concave > rc),
+        "undercut": bool(undercut.any()),
+        "undercut_at_deg": _spans(ang, undercut),
+        "pointed": bool(pointed.any()),
+        "pointed_at_deg": _spans(ang, pointed),
+        "max_pressure_angle_deg": float(press.max()),
+        "max_pressure_angle_at_deg": float(ang[int(np.argmax(press))]),
+    }
+
+
+def _spans(ang, mask) -> list[list[float]]:
+    """Body-angle spans (deg) where ``mask`` holds."""
+    from plantmech.geometry.periodic import cyclic_runs
+
+    return [[round(float(ang[a]), 2), round(float(ang[b]), 2)] for a, b in cyclic_runs(mask)]

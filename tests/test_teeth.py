@@ -1,0 +1,159 @@
+import numpy as np
+import pytest
+import shapely
+
+from plantmech.gears.teeth import (
+    PitchPolyline,
+    ToothSpec,
+    cut_gear,
+    gear_checks,
+    make_pair,
+    mesh_check,
+    spur_gear_polygon,
+)
+
+TH = np.linspace(0, 2 * np.pi, 3001)
+
+
+def test_circular_pitch_curve_gives_the_standard_involute_gear():
+    spec = ToothSpec(module=2.0)
+    pitch = PitchPolyline.from_polar(TH[:-1], np.full(3000, 30.0))
+    g = cut_gear(pitch, spec)
+    # tooth thickness on the pitch circle: pi m / 2 (chord sum / 30 teeth, arc ~ chord)
+    circle = shapely.Point(0, 0).buffer(30.0, 2048).exterior
+    assert g.intersection(circle).length / 30 == pytest.approx(np.pi, abs=0.02)
+    # flanks are involutes of the base circle r_b = r cos 20: compare with the analytic gear
+    ref = spur_gear_polygon(30, spec)
+    ring = shapely.Point(0, 0).buffer(31.5, 2048).difference(shapely.Point(0, 0).buffer(29.0, 2048))
+    assert g.intersection(ring).symmetric_difference(ref.intersection(ring)).area < 1.0
+    # addendum circle r + m
+    assert np.hypot(*np.asarray(g.exterior.coords).T).max() == pytest.approx(32.0, abs=0.02)
+
+
+def ellipse_pair(backlash=0.1):
+    from scipy.special import ellipe
+
+    e = 0.35
+    A = np.pi * 2 * 32 / (4 * ellipe(e**2))  # perimeter = 32 pitches at m = 2
+    r = A * (1 - e**2) / (1 - e * np.cos(TH))
+    return make_pair("ellipse", TH, r, 2 * A, ToothSpec(module=2.0, backlash_mm=backlash)), A
+
+
+def test_ellipse_about_its_focus_meshes_with_its_twin():
+    pair, A = ellipse_pair()
+    assert pair.teeth_a == 32 and pair.teeth_b == 32
+    assert pair.phi_b[-1] == pytest.approx(-2 * np.pi, abs=1e-4)  # closes 1:1
+    ratio = np.diff(pair.phi_a) / -np.diff(pair.phi_b)
+    assert ratio.min() == pytest.approx(0.4815, abs=2e-3)  # (1 - e) / (1 + e)
+    assert ratio.max() == pytest.approx(2.0769, abs=5e-3)  # (1 + e) / (1 - e)
+    m = mesh_check(pair, 360)
+    assert m["ok"] and m["max_interference_mm"] < 1e-3
+    assert 0.0 < m["min_backlash_mm"] <= m["max_backlash_mm"] < 0.1
+
+
+def test_wrong_tooth_phase_is_caught_by_the_mesh_check():
+    pair, _ = ellipse_pair()
+    from plantmech.gears.teeth import _arc_to_angle
+
+    pair.gear_b = cut_gear(pair.pitch_b, ToothSpec(module=2.0),
+                           tooth_at=_arc_to_angle(pair.pitch_b, pair.phi_b[0]))
+    m = mesh_check(pair, 90)
+    assert not m["ok"] and m["max_interference_mm"] > 0.5
+
+
+def wavy(cutter_teeth=None):
+    from plantmech.gears.closure import solve_centre_distance
+    from plantmech.geometry.periodic import RadiusCurve
+
+    r = 1 + 0.08 * np.cos(5 * TH)
+    scale = 100 * np.pi * 2 / PitchPolyline.from_polar(TH[:-1], r[:-1]).perimeter
+    r = r * scale
+    a = solve_centre_distance(RadiusCurve.from_samples(TH[:-1], r[:-1]), turn=5 * np.pi)
+    return make_pair("wavy", TH, r, a, ToothSpec(module=2.0, backlash_mm=0.1), samples=4000)
+
+
+def test_concave_pitch_curve_with_a_shaper_cutter_meshes():
+    pair = wavy()
+    assert pair.teeth_a == 100 and pair.teeth_b == 40
+    c = gear_checks("wavy", pair.pitch_a, pair.spec, 100)
+    # analytic: r = R0 (1 + 0.08 cos 5t), rho = (r^2 + r'^2)^1.5 / (r^2 + 2 r'^2 - r r'')
+    R0 = np.hypot(*pair.pitch_a.xy.T).max() / 1.08
+    t = np.linspace(0, 2 * np.pi, 200001)
+    r, r1, r2 = (R0 * (1 + 0.08 * np.cos(5 * t)), -0.4 * R0 * np.sin(5 * t),
+                 -2.0 * R0 * np.cos(5 * t))
+    den = r**2 + 2 * r1**2 - r * r2
+    rho = (r**2 + r1**2) ** 1.5 / den
+    assert c["min_concave_curvature_radius_mm"] == pytest.approx(-rho[den < 0].max(), rel=5e-3)
+    assert c["cutter_fits"]
+    m = mesh_check(pair, 360)
+    assert m["ok"] and m["max_interference_mm"] < 1e-3
+    assert m["max_backlash_mm"] < 0.1
+
+
+def test_a_rack_like_cutter_gouges_the_concave_spans():
+    """A cutter far larger than the concave radius of curvature (a near-rack, the naive
+    whole-rack sweep) removes flank material where the curve is concave: the teeth
+    generated that way no longer touch — the backlash jumps."""
+    pair = wavy()
+    rack = ToothSpec(module=2.0, backlash_mm=0.1, cutter_teeth=200)  # r_c = 200 mm
+    assert not gear_checks("wavy", pair.pitch_a, rack, 100)["cutter_fits"]
+    from plantmech.gears.teeth import _arc_to_angle
+
+    pair.gear_a = cut_gear(pair.pitch_a, rack, tooth_at=_arc_to_angle(pair.pitch_a, TH[0]))
+    m = mesh_check(pair, 360)
+    assert m["max_backlash_mm"] > 3 * 0.1
+
+
+def test_undercut_is_flagged_below_17_teeth():
+    for z, expected in ((12, True), (30, False)):
+        pitch = PitchPolyline.from_polar(TH[:-1], np.full(3000, float(z)))
+        assert gear_checks("c", pitch, ToothSpec(module=2.0), z)["undercut"] is expected
+
+
+def test_dxf_is_closed_and_in_mm_and_stl_is_watertight(tmp_path):
+    import ezdxf
+    import trimesh
+
+    from plantmech.outputs.gear_files import write_dxf, write_stl, write_svg
+
+    pitch = PitchPolyline.from_polar(TH[:-1], np.full(3000, 30.0))
+    g = cut_gear(pitch, ToothSpec(module=2.0), bore=20.0)
+    write_dxf(tmp_path / "g.dxf", {"gear": g})
+    doc = ezdxf.readfile(tmp_path / "g.dxf")
+    assert doc.units == ezdxf.units.MM
+    polys = list(doc.modelspace().query("LWPOLYLINE"))
+    assert len(polys) == 2 and all(p.closed for p in polys)  # outline and bore
+    assert {p.dxf.layer for p in polys} == {"gear"}
+    assert write_stl(tmp_path / "g.stl", g, 10.0)
+    mesh = trimesh.load(tmp_path / "g.stl")
+    assert mesh.is_watertight
+    assert mesh.volume == pytest.approx(g.area * 10.0, rel=1e-6)
+    write_svg(tmp_path / "g.svg", g)
+    assert (tmp_path / "g.svg").read_text().startswith("<svg")
+
+
+def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path):
+    import json
+
+    from plantmech.interfaces.cli import main
+    from tests.conftest import EXAMPLES
+
+    out = tmp_path / "g"
+    rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out),
+               "--module", "4"])
+    rec = json.loads((out / "verification.json").read_text())
+    assert rc == (0 if rec["all_pairs_mesh"] else 4)
+    assert {g["name"] for g in rec["gears"]} == {"gear2", "sun", "gear3", "planet"}
+    for g in rec["gears"]:
+        for key in ("teeth", "module_mm", "perimeter_mm", "min_curvature_radius_mm",
+                    "undercut", "pointed", "max_pressure_angle_deg"):
+            assert key in g
+        for ext in ("dxf", "svg", "stl"):
+            assert (out / f"{g['name']}.{ext}").stat().st_size > 1000
+    assert {m["pair"] for m in rec["mesh"]} == {"gear2_sun", "gear3_planet"}
+    for m in rec["mesh"]:
+        assert set(m) >= {"pair", "max_interference_mm", "max_backlash_mm", "ok"}
+    # the sun has a toothless sector: fewer teeth than its perimeter would carry
+    sun = next(g for g in rec["gears"] if g["name"] == "sun")
+    assert sun["perimeter_mm"] / (np.pi * sun["module_mm"]) > sun["teeth"] + 1
+    assert (out / "gear2_sun_mesh.png").exists()
