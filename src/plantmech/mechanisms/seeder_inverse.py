@@ -300,7 +300,9 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
             return _integrate_on_arc(fn, psi, arc0, arc_len)
 
     def g_at(x):
-        return scale * (spl(np.mod(x, TWO_PI), 1) + 1.0)
+        # the law is positive at every sample (checked above); between samples a spline
+        # can dip, which a fractional power must not see
+        return np.maximum(scale * (spl(np.mod(x, TWO_PI), 1) + 1.0), 1e-12)
 
     c = TWO_PI / integral(shape, lambda x: g_at(x) ** p)[-1]
     h = c * shape  # d psi_2 / d psi = 1 / i_1
