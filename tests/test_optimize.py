@@ -116,3 +116,24 @@ def test_problem_starts_from_the_design(name):
     d = p.decode(p.x0)
     if name == "seeder-layer1":
         assert d.trajectory.points == load_design(EXAMPLES / f).trajectory.points
+
+
+def test_layered_and_joint_jobs_run_end_to_end(tmp_path):
+    from plantmech.optimize.jobs import optimize
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    out = tmp_path / "lay"
+    out.mkdir()
+    o = optimize(d, "seeder-layered", out, "sugarcane_seeder.toml", generations=2, pop=6,
+                 progress=False)
+    rec = json.loads((out / "run.json").read_text())
+    assert rec["problem"] == "seeder-layered" and "layer1" in rec and "layer2" in rec
+    assert rec["evaluations"] == rec["layer1"]["evaluations"] + rec["layer2"]["evaluations"]
+    best = load_design(out / "best.toml")
+    assert best.train is not None and best.trajectory is not None
+    assert o.feasible is rec["feasible"]
+    out2 = tmp_path / "joint"
+    out2.mkdir()
+    optimize(d, "seeder-joint", out2, "sugarcane_seeder.toml", generations=1, pop=4,
+             progress=False)
+    assert load_design(out2 / "best.toml").train is not None

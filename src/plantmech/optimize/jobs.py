@@ -69,6 +69,7 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     from plantmech.outputs.optimization_report import write_run
 
     algo0, gen0, pop0 = DEFAULTS.get(name, ("nsga2", 30, 40))
+    user_gen, user_pop = generations, pop
     algorithm, generations, pop = algorithm or algo0, generations or gen0, pop or pop0
     if name != "seeder-layered":
         problem = make_problem(design, name, layer2_points)
@@ -89,8 +90,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     d1 = p1.decode(r1.best_x)
     d2 = with_train(d1.model_copy(update={"train": None}), layer2_points)
     p2 = P.SeederLayer2(d2)
-    r2 = run(p2, "nsga2", seed, DEFAULTS["seeder-layer2"][1], DEFAULTS["seeder-layer2"][2],
-             progress)
+    r2 = run(p2, "nsga2", seed, user_gen or DEFAULTS["seeder-layer2"][1],
+             user_pop or DEFAULTS["seeder-layer2"][2], progress)
     written += write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)")
     (out / "best.toml").write_text((l2_dir / "best.toml").read_text(), encoding="utf-8")
     rec = {
