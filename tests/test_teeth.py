@@ -157,3 +157,19 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path):
     sun = next(g for g in rec["gears"] if g["name"] == "sun")
     assert sun["perimeter_mm"] / (np.pi * sun["module_mm"]) > sun["teeth"] + 1
     assert (out / "gear2_sun_mesh.png").exists()
+
+
+def test_khv_gear_set_meshes_on_both_pairs_with_one_middle_gear(tmp_path):
+    """The middle gear of a K-H-V train is cut once (against the sun) and the planet is
+    phased to it; both meshes run clean."""
+    import json
+
+    from plantmech.design import load_design
+    from plantmech.workflows import run_gears
+    from tests.conftest import EXAMPLES
+
+    rec = run_gears(load_design(EXAMPLES / "rice_transplanter_khv.toml"), tmp_path, steps=180)
+    assert [g["name"] for g in rec["gears"]] == ["sun", "middle", "planet"]
+    assert rec["all_pairs_mesh"], rec["mesh"]
+    assert all(m["max_interference_mm"] < 1e-3 for m in rec["mesh"])
+    assert json.loads((tmp_path / "verification.json").read_text())["all_pairs_mesh"]

@@ -649,8 +649,32 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
                               samples=samples, rim=g.rim_mm + 3.0,
                               bore_b=_bore((r - a).min(), spec)), spec))
-    else:
-        raise ValueError("tooth generation for the K-H-V train is not implemented yet")
+    else:  # K-H-V: sun - middle, then middle - planet on the middle cut once
+        from plantmech.geometry.periodic import RadiusCurve
+
+        kp, *_ = simulate_transplanter(design, samples=360)
+        sig = kp.sigma[:-1]
+        th_s = np.radians(design.carrier.initial_angle_deg) - sig
+        order = np.argsort(np.mod(th_s, 2 * np.pi))
+        th = np.mod(th_s, 2 * np.pi)[order]
+        r = kp.r_sun[0, :-1][order]
+        th, r = np.r_[th, th[0] + 2 * np.pi], np.r_[r, r[0]]
+        a = float(kp.a[0])
+        P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+        if design.sun_gear.teeth and module is None:
+            m = P / (np.pi * design.sun_gear.teeth)
+        else:
+            z, m = teeth_count(P, module or standard_module(P, min_teeth))
+        spec = ToothSpec(module=m, backlash_mm=backlash)
+        p1 = make_pair("sun_middle", th, r, a, spec, samples=samples,
+                       bore_a=_bore(r.min(), spec), bore_b=_bore((a - r).min(), spec))
+        # the middle meets the planet half a middle turn from the sun contact
+        middle = RadiusCurve.from_samples(p1.phi_b[:-1], (a - r)[:-1], kind="spline")
+        th2 = p1.phi_b[0] + np.pi + np.linspace(0.0, 2 * np.pi, len(th))
+        p2 = make_pair("middle_planet", th2, middle(th2), a, p1.spec, samples=samples,
+                       gear_a=p1.gear_b, pitch_a=p1.pitch_b, tooth_at_a=p1.tooth_at_b,
+                       bore_b=_bore((a - middle(th2)).min(), spec))
+        out += [(p1, spec), (p2, spec)]
     return out
 
 
@@ -673,9 +697,12 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     for pair, spec in gear_pairs(design, module, backlash):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
+        done = {g["name"] for g in record["gears"]}
         for gname, poly, pitch, z, internal in (
                 (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal),
                 (names[1], pair.gear_b, pair.pitch_b, pair.teeth_b, False)):
+            if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
+                continue
             c = gear_checks(gname, pitch, spec, z, internal)
             for ext, writer in (("dxf", lambda p, g=poly, n=gname: gf.write_dxf(p, {n: g})),
                                 ("svg", lambda p, g=poly, n=gname: gf.write_svg(p, g, n))):

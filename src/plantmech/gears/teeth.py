@@ -307,21 +307,35 @@ def fit_cutter(spec: ToothSpec, *pitches: PitchPolyline, internal_first: bool = 
 
 def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool = False,
               samples: int = 3000, rim: float = 8.0, bore_a: float | None = None,
-              bore_b: float | None = None) -> GearPair:
+              bore_b: float | None = None, gear_a=None, pitch_a: PitchPolyline | None = None,
+              tooth_at_a: float | None = None) -> GearPair:
     """Pitch curves and generated teeth of a closed pair; tooth counts from the
     perimeters (they must carry whole teeth at ``spec.module``). The shaper is sized to
-    the concave spans (``fit_cutter``)."""
+    the concave spans (``fit_cutter``).
+
+    By default A gets a tooth at its contact at the start (body angle theta_a[0]) and B a
+    space. A gear A already cut for another mesh (a K-H-V middle gear) is passed as
+    ``gear_a``/``pitch_a`` with ``tooth_at_a`` (arc, mm, of one of its tooth centres);
+    B is then phased to it: a tooth of A delta ahead of the contact meets a space of B
+    delta ahead of B's contact (each along its own direction of contact motion)."""
     th = np.asarray(theta_a, float)
     r = np.asarray(r_a, float)
     phib, rb = polar_contacts(th, r, a, internal)
-    pa = PitchPolyline.from_polar(th, r, samples)
+    pa = PitchPolyline.from_polar(th, r, samples) if pitch_a is None else pitch_a
     pb = PitchPolyline.from_polar(phib, rb, samples)
-    spec = fit_cutter(spec, pa, pb, internal_first=internal)
+    if gear_a is None:
+        spec = fit_cutter(spec, pa, pb, internal_first=internal)
+    else:
+        spec = fit_cutter(spec, pb)
     za = pa.perimeter / spec.pitch
-    # A: a tooth at its contact at the start (body angle th[0]); B: a space at its contact
     sa = _arc_to_angle(pa, th[0])
     sb = _arc_to_angle(pb, phib[0])
-    gear_a = cut_gear(pa, spec, internal=internal, tooth_at=sa, rim=rim, bore=bore_a)
+    delta = 0.0 if tooth_at_a is None else tooth_at_a - sa
+    if gear_a is None:
+        gear_a = cut_gear(pa, spec, internal=internal, tooth_at=sa + delta, rim=rim,
+                          bore=bore_a)
+    # B's contact runs along decreasing arc for an external pair, increasing for internal
+    sb_tooth = sb + (delta if internal else -delta)
     toothless = None
     span = abs(phib[-1] - phib[0])
     if span < TWO_PI * (1 - 1e-4) and abs(span / TWO_PI - round(span / TWO_PI)) > 1e-4:
@@ -331,13 +345,14 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
         # the contact sweeps from sb to end; the arc it never visits lies beyond them
         toothless = (sb, end) if phib[-1] < phib[0] else (end, sb)
         toothless = (toothless[0] + spec.pitch / 2, toothless[1] - spec.pitch / 2)
-    gear_b = cut_gear(pb, spec, internal=False, tooth_at=sb + spec.pitch / 2, rim=rim,
+    gear_b = cut_gear(pb, spec, internal=False, tooth_at=sb_tooth + spec.pitch / 2, rim=rim,
                       bore=bore_b, toothless=toothless)
     zb = (pb.perimeter - (np.mod(toothless[1] - toothless[0], pb.perimeter) + spec.pitch
                           if toothless else 0.0)) / spec.pitch
     pair = GearPair(name, pa, pb, th, phib, a, internal, int(round(za)), int(round(zb)),
                     spec.module, gear_a, gear_b)
     pair.spec = spec
+    pair.tooth_at_b = sb_tooth + spec.pitch / 2
     return pair
 
 
