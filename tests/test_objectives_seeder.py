@@ -50,3 +50,27 @@ def test_attitude_sections():
     # ab: 0..60 deg, max of 20 sin at 60 deg (values are reported to 4 decimals)
     assert att["picking_ab"]["max"] == pytest.approx(20 * np.sin(np.radians(60)), abs=1e-4)
     assert att["sowing_angle"] == pytest.approx(20 * np.sin(np.radians(240)), abs=1e-4)
+
+
+def test_speed_lower_bound_is_met_by_every_designed_train():
+    """The bound L1 omega |sin(theta - phi)| is zero on the reach circles and the inverse
+    design's own speeds never go below it."""
+    from scipy.interpolate import CubicSpline
+
+    from plantmech.design import load_design
+    from plantmech.objectives.seeder import speed_lower_bound
+    from plantmech.workflows import run_seeder_inverse
+
+    from .conftest import EXAMPLES
+
+    assert speed_lower_bound(754.0, 254.0, 500.0) == pytest.approx(0.0, abs=1e-12)
+    assert speed_lower_bound(246.0, 254.0, 500.0) == pytest.approx(0.0, abs=1e-12)
+    # arm at right angles to the carrier: rho^2 = L1^2 + L2^2, bound = L1 omega
+    assert speed_lower_bound(np.hypot(254.0, 500.0), 254.0, 500.0) == pytest.approx(
+        0.254 * 2 * np.pi, rel=1e-12)
+    res = run_seeder_inverse(load_design(EXAMPLES / "sugarcane_seeder.toml")).result
+    psi, tip = res.carrier_angle, res.tip_realized
+    spl = CubicSpline(np.r_[psi, 2 * np.pi], np.vstack([tip, tip[:1]]), bc_type="periodic")
+    v = np.hypot(*spl(psi, 1).T) * 2 * np.pi / 1000
+    bound = speed_lower_bound(np.hypot(*tip.T), res.L1, res.L2)
+    assert np.all(v >= bound - 1e-6)

@@ -286,3 +286,13 @@ def ratio_ranges(result) -> dict:
         inv = 1.0 / rate[m]
         out[key] = {"min": float(inv.min()), "max": float(inv.max())}
     return out
+
+
+def speed_lower_bound(rho, L1: float, L2: float, carrier_speed_deg_s: float = 360.0):
+    """Smallest tip speed (m/s) any gear train can give at distance ``rho`` (mm) from the
+    carrier axis: v = |-i L1 e^{i phi} + i (g - 1) L2 e^{i theta}| omega, minimised over the
+    ratio g, is L1 omega |sin(theta - phi)|, with theta - phi fixed by rho through
+    rho^2 = L1^2 + L2^2 + 2 L1 L2 cos(theta - phi). Zero at the reach circles."""
+    rho = np.asarray(rho, dtype=float)
+    c = np.clip((rho**2 - L1**2 - L2**2) / (2 * L1 * L2), -1.0, 1.0)
+    return L1 * np.radians(carrier_speed_deg_s) * np.sqrt(1.0 - c**2) / 1000.0
