@@ -115,8 +115,9 @@ def _violations(values, lo, hi, scale):
 
 
 def default_layer1_points(design: SeederDesign) -> list[int]:
-    """Type-value points that steer the layer-1 objectives: those after d up to one past
-    e (seeding section: seeding swing, sowing angle, the path at the seeding point), the
+    """Type-value points that steer the layer-1 objectives: those from d up to one past
+    e (seeding section: seeding swing, sowing angle, the speeds — the speed bound
+    ``speed_lower_bound`` depends on their distance from the axis), the
     point nearest the rotation centre and its neighbours (it sets L2 - L1, hence every
     attitude), and a, the middle of ab and b (picking swing)."""
     s = design.trajectory.sections
@@ -130,7 +131,7 @@ def default_layer1_points(design: SeederDesign) -> list[int]:
             out.append(i)
         return out
 
-    seeding = span((s.d + 1) % n, (s.e + 1) % n)
+    seeding = span(s.d, (s.e + 1) % n)
     near = int(np.argmin(np.hypot(*pts.T)))
     picking = span(s.a, s.b)
     chosen = seeding + [(near - 1) % n, near, (near + 1) % n] + [
