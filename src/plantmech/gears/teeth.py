@@ -149,16 +149,6 @@ class PitchPolyline:
         n = np.c_[t[:, 1], -t[:, 0]]  # right of the CCW tangent: outward
         return p, t, n
 
-    def curvature_radius(self) -> np.ndarray:
-        """Signed radius of curvature at the vertices (mm): positive convex, negative
-        concave (seen from outside)."""
-        a, b, c = np.roll(self.xy, 1, 0), self.xy, np.roll(self.xy, -1, 0)
-        ab, bc, ca = b - a, c - b, a - c
-        cross = ab[:, 0] * bc[:, 1] - ab[:, 1] * bc[:, 0]
-        la, lb, lc = np.hypot(*ab.T), np.hypot(*bc.T), np.hypot(*ca.T)
-        with np.errstate(divide="ignore"):
-            return np.where(cross == 0, np.inf, la * lb * lc / (2 * cross))
-
 
 def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
              tooth_at: float = 0.0, rim: float = 8.0, bore: float | None = None,
@@ -167,10 +157,11 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
 
     External: the cutter rolls outside, the blank is the pitch curve grown by the
     addendum. Internal: the cutter rolls inside, the blank is the ring between the pitch
-    curve shrunk by the addendum and grown by dedendum + ``rim``. ``phase`` (pitches):
-    where along the curve a tooth of the gear is centred at s = 0 (0 = a tooth; 0.5 = a
-    space). ``toothless``: arc-length interval (mm) left uncut (a toothless sector keeps
-    its blank). Returns a shapely Polygon with the bore as a hole.
+    curve shrunk by the addendum and grown by dedendum + ``rim``. ``tooth_at`` (mm of
+    arc): where a tooth of the gear is centred (teeth repeat every pitch pi m; a partial
+    gear's teeth are evenly spaced along its meshing arc). ``toothless``: arc-length
+    interval (mm) left uncut; an external gear's toothless sector is turned down to the
+    root curve. Returns a shapely Polygon with the bore as a hole.
     """
     import shapely
 

@@ -107,7 +107,6 @@ def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> 
     rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
     concave = den < 0
     if span < TWO_PI:  # an open arc: runs must not wrap
-        concave = concave.copy()
         runs = cyclic_runs(np.r_[concave, False])
         runs = [(a, min(b, samples - 1)) for a, b in runs]
     else:

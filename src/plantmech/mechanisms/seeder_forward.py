@@ -77,7 +77,7 @@ class ForwardResult:
         return np.c_[self.tip[:, 0] - shift, self.tip[:, 1]]
 
 
-def _rolling_integral(curve: RadiusCurve, contact0: float, a: float, dense: int):
+def rolling_integral(curve: RadiusCurve, contact0: float, a: float, dense: int):
     """F(t) = integral_0^t r / (a - r) dt' (rad) for the gear turning t from ``contact0``
     (mate's turn while the gear turns t): a cubic-spline antiderivative on ``dense``
     nodes. A non-periodic curve (break at its ``theta0``: the lock point of an
@@ -116,8 +116,8 @@ def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> For
     Newton refinement of the carrier -> gear-2 inversion).
     """
     t = np.linspace(0.0, TWO_PI, dense + 1)
-    sun_f = _rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
-    planet_f = _rolling_integral(train.gear3, train.gear3_contact0, train.a2, dense)
+    sun_f = rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
+    planet_f = rolling_integral(train.gear3, train.gear3_contact0, train.a2, dense)
     sun = sun_f(t)
     theta1 = train.dwell_theta1 if train.dwell_start is not None else 0.0
     closure = {"stage1": float(abs(sun[-1] + theta1 - TWO_PI)),

@@ -223,7 +223,7 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     P = pair.r_sun.shape[0]
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
     offset = TWO_PI * np.arange(arms) / arms
-    sg, ad = pair.sigma, pair.a[:, None]
+    sg = pair.sigma
     # planet rate as a function of the contact progress sigma on the dense grid (P, D+1)
     rate = np.empty_like(pair.r_sun)
     for d in range(P):  # M^-1 by interpolation in a monotone table (vectorised over sigma)
@@ -232,7 +232,6 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
         sig2 = np.interp(target, Md, sg)
         rs2 = np.interp(sig2, sg, pair.r_sun[d])
         rate[d] = (pair.r_sun[d] / (pair.a[d] - pair.r_sun[d])) * (pair.a[d] - rs2) / rs2
-    del ad
     turn = CubicSpline(sg, rate, axis=1).antiderivative()(sg)  # planet turn P(sigma)
     closure = np.abs(turn[:, -1] - TWO_PI)
     # every arm runs through the same chain: arm j at psi is at contact progress psi + 2 pi j/J

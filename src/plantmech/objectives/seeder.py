@@ -221,16 +221,16 @@ def speed_checks(speeds: dict, limits) -> list[Check]:
 
 def mate_curves(train, dense: int = 4096) -> dict:
     """Sampled pitch curves (body angle rad, radius mm) of the sun and planet that
-    roll on gears 2 and 3: theta_mate = integral of r / (a - r), r_mate = a - r."""
-    from scipy.interpolate import CubicSpline
+    roll on gears 2 and 3: theta_mate = integral of r / (a - r) (the forward model's
+    rolling integral, exact across a lock-point break), r_mate = a - r."""
+    from plantmech.mechanisms.seeder_forward import rolling_integral
 
     t = np.linspace(0.0, 2 * np.pi, dense + 1)
     out = {}
     for name, curve, c0, a in (("sun", train.gear2, train.gear2_contact0, train.a1),
                                ("planet", train.gear3, train.gear3_contact0, train.a2)):
         r = curve(c0 + t)
-        ang = CubicSpline(t, r / (a - r)).antiderivative()(t)
-        out[name] = (ang, a - r)
+        out[name] = (rolling_integral(curve, c0, a, dense)(t), a - r)
     return out
 
 

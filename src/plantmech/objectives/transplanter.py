@@ -148,10 +148,9 @@ def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
     ground = ground[:, 0]
     below = B.imag < ground[:, None, None]
     kmin = np.argmin(B.imag, axis=-1)
-    g0, _ = _run_around(below, kmin)
     g_start, g_end = _run_around(below, kmin)
     return {"u": u, "v": v, "in_mat": in_mat, "has_pick": has_pick, "pick": (p0, p1),
-            "plant": (g0, kmin), "below": (g_start, g_end), "ground_y": ground, "S": S}
+            "plant": (g_start, kmin), "below": (g_start, g_end), "ground_y": ground, "S": S}
 
 
 def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: TransplanterLimits,
