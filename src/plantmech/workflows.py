@@ -521,6 +521,8 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720) -> dict:
 
 def _check_violation(name: str, value: float, design: SeederDesign) -> float:
     """Relative violation of one layer-1 check (0 when met)."""
+    from plantmech.objectives import relative_violation
+
     if not np.isfinite(value):
         return 10.0
     L = design.planning_limits
@@ -543,13 +545,7 @@ def _check_violation(name: str, value: float, design: SeederDesign) -> float:
         lo, hi = None, design.speed.seeding_max_m_s
     else:
         lo, hi = design.speed.return_min_m_s, None
-    scale = max(abs(lo or 0.0), abs(hi or 0.0), 1.0)
-    v = 0.0
-    if lo is not None:
-        v += max(lo - value, 0.0) / scale
-    if hi is not None:
-        v += max(value - hi, 0.0) / scale
-    return v
+    return float(relative_violation(value, lo, hi))
 
 
 def trajectory_deviation_batch(design: SeederDesign, tips: np.ndarray,

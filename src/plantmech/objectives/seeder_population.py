@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plantmech.mechanisms.seeder_batch import PopulationMotion, periodic_spline_matrix
+from plantmech.objectives import relative_violation
 
 TWO_PI = 2.0 * np.pi
 LETTERS = ("a", "b", "c", "d", "e", "f")
@@ -124,9 +125,9 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
         units.append(unit)
         limits.append(f"{'<' if upper else '>'} {lim:g} {unit}")
         vals.append(value)
-        scale = abs(lim) if note_scale is None else note_scale
-        excess = (value - lim) if upper else (lim - value)
-        viol.append(np.maximum(excess, 0.0) / scale)
+        lo, hi = (None, lim) if upper else (lim, None)
+        viol.append(relative_violation(value, lo, hi,
+                                       abs(lim) if note_scale is None else note_scale, np.nan))
         return value
 
     def swing(s, e):

@@ -20,7 +20,7 @@ import numpy as np
 
 from plantmech.design import TransplanterLimitsSpec as TransplanterLimits  # noqa: F401
 from plantmech.mechanisms.transplanter import TransplanterMotion
-from plantmech.objectives import Check
+from plantmech.objectives import Check, limit_text, relative_violation
 
 TWO_PI = 2.0 * np.pi
 
@@ -167,18 +167,10 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         value = np.asarray(value, dtype=float)
         names.append(name)
         units.append(unit)
-        parts = (([f"> {lo:g}"] if lo is not None else [])
-                 + ([f"< {hi:g}"] if hi is not None else []))
-        lims.append(" and ".join(parts) + f" {unit}")
-        scale = max(abs(lo or 0), abs(hi or 0), 1.0)
-        v = np.zeros_like(value)
-        if lo is not None:
-            v = v + np.maximum(lo - value, 0.0) / scale
-        if hi is not None:
-            v = v + np.maximum(value - hi, 0.0) / scale
-        v = np.where(np.isfinite(value), v, np.inf)
+        lims.append(limit_text(lo, hi, unit))
         vals.append(value)
-        viol.append(v)
+        # anything not finite counts as not computed
+        viol.append(relative_violation(np.where(np.isfinite(value), value, np.nan), lo, hi))
         if note:
             notes[name] = note
 

@@ -16,6 +16,7 @@ import numpy as np
 from pymoo.core.problem import Problem
 
 from plantmech.design import SeederDesign
+from plantmech.objectives import relative_violation
 
 
 @dataclass
@@ -103,12 +104,7 @@ class DesignProblem(Problem):
 
 def _violations(values, lo, hi, scale):
     """Relative violations of lo < value < hi (None: open), NaN -> large."""
-    v = np.zeros_like(values)
-    if lo is not None:
-        v = v + np.maximum(lo - values, 0) / scale
-    if hi is not None:
-        v = v + np.maximum(values - hi, 0) / scale
-    return np.where(np.isfinite(values), v, 10.0)
+    return relative_violation(values, lo, hi, scale, nan=10.0)
 
 
 # --- seeder, layer 1: type-value point offsets -> attitude (seed 000 §4.2) ---------------
