@@ -152,9 +152,10 @@ def _forward_transplanter(args, design, out) -> int:
     s = job.summary
     print(f"{s['name']}: {s['mechanism']}, centre distance {s['centre_distance_mm']:.3f} mm, "
           f"closure error {s['closure_error_rad']:.1e} rad")
+    from plantmech.outputs.files import check_line
+
     for c in s["objectives"]:
-        val = "n/a" if c["value"] is None else f"{c['value']:.2f} {c['unit']}"
-        print(f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<24} {val:>14}   limit {c['limit']}")
+        print(check_line(c, 24))
     for arm, st in s["stages_deg"].items():
         parts = ", ".join(f"{k} {v[0]:.1f}-{v[1]:.1f}" for k, v in st.items() if v)
         print(f"  {arm}: {parts} deg")
@@ -236,9 +237,10 @@ def _print_forward(s: dict) -> None:
     print(f"  closure error: stage 1 {ce['stage1']:.2e} rad, stage 2 {ce['stage2']:.2e} rad")
     print(f"  zero-speed seeding travel v_c = {s['zero_speed_travel_m_s']:.3f} m/s "
           f"(used: {s['travel_speed_used_m_s']:.3f} m/s)")
+    from plantmech.outputs.files import check_line
+
     for c in s["objectives"]:
-        val = "n/a" if c["value"] is None else f"{c['value']:.3f} {c['unit']}"
-        print(f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<34} {val:>14}   limit {c['limit']}")
+        print(check_line(c, 34, 3))
     if "deviation_from_trajectory_mm" in s:
         dv = s["deviation_from_trajectory_mm"]
         print(f"  deviation from the planned trajectory: max {dv['max_tip_to_plan']:.2f} mm "
@@ -260,9 +262,10 @@ def _print_summary(s: dict) -> None:
             a, b = d["carrier_angle_deg"]
             where += f" (carrier angle {a:.1f}-{b:.1f} deg)"
         print(f"  {d['severity'].upper()} [{d['kind']}]{where}: {d['message']}")
+    from plantmech.outputs.files import check_line
+
     for c in s["trajectory_checks"] + s.get("objectives", []):
-        val = "n/a" if c["value"] is None else f"{c['value']:.2f} {c['unit']}"
-        print(f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<26} {val:>14}   limit {c['limit']}")
+        print(check_line(c))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "
               f"{s['realized_vs_planned_max_deviation_mm']:.3f} mm")

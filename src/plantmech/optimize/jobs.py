@@ -149,10 +149,9 @@ def summary_lines(record: dict) -> list[str]:
              f"{record['evaluations']} evaluations, {record['wall_s']:.1f} s"
              + (f" (first design meeting every objective after {record['first_feasible_s']:.1f} s)"
                 if record.get("first_feasible_s") is not None else "")]
-    for o in record["objectives"]:
-        v = "n/a" if o["value"] is None else f"{o['value']:.3f} {o['unit']}"
-        lines.append(f"  {'ok  ' if o['ok'] else 'FAIL'} {o['name']:<34} {v:>16}   "
-                     f"limit {o['limit']}")
+    from plantmech.outputs.files import check_line
+
+    lines += [check_line(o, 34, 3, 16) for o in record["objectives"]]
     v = record.get("verified_full_resolution")
     if v is not None:
         lines.append("full-resolution re-check of best.toml: " + (

@@ -412,12 +412,9 @@ class Transplanter(DesignProblem):
         from plantmech.gears.internal import InternalPairError
         from plantmech.workflows import evaluate_transplanter_population
 
-        params = {n: X[:, self.n_r + i] for i, n in enumerate(self.param_names)}
-        # H1 must stay below S
-        params["H1_mm"] = np.minimum(params["H1_mm"], params["S_mm"])
         try:
             motion, ev = evaluate_transplanter_population(
-                self.design, X[:, :self.n_r], self.samples, self.interference, params)
+                self.design, X[:, :self.n_r], self.samples, self.interference, self._params(X))
         except InternalPairError:
             return self._one_by_one(X)
         return self._batch(ev)
@@ -457,7 +454,11 @@ class Transplanter(DesignProblem):
         from plantmech.workflows import evaluate_transplanter_population
 
         X = x[None, :]
+        return evaluate_transplanter_population(self.design, X[:, :self.n_r], self.samples,
+                                                self.interference, self._params(X))[1]
+
+    def _params(self, X) -> dict:
+        """The scalar variables of X (P, n) by name; H1 kept below S."""
         params = {n: X[:, self.n_r + i] for i, n in enumerate(self.param_names)}
         params["H1_mm"] = np.minimum(params["H1_mm"], params["S_mm"])
-        return evaluate_transplanter_population(self.design, X[:, :self.n_r], self.samples,
-                                                self.interference, params)[1]
+        return params

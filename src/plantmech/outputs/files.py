@@ -52,3 +52,10 @@ def write_csv(path: Path, columns: dict[str, np.ndarray], fmt: str = "%.6f") -> 
         w.writerow(names)
         for row in zip(*data, strict=True):
             w.writerow(["" if not np.isfinite(v) else fmt % v for v in row])
+
+
+def check_line(c: dict, name_width: int = 26, digits: int = 2, value_width: int = 14) -> str:
+    """One objective/check dict as a console line: status, name, value with unit, limit."""
+    val = "n/a" if c["value"] is None else f"{c['value']:.{digits}f} {c['unit']}"
+    return (f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<{name_width}} "
+            f"{val:>{value_width}}   limit {c['limit']}")
