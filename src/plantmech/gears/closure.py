@@ -53,16 +53,34 @@ def solve_centre_distance(curve: RadiusCurve, turn: float = TWO_PI, dense: int =
 
     T(a) falls monotonically from +inf (a -> max r) to 0, so the root is unique.
     """
-    r = _samples(curve, dense)
-    rmax = float(r.max())
+    return float(solve_centre_distances(_samples(curve, dense)[None, :], turn)[0])
 
-    def excess(a):
-        return float(np.mean(r / (a - r)) * TWO_PI - turn)
 
-    lo, hi = rmax * (1 + 1e-12) + 1e-12, rmax * 2.0 + 1.0
-    while excess(hi) > 0:
-        hi *= 2.0
-    return float(brentq(excess, lo, hi, xtol=1e-13, rtol=1e-15))
+def solve_centre_distances(r: np.ndarray, turn) -> np.ndarray:
+    """Centre distance (P,) closing each design's pair: mean_k r_pk / (a_p - r_pk) * 2 pi
+    = turn, for radii r (P, D) sampled uniformly over one turn. The left side is convex
+    and decreasing in a, so Newton from a point left of the root converges monotonically;
+    the start is kept inside the bracket (max r, root]."""
+    r = np.atleast_2d(r)
+    turn = np.broadcast_to(np.asarray(turn, dtype=float), (r.shape[0],))
+    rmax = r.max(axis=1)
+    # start: a point with f > 0 (left of the root), found by halving the gap to max r
+    a = 2.0 * r.mean(axis=1)
+    for _ in range(60):
+        f = np.mean(r / (a[:, None] - r), axis=1) * TWO_PI - turn
+        left = f > 0
+        if left.all():
+            break
+        a = np.where(left, a, rmax + 0.5 * (a - rmax))
+    for _ in range(100):
+        q = 1.0 / (a[:, None] - r)
+        f = np.mean(r * q, axis=1) * TWO_PI - turn
+        df = -np.mean(r * q * q, axis=1) * TWO_PI
+        step = -f / df
+        a = a + step
+        if np.all(np.abs(step) <= 1e-12 * a):
+            break
+    return a
 
 
 def solve_radial_offset(curve: RadiusCurve, a: float, turn: float = TWO_PI,

@@ -17,37 +17,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from plantmech.gears.closure import solve_centre_distances
 from plantmech.geometry.periodic import periodic_spline_matrix  # noqa: F401 (re-export)
 from plantmech.mechanisms.three_bar import tip_position, tip_rate
 
 TWO_PI = 2.0 * np.pi
-
-
-def solve_centre_distances(r: np.ndarray, turn) -> np.ndarray:
-    """Centre distance (P,) closing each design's pair: mean_k r_pk / (a_p - r_pk) * 2 pi
-    = turn, for radii r (P, D) sampled uniformly over one turn. The left side is convex
-    and decreasing in a, so Newton from a point left of the root converges monotonically;
-    the start is kept inside the bracket (max r, root]."""
-    r = np.atleast_2d(r)
-    turn = np.broadcast_to(np.asarray(turn, dtype=float), (r.shape[0],))
-    rmax = r.max(axis=1)
-    # start: a point with f > 0 (left of the root), found by halving the gap to max r
-    a = 2.0 * r.mean(axis=1)
-    for _ in range(60):
-        f = np.mean(r / (a[:, None] - r), axis=1) * TWO_PI - turn
-        left = f > 0
-        if left.all():
-            break
-        a = np.where(left, a, rmax + 0.5 * (a - rmax))
-    for _ in range(100):
-        q = 1.0 / (a[:, None] - r)
-        f = np.mean(r * q, axis=1) * TWO_PI - turn
-        df = -np.mean(r * q * q, axis=1) * TWO_PI
-        step = -f / df
-        a = a + step
-        if np.all(np.abs(step) <= 1e-12 * a):
-            break
-    return a
 
 
 @dataclass

@@ -194,8 +194,8 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
     """Sun pitch curve from control radii (P, N) mm at absolute angles (N,) rad, and the
     centre distance a that makes the middle gear turn once per carrier turn (Eq. 8 of
     seed 000 for this pair)."""
+    from plantmech.gears.closure import solve_centre_distances
     from plantmech.geometry.periodic import periodic_spline_matrix
-    from plantmech.mechanisms.seeder_batch import solve_centre_distances
 
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
     sigma = np.linspace(0.0, TWO_PI, dense + 1)
