@@ -60,3 +60,17 @@ def test_out_dir_never_holds_the_input(tmp_path, capsys):
     assert rc == 2
     assert "would hold or overwrite the input" in capsys.readouterr().err
     assert design.read_text() == (EXAMPLES / "sugarcane_seeder.toml").read_text()
+
+
+def test_bad_command_line_numbers_are_refused_by_name(tmp_path, capsys):
+    import pytest
+
+    for argv, expected in (
+            (["gears", "x.toml", "--out", "o", "--module", "-1"], "--module: -1 must be above 0"),
+            (["gears", "x.toml", "--out", "o", "--backlash", "nan"], "--backlash: nan must"),
+            (["optimize", "x.toml", "--problem", "transplanter", "--out", "o",
+              "--generations", "0"], "--generations: 0 must be at least 1")):
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2
+        assert expected in capsys.readouterr().err

@@ -274,6 +274,23 @@ def _print_summary(s: dict) -> None:
               f"{s['round_trip_max_deviation_mm']:.2e} mm")
 
 
+def _number(kind, minimum, strict: bool = True):
+    """argparse type: a finite number above (or, strict=False, at least) ``minimum``."""
+    import math
+
+    def parse(text: str):
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not math.isfinite(v) or (v <= minimum if strict else v < minimum):
+            raise argparse.ArgumentTypeError(
+                f"{text} must be {'above' if strict else 'at least'} {minimum:g}")
+        return v
+
+    return parse
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="plantmech", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
@@ -294,11 +311,12 @@ def build_parser() -> argparse.ArgumentParser:
     gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
     gears.add_argument("--out", required=True, help="output directory")
-    gears.add_argument("--module", type=float, default=None,
+    gears.add_argument("--module", type=_number(float, 0.0), default=None,
                        help="target module (mm); default: the largest standard module "
                        "leaving 20 teeth (transplanter: from internal_gear.teeth)")
-    gears.add_argument("--face-width", type=float, default=12.0, help="mm, for STL/STEP")
-    gears.add_argument("--backlash", type=float, default=0.1,
+    gears.add_argument("--face-width", type=_number(float, 0.0), default=12.0,
+                       help="mm, for STL/STEP")
+    gears.add_argument("--backlash", type=_number(float, 0.0, strict=False), default=0.1,
                        help="circumferential backlash per pair, mm")
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
@@ -308,11 +326,12 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--problem", required=True, choices=PROBLEMS)
     opt.add_argument("--out", required=True, help="output directory")
     opt.add_argument("--seed", type=int, default=0)
-    opt.add_argument("--generations", type=int, default=None)
-    opt.add_argument("--pop", type=int, default=None, help="population size")
+    opt.add_argument("--generations", type=_number(int, 1, strict=False), default=None)
+    opt.add_argument("--pop", type=_number(int, 4, strict=False), default=None,
+                     help="population size (at least 4)")
     opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
                      help="default per problem (docs/optimization.md)")
-    opt.add_argument("--points", type=int, default=16,
+    opt.add_argument("--points", type=_number(int, 4, strict=False), default=16,
                      help="interpolation radii per gear for the seeder's layer 2")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
