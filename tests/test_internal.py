@@ -62,3 +62,29 @@ def test_unclosed_pair_with_a_given_centre_distance_is_refused():
         lobed_internal_pair(PH, SEED001, 4, "hermite", centre_distance=55.0)
     ok = lobed_internal_pair(PH, SEED001, 4, "hermite", centre_distance=58.2034006173)
     assert ok.closure_error[0] < 1e-6
+
+
+def test_tooth_fit_of_a_circular_pair_is_the_spur_gear_tooth_counts():
+    # ring R = 90 with n = 3: planet radius 30, centre distance 60; at m = 2 the ring is a
+    # 90-tooth internal gear and the planet a 30-tooth spur gear (z_eq exact), difference 60
+    from plantmech.gears.internal import tooth_fit
+
+    pair = lobed_internal_pair(PH, np.full(12, 90.0), 3)
+    fit = tooth_fit(pair, 2.0)
+    assert fit["internal_min_equivalent_teeth"][0] == pytest.approx(90.0, rel=1e-6)
+    assert fit["planet_min_equivalent_teeth"][0] == pytest.approx(30.0, rel=1e-6)
+    assert fit["min_equivalent_teeth"][0] == pytest.approx(30.0, rel=1e-6)
+    assert fit["min_internal_teeth_difference"][0] == pytest.approx(60.0, rel=1e-6)
+    assert fit["max_working_pressure_angle_deg"][0] == pytest.approx(20.0, abs=1e-9)
+
+
+def test_tooth_fit_flags_the_published_lobe():
+    # the published lobe dips 37 mm within 45 deg of the ring: its tightest spans are
+    # spur gears of ~2 teeth at m = 2.8 (the generated teeth interfere, tests/test_teeth)
+    from plantmech.gears.internal import tooth_fit
+
+    pair = lobed_internal_pair(PH, SEED001, 4, "hermite")
+    fit = tooth_fit(pair, 2.8)
+    assert fit["min_equivalent_teeth"][0] < 3.0
+    assert fit["max_working_pressure_angle_deg"][0] > 80.0
+    assert fit["min_internal_teeth_difference"][0] < 10.0

@@ -137,3 +137,20 @@ def test_layered_and_joint_jobs_run_end_to_end(tmp_path):
     optimize(d, "seeder-joint", out2, "sugarcane_seeder.toml", generations=1, pop=4,
              progress=False)
     assert load_design(out2 / "best.toml").train is not None
+
+
+def test_transplanter_tooth_fit_is_reported_and_only_required_on_request():
+    d = load_design(EXAMPLES / "rice_transplanter.toml")
+    cols = None
+    for required in (False, True):
+        p = Transplanter(d, interference=False, tooth_fit=required)
+        b = p.evaluate_batch(p.x0[None, :])
+        cols = [b.names.index(n) for n in Transplanter.TOOTH_FIT]
+        # the published lobe: spur-equivalent ~2 teeth, pressure angle 85 deg (test_internal)
+        assert b.values[0, cols[0]] < 3 and b.values[0, cols[2]] > 80
+        assert b.G.shape[1] == p.n_ieq_constr == 15
+        if required:
+            assert (b.G[0, cols] > 0).all() and not b.ok[0, cols].any()
+        else:
+            assert (b.G[0, cols] == 0).all() and b.ok[0, cols].all()
+            assert all("not a constraint" in b.limits[c] for c in cols)

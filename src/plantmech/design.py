@@ -373,6 +373,10 @@ class TransplanterLimitsSpec(_Strict):
     min_gearbox_clearance_mm: FiniteFloat = 20.0
     min_module_mm: PositiveMM = 2.5
     min_needle_angle_deg: FiniteFloat = 10.0
+    min_equivalent_teeth: PositiveMM = Field(8.0, description="(xiii) smallest equivalent "
+                                             "spur-gear tooth count 2|rho|/m of the pitch curves")
+    min_internal_teeth_difference: PositiveMM = Field(10.0, description="(xv)")
+    max_working_pressure_angle_deg: PositiveMM = Field(45.0, lt=90, description="(xiv)")
 
 
 class _TransplanterBase(_Strict):

@@ -432,7 +432,7 @@ def run_transplanter(design) -> TransplanterJob:
     teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
              else design.sun_gear.teeth)
     ev = evaluate(motion, field_setup(design), transplanter_limits(design), perimeter, teeth,
-                  box)
+                  box, gear_fit=_gear_fit(design, pair, perimeter, teeth))
     job = TransplanterJob(design, pair, motion, ev, float(perimeter[0]), float(box[0]), {})
     job.summary = transplanter_summary(job)
     return job
@@ -450,8 +450,19 @@ def evaluate_transplanter_population(design, radii=None, samples: int = 720,
     teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
              else design.sun_gear.teeth)
     ev = evaluate(motion, field_setup(design, params), transplanter_limits(design), perimeter,
-                  teeth, box, interference=interference)
+                  teeth, box, interference=interference,
+                  gear_fit=_gear_fit(design, pair, perimeter, teeth))
     return motion, ev
+
+
+def _gear_fit(design, pair, perimeter, teeth):
+    """Manufacturability of the internal/planet pitch curves at the design's module
+    (objectives xiii, xiv); None for the K-H-V train (its gear check is `plantmech gears`)."""
+    from plantmech.gears.internal import tooth_fit
+
+    if design.mechanism != "rice_transplanter" or not teeth:
+        return None
+    return tooth_fit(pair, np.asarray(perimeter) / (np.pi * teeth))
 
 
 # --- helpers for the optimizer ----------------------------------------------------------

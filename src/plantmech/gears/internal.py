@@ -153,3 +153,40 @@ def internal_perimeter(pair: LobedInternalPair) -> np.ndarray:
     integrand = np.sqrt(pair.R**2 + (n * pair.dR) ** 2) / n
     h = pair.p[1] - pair.p[0]
     return n * np.sum(0.5 * (integrand[:, 1:] + integrand[:, :-1]), axis=1) * h
+
+
+def tooth_fit(pair: LobedInternalPair, module) -> dict:
+    """Can the pair carry teeth of ``module`` (mm, (P,) or scalar)? Vectorised over designs.
+
+    - ``min_equivalent_teeth``: smallest z_eq = 2 |rho_c| / m over both pitch curves, rho_c
+      the radius of curvature (the equivalent spur gear of each span; below 8 no shaper
+      cutter fits a concave span and convex spans are undercut to pointed teeth);
+    - ``max_working_pressure_angle_deg``: 20 deg tool + max atan(|dr/dtheta| / r), shared
+      by both curves at the contact (internal: theta = p / n, so dr/dtheta = n dR/dp).
+    Internal gear: polar curve (R, p / n); planet: (R - a, Q) with dQ/dp = R / (n (R - a)).
+    """
+    from plantmech.geometry.periodic import polar_curvature_radius
+
+    n = pair.lobes
+    h = pair.p[1] - pair.p[0]
+    ddR = np.gradient(pair.dR, h, axis=1)
+    rho_int = polar_curvature_radius(pair.R, pair.dR, ddR, 1.0 / n, 0.0)
+    rp = pair.planet_radius
+    dQ = pair.R / (n * rp)
+    ddQ = np.gradient(dQ, h, axis=1)
+    rho_pl = polar_curvature_radius(rp, pair.dR, ddR, dQ, ddQ)
+    m = np.broadcast_to(np.asarray(module, dtype=float), (pair.R.shape[0],))[:, None]
+    z_int = (2 * np.abs(rho_int) / m).min(axis=1)
+    z_pl = (2 * np.abs(rho_pl) / m).min(axis=1)
+    mu = np.degrees(np.arctan(n * np.abs(pair.dR) / pair.R)).max(axis=1)
+    # internal engagement: where the ring curves around the planet (rho_int > 0) the local
+    # pair is an internal spur pair z_int_eq / z_pl_eq; their difference must be large
+    # enough against tip and trochoid interference (-inf where the planet curves less)
+    k_int, k_pl = 1.0 / rho_int, 1.0 / rho_pl
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dz = np.where(k_pl > k_int, 2.0 / m * (1.0 / k_int - 1.0 / k_pl), -np.inf)
+    dz = np.where(k_int > 0, dz, np.inf).min(axis=1)
+    return {"min_equivalent_teeth": np.minimum(z_int, z_pl),
+            "internal_min_equivalent_teeth": z_int, "planet_min_equivalent_teeth": z_pl,
+            "min_internal_teeth_difference": dz,
+            "max_working_pressure_angle_deg": 20.0 + mu}

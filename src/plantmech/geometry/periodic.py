@@ -121,6 +121,18 @@ def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> 
     }
 
 
+def polar_curvature_radius(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
+    """Signed radius of curvature (mm) of polar curves (rho(t), phi(t)) from their
+    derivatives in any parameter t (arrays broadcast; vectorised over designs):
+    (rho'^2 + rho^2 phi'^2)^(3/2) / (rho^2 phi'^3 + 2 rho'^2 phi' - rho rho'' phi'
+    + rho rho' phi''). Positive where the curve turns towards its centre (convex seen
+    from outside), negative on concave spans, inf on straight ones."""
+    num = rho**2 * dphi**3 + 2 * drho**2 * dphi - rho * ddrho * dphi + rho * drho * ddphi
+    speed = np.sqrt(drho**2 + (rho * dphi) ** 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(num == 0, np.inf, speed**3 / np.where(num == 0, 1.0, num))
+
+
 def pressure_angle_proxy(curve: RadiusCurve, samples: int = 3600) -> tuple[float, float]:
     """Largest angle (rad) between the pitch-curve tangent and the normal to the radius
     vector, atan(|r'| / r), and the body angle (rad) where it occurs. Two rolling pitch

@@ -178,7 +178,7 @@ def _optimize(args) -> int:
         outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
                            generations=args.generations, pop=args.pop,
                            algorithm=args.algorithm, progress=not args.quiet,
-                           layer2_points=args.points)
+                           layer2_points=args.points, tooth_fit=args.tooth_fit)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -333,6 +333,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="default per problem (docs/optimization.md)")
     opt.add_argument("--points", type=_number(int, 4, strict=False), default=16,
                      help="interpolation radii per gear for the seeder's layer 2")
+    opt.add_argument("--tooth-fit", action="store_true",
+                     help="transplanter: also require the tooth-fit objectives (xiii)-(xv)")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
     return p

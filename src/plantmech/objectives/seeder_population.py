@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from plantmech.geometry.periodic import polar_curvature_radius
 from plantmech.mechanisms.seeder_batch import PopulationMotion, periodic_spline_matrix
 from plantmech.objectives import relative_violation
 
@@ -65,10 +66,8 @@ def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
     for name, rho, drho, ddrho, dphi, ddphi in (
             ("gear", r, r1, r2, np.ones_like(r), np.zeros_like(r)),
             ("mate", a - r, -r1, -r2, r / (a - r), a * r1 / (a - r) ** 2)):
-        num = rho**2 * dphi**3 + 2 * drho**2 * dphi - rho * ddrho * dphi + rho * drho * ddphi
-        speed = np.sqrt(drho**2 + (rho * dphi) ** 2)
-        kappa = num / speed**3
-        concave = num < 0
+        kappa = 1.0 / polar_curvature_radius(rho, drho, ddrho, dphi, ddphi)
+        concave = kappa < 0
         starts = concave & ~np.roll(concave, 1, axis=1)
         out[name] = {"min_kappa_r": (kappa * rho).min(axis=1),
                      "concave_spans": starts.sum(axis=1) + (concave.all(axis=1)),

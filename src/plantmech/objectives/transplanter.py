@@ -155,8 +155,11 @@ def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
 
 def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: TransplanterLimits,
              perimeter=None, teeth: int | None = None, gearbox_radius=None,
-             interference: bool = True) -> TransplanterEvaluation:
-    """The twelve objectives for all designs (values (P, K))."""
+             interference: bool = True, gear_fit: dict | None = None
+             ) -> TransplanterEvaluation:
+    """The twelve objectives for all designs (values (P, K)), and, given ``gear_fit``
+    (``gears.internal.tooth_fit``), two manufacturability objectives beyond the paper:
+    (xiii) smallest equivalent tooth count, (xiv) working pressure angle."""
     st = stages(motion, setup)
     P, J, S = motion.B.shape
     psi_deg = np.degrees(motion.carrier_angle)
@@ -257,6 +260,19 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     add("needle_seedling_angle", ang, limits.min_needle_angle_deg, None, "deg",
         "(xii) angle between the needle and the seedlings' growth direction (normal to the "
         "box floor) where the needle enters the mat")
+    # --- beyond the paper: can the pitch curves carry teeth of this module? ---------------
+    if gear_fit is not None:
+        add("equivalent_teeth", gear_fit["min_equivalent_teeth"], limits.min_equivalent_teeth,
+            None, "", "(xiii) smallest 2|rho|/m over the internal and planet pitch curves "
+            "(rho: radius of curvature; below 8 no shaper fits a concave span, convex spans "
+            "are cut to pointed teeth)")
+        add("internal_teeth_difference", gear_fit["min_internal_teeth_difference"],
+            limits.min_internal_teeth_difference, None, "",
+            "(xv) smallest z_int_eq - z_planet_eq where the ring curves around the planet "
+            "(internal spur pairs need about 10 at 20 deg against tip/trochoid interference)")
+        add("working_pressure_angle", gear_fit["max_working_pressure_angle_deg"], None,
+            limits.max_working_pressure_angle_deg, "deg",
+            "(xiv) 20 deg tool + largest atan(|dr/dtheta| / r) of the pair")
     values = np.stack(vals, axis=1)
     violation = np.stack(viol, axis=1)
     stage_deg = {}
