@@ -173,3 +173,19 @@ def test_khv_gear_set_meshes_on_both_pairs_with_one_middle_gear(tmp_path):
     assert rec["all_pairs_mesh"], rec["mesh"]
     assert all(m["max_interference_mm"] < 1e-3 for m in rec["mesh"])
     assert json.loads((tmp_path / "verification.json").read_text())["all_pairs_mesh"]
+
+
+@pytest.mark.parametrize("planet_teeth,clean", [(32, True), (36, False)])
+def test_internal_circular_pair_tip_interference_needs_a_tooth_difference(planet_teeth, clean):
+    # textbook internal spur pairs (20 deg, full depth): a 40-tooth ring meshes with a
+    # 32-tooth planet, but with 36 teeth the tips foul away from the line of centres
+    # (objective xv's limit of 8 is this measurement, docs/conventions.md)
+    th = np.linspace(0, 2 * np.pi, 721)[:-1]
+    m = 2.0
+    pair = make_pair("ring_planet", th, np.full_like(th, 40.0), 40.0 - planet_teeth * m / 2,
+                     ToothSpec(m, backlash_mm=0.1), internal=True)
+    assert (pair.teeth_a, pair.teeth_b) == (40, planet_teeth)
+    res = mesh_check(pair, steps=90)
+    assert res["ok"] is clean
+    if not clean:
+        assert res["max_interference_mm"] > 0.1
