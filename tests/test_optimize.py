@@ -154,3 +154,28 @@ def test_transplanter_tooth_fit_is_reported_and_only_required_on_request():
         else:
             assert (b.G[0, cols] == 0).all() and b.ok[0, cols].all()
             assert all("not a constraint" in b.limits[c] for c in cols)
+
+
+def test_seeding_point_moves_with_the_end_of_the_return_section():
+    from plantmech.optimize.problems import shift_seeding_point
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    s0 = d.trajectory.sections
+    d3 = shift_seeding_point(d, 3)
+    assert (d3.trajectory.sections.e, d3.trajectory.sections.f) == (s0.e + 3, s0.f + 3)
+    assert (d.trajectory.sections.e, d.trajectory.sections.f) == (s0.e, s0.f)  # a copy
+    assert d3.trajectory.points == d.trajectory.points
+
+
+def test_layer1_scouts_every_seeding_point_then_stages_around_the_best():
+    from plantmech.optimize.jobs import layer1_staged
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    p, r, records = layer1_staged(d, "cmaes", 0, 2, 4, progress=False, shifts=2)
+    scouts = [x for x in records if "seeding_shift" in x]
+    assert [x["seeding_shift"] for x in scouts] == [0, 1, 2]
+    assert [x["sections"]["e"] for x in scouts] == [4, 5, 6]
+    assert r.evaluations == sum(x["evaluations"] for x in records)
+    # the last stage starts from the best scout: its sections are that scout's
+    best = min(scouts, key=lambda x: x["best_violation"])
+    assert p.design.trajectory.sections.e == best["sections"]["e"]

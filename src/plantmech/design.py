@@ -375,7 +375,7 @@ class TransplanterLimitsSpec(_Strict):
     min_needle_angle_deg: FiniteFloat = 10.0
     min_equivalent_teeth: PositiveMM = Field(8.0, description="(xiii) smallest equivalent "
                                              "spur-gear tooth count 2|rho|/m of the pitch curves")
-    min_internal_teeth_difference: PositiveMM = Field(10.0, description="(xv)")
+    min_internal_teeth_difference: PositiveMM = Field(8.0, description="(xv)")
     max_working_pressure_angle_deg: PositiveMM = Field(45.0, lt=90, description="(xiv)")
 
 

@@ -334,7 +334,9 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--points", type=_number(int, 4, strict=False), default=16,
                      help="interpolation radii per gear for the seeder's layer 2")
     opt.add_argument("--tooth-fit", action="store_true",
-                     help="transplanter: also require the tooth-fit objectives (xiii)-(xv)")
+                     help="also require the pitch-curve shape checks (transplanter: tooth "
+                     "fit (xiii)-(xv); seeder layer 2: convexity and working pressure "
+                     "angle); without it they are reported")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
     return p

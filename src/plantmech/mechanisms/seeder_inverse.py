@@ -219,7 +219,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
     k = np.clip(np.searchsorted(psi_dense, psi, side="right") - 1, 0, m - 1)
     lo, hi = u_dense[k], u_dense[k + 1]
-    for _ in range(60):
+    for _ in range(40):  # bracket ~period / (64 N): 2^-40 of it is below 1e-13
         mid = 0.5 * (lo + hi)
         p_mid, _ = _carrier_direction(traj, mid, L1, L2, u_min, u_max, sigma_inner)
         p_mid = phi_dense[k] + np.angle(np.exp(1j * (p_mid - phi_dense[k])))

@@ -269,7 +269,7 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         add("internal_teeth_difference", gear_fit["min_internal_teeth_difference"],
             limits.min_internal_teeth_difference, None, "",
             "(xv) smallest z_int_eq - z_planet_eq where the ring curves around the planet "
-            "(internal spur pairs need about 10 at 20 deg against tip/trochoid interference)")
+            "(circular internal pairs at 20 deg foul below 8, tests/test_teeth.py)")
         add("working_pressure_angle", gear_fit["max_working_pressure_angle_deg"], None,
             limits.max_working_pressure_angle_deg, "deg",
             "(xiv) 20 deg tool + largest atan(|dr/dtheta| / r) of the pair")

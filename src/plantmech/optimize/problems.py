@@ -135,6 +135,17 @@ def default_layer1_points(design: SeederDesign) -> list[int]:
     return sorted(set(chosen), key=chosen.index)
 
 
+def shift_seeding_point(design: SeederDesign, k: int) -> SeederDesign:
+    """The design with its seeding point e (and the end of the return section f with it)
+    moved on by k type-value points: seed 000's layer 1 relabels the optimized seeding
+    point (Fig. 6, "g")."""
+    d = design.model_copy(deep=True)
+    n = len(d.trajectory.points)
+    d.trajectory.sections.e = (d.trajectory.sections.e + k) % n
+    d.trajectory.sections.f = (d.trajectory.sections.f + k) % n
+    return d.__class__.model_validate(d.model_dump())
+
+
 def _map(fn, items, workers: int):
     """fn over items, in ``workers`` processes when there are enough items."""
     if workers <= 1 or len(items) < 4:
@@ -211,6 +222,13 @@ class SeederLayer1(DesignProblem):
 # --- seeder, layer 2: interpolation radii of gears 2 and 3 -> speeds (§4.4) ---------------
 
 
+def is_gear_shape_check(name: str) -> bool:
+    """Pitch-curve shape checks (convexity, working pressure angle, tooth fit): required by
+    the optimizers only on request (``--tooth-fit``), always reported."""
+    return (name.startswith(("convex_", "working_pressure_angle"))
+            or name in Transplanter.TOOTH_FIT)
+
+
 class SeederLayer2(DesignProblem):
     """Radii of gears 2 and 3 (mm, around the design's [train]) -> seeding peak speed and
     return minimum speed, with every §4.1 objective, convexity of all four pitch curves,
@@ -223,10 +241,11 @@ class SeederLayer2(DesignProblem):
     objective_names = ["seeding_peak_speed", "neg_return_min_speed_dynamic"]
 
     def __init__(self, design: SeederDesign, bound_mm: float = 8.0,
-                 max_deviation_mm: float = 20.0, samples: int = 720):
+                 max_deviation_mm: float = 20.0, samples: int = 720, gear_shape: bool = False):
         if design.train is None:
             raise ValueError("layer 2 needs a [train] (run layer 1 first, or give one)")
         self.samples = samples
+        self.gear_shape = gear_shape
         self.max_deviation_mm = max_deviation_mm
         d = design.model_copy(deep=True)
         if d.train.closure == "check":
@@ -263,6 +282,12 @@ class SeederLayer2(DesignProblem):
         peak = values[:, names.index("seeding_peak_speed")]
         ret = values[:, names.index("return_min_speed_dynamic")]
         closure = pop.motion.closure_error.max(axis=1)
+        if not self.gear_shape:
+            viol, ok = viol.copy(), ok.copy()
+            for c in [k for k, n in enumerate(names) if is_gear_shape_check(n)]:
+                viol[:, c] = 0.0
+                ok[:, c] = True
+                limits[c] = f"{limits[c]} (reported, not a constraint here)"
         G = np.c_[viol, np.maximum(closure - 1e-6, 0)]
         if G.shape[1] < self.n_ieq_constr:
             G = np.c_[G, np.zeros((len(X), self.n_ieq_constr - G.shape[1]))]
@@ -282,7 +307,8 @@ class SeederJoint(DesignProblem):
 
     def __init__(self, design: SeederDesign, points: int = 16, bound_mm: float = 20.0,
                  radius_bound_mm: float = 6.0, max_deviation_mm: float = 20.0,
-                 samples: int = 360):
+                 samples: int = 360, gear_shape: bool = False):
+        self.gear_shape = gear_shape
         self.layer1 = SeederLayer1(design, bound_mm=bound_mm, samples=samples)
         self.points = points
         self.samples = samples
@@ -345,9 +371,11 @@ class SeederJoint(DesignProblem):
             l1, ev, dev = r
             dv = _violations(np.array([dev]), None, self.max_deviation_mm,
                              self.max_deviation_mm)[0]
+            shape = np.array([is_gear_shape_check(n) and not self.gear_shape
+                              for n in ev.names])
             values[i] = np.r_[l1["values"][:7], ev.values[0], dev]
-            ok[i] = np.r_[l1["ok"][:7], ev.ok[0], dv <= 0]
-            G[i] = np.r_[0.0, l1["violation"][:7], ev.violation[0], dv]
+            ok[i] = np.r_[l1["ok"][:7], ev.ok[0] | shape, dv <= 0]
+            G[i] = np.r_[0.0, l1["violation"][:7], np.where(shape, 0.0, ev.violation[0]), dv]
             units = l1["units"][:7] + list(ev.units) + ["mm"]
             limits = l1["limits"][:7] + list(ev.limits) + [f"< {self.max_deviation_mm:g} mm"]
             v = dict(zip(ev.names, ev.values[0], strict=True))
