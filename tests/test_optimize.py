@@ -172,6 +172,7 @@ def test_layer1_scouts_every_seeding_point_then_stages_around_the_best():
 
     d = load_design(EXAMPLES / "sugarcane_seeder.toml")
     p, r, records = layer1_staged(d, "cmaes", 0, 2, 4, progress=False, shifts=2)
+    assert len(records) >= 3
     scouts = [x for x in records if "seeding_shift" in x]
     assert [x["seeding_shift"] for x in scouts] == [0, 1, 2]
     assert [x["sections"]["e"] for x in scouts] == [4, 5, 6]

@@ -178,7 +178,8 @@ def _optimize(args) -> int:
         outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
                            generations=args.generations, pop=args.pop,
                            algorithm=args.algorithm, progress=not args.quiet,
-                           layer2_points=args.points, tooth_fit=args.tooth_fit)
+                           layer2_points=args.points, tooth_fit=args.tooth_fit,
+                           seeding_shifts=args.seeding_shifts)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -333,6 +334,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="default per problem (docs/optimization.md)")
     opt.add_argument("--points", type=_number(int, 4, strict=False), default=16,
                      help="interpolation radii per gear for the seeder's layer 2")
+    opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False), default=0,
+                     help="seeder layer 1: also scout moving the seeding point e (and f) on "
+                     "by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
     opt.add_argument("--tooth-fit", action="store_true",
                      help="also require the pitch-curve shape checks (transplanter: tooth "
                      "fit (xiii)-(xv); seeder layer 2: convexity and working pressure "

@@ -68,7 +68,8 @@ def with_train(design, points: int = 16):
 def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
              generations: int | None = None, pop: int | None = None,
              algorithm: str | None = None, progress: bool = True,
-             layer2_points: int = 16, tooth_fit: bool = False) -> JobOutcome:
+             layer2_points: int = 16, tooth_fit: bool = False,
+             seeding_shifts: int = 0) -> JobOutcome:
     from plantmech.optimize.runner import run
     from plantmech.outputs.optimization_report import write_run
 
@@ -81,7 +82,7 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         if design.trajectory is None:
             raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
         problem, res, stages = layer1_staged(design, algorithm, seed, generations, pop,
-                                             progress)
+                                             progress, shifts=seeding_shifts)
         written = write_run(out, res, problem, design_input)
         rec = _verified(out, dict(res.record(), stages=stages), tooth_fit)
         return JobOutcome(rec["feasible"], rec, written)
@@ -106,7 +107,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     l1_dir, l2_dir = out / "layer1", out / "layer2"
     l1_dir.mkdir(exist_ok=True)
     l2_dir.mkdir(exist_ok=True)
-    p1, r1, stages = layer1_staged(design, algorithm, seed, generations, pop, progress)
+    p1, r1, stages = layer1_staged(design, algorithm, seed, generations, pop, progress,
+                                   shifts=seeding_shifts)
     written = write_run(l1_dir, r1, p1, design_input)
     d1 = p1.decode(r1.best_x)
     d2 = with_train(d1.model_copy(update={"train": None}), layer2_points)
@@ -137,10 +139,9 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
 
 # Staged runs: re-centred restarts, each stage searching a box around the previous best
 # (the step size of CMA-ES / the spread of NSGA-II restart with the box).
-# Layer 1: a scouting run (box half-width mm, share of the generations) for each place of
-# the seeding point (moved on by 0..SEEDING_SHIFTS type-value points: seed 000 Fig. 6
-# relabels it g), then stages around the best scout's design.
-SEEDING_SHIFTS = 4
+# Layer 1: with ``seeding_shifts`` > 0, first a scouting run (box half-width mm, share of the
+# generations) for each place of the seeding point (moved on by 0..seeding_shifts type-value
+# points: seed 000 Fig. 6 relabels it g); then stages around the best design so far.
 LAYER1_SCOUT = (60.0, 0.3)
 LAYER1_STAGES = ((60.0, 1.0), (20.0, 0.75), (12.0, 0.75), (8.0, 0.75))
 # Transplanter with the tooth fit: radius box half-width (mm), share of the generations.
@@ -179,10 +180,10 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
 
 
 def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
-                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = SEEDING_SHIFTS):
-    """Seed 000's layer 1: scout every place of the seeding point (``LAYER1_SCOUT``), then
-    staged runs (``LAYER1_STAGES``) from the best scout. Stops at the first design
-    meeting every objective."""
+                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = 0):
+    """Seed 000's layer 1: scout ``shifts`` + 1 places of the seeding point
+    (``LAYER1_SCOUT``; none when 0), then staged runs (``LAYER1_STAGES``) from the best
+    design so far. Stops at the first design meeting every objective."""
     from plantmech.optimize.problems import SeederLayer1, shift_seeding_point
 
     def build(d, stage):
@@ -197,7 +198,7 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
         evals += r.evaluations
         wall += r.wall_s
 
-    for k in range(shifts + 1):
+    for k in range(shifts + 1 if shifts else 0):
         d = shift_seeding_point(design, k)
         p, r, rec = staged(d, build, (LAYER1_SCOUT,), algorithm, seed, generations, pop,
                            progress)
@@ -209,12 +210,14 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
             best = (score, p, r)
         if r.feasible:
             break
-    _, p, r = best
-    if not r.feasible:
-        p, r, rec = staged(p.decode(r.best_x), build, stages, algorithm, seed + 100,
+    start = design if best is None else best[1].decode(best[2].best_x)
+    if best is None or not best[2].feasible:
+        p, r, rec = staged(start, build, stages, algorithm, seed + 100 * bool(shifts),
                            generations, pop, progress)
         account(r)
         records += rec
+    else:
+        _, p, r = best
     r.evaluations, r.wall_s = evals, wall
     r.first_feasible_s, r.first_feasible_evaluations = first if first else (None, None)
     return p, r, records
