@@ -468,7 +468,8 @@ def _gear_fit(design, pair, perimeter, teeth):
 # --- helpers for the optimizer ----------------------------------------------------------
 
 
-def seeder_inverse_checks(design: SeederDesign, samples: int = 720) -> dict:
+def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
+                          pitch_margin_mm: float = 0.0) -> dict:
     """Layer-1 evaluation of one candidate trajectory: Table 1 planning checks, the three
     attitude objectives and the three speed objectives of the inverse-designed train (its
     path is the planned one, its timing the inverse's carrier law — which the path fixes:
@@ -480,6 +481,8 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720) -> dict:
 
     d = design.model_copy(deep=True)
     d.trajectory.samples = samples
+    # a coarse cycle can miss a narrow dip of a pitch radius: optimizers ask for a margin
+    d.gear_train.min_pitch_radius_mm += pitch_margin_mm
     names = ["small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
              "cd_central_angle", "sowing_height_difference", "centre_to_trench_bottom",
              "picking_swing", "seeding_swing", "sowing_angle", "seeding_peak_speed",

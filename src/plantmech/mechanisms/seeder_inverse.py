@@ -215,18 +215,28 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
             ))
         return res
 
-    # Tip samples at uniform carrier angle: invert psi(u) by vectorised bisection.
+    # Tip samples at uniform carrier angle: invert psi(u) on each dense bracket by the
+    # Illinois (modified regula falsi) method, vectorised; psi is smooth and monotonic there
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
     k = np.clip(np.searchsorted(psi_dense, psi, side="right") - 1, 0, m - 1)
     lo, hi = u_dense[k], u_dense[k + 1]
-    for _ in range(40):  # bracket ~period / (64 N): 2^-40 of it is below 1e-13
-        mid = 0.5 * (lo + hi)
-        p_mid, _ = _carrier_direction(traj, mid, L1, L2, u_min, u_max, sigma_inner)
-        p_mid = phi_dense[k] + np.angle(np.exp(1j * (p_mid - phi_dense[k])))
-        ahead = (phi_dense[0] - p_mid) > psi
-        hi = np.where(ahead, mid, hi)
-        lo = np.where(ahead, lo, mid)
-    u = 0.5 * (lo + hi)
+    f_lo, f_hi = psi_dense[k] - psi, psi_dense[k + 1] - psi  # <= 0 <= f_hi
+    side = np.zeros(n)
+    u = lo
+    for _ in range(30):
+        den = f_hi - f_lo
+        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
+                     0.5 * (lo + hi))
+        p_u, _ = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
+        f = phi_dense[0] - (phi_dense[k] + np.angle(np.exp(1j * (p_u - phi_dense[k])))) - psi
+        right = f > 0
+        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
+        # Illinois: halve the value kept on the side that stayed, twice in a row
+        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
+        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
+        side = np.where(right, 1.0, -1.0)
+        if np.abs(f).max() < 1e-10:  # rad of carrier angle (round-off floor ~4e-11)
+            break
     phi, tip = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
     phi = phi_dense[k] + np.angle(np.exp(1j * (phi - phi_dense[k])))
     elbow = L1 * np.c_[np.cos(phi), np.sin(phi)]

@@ -9,7 +9,7 @@ from plantmech.geometry.trajectory import ClosedTrajectory, segment_self_interse
 from plantmech.objectives import Check, range_check
 
 
-def _loops(traj: ClosedTrajectory, n: int = 300):
+def _loops(traj: ClosedTrajectory, n: int = 160):
     """Split the "8" at its self-crossing: (crossing point, [(u0, u1), (u1, u0+period)]).
 
     Crossings are found on an n-gon and refined on the curve by Newton's method on

@@ -42,6 +42,7 @@ class Batch:
     values: np.ndarray
     ok: np.ndarray
     extra: dict = field(default_factory=dict)
+    required: np.ndarray | None = None  # (K,) False: a check reported, not a constraint
 
     @property
     def violation(self) -> np.ndarray:
@@ -49,7 +50,14 @@ class Batch:
 
     @property
     def feasible(self) -> np.ndarray:
-        return self.ok.all(axis=1)
+        ok = self.ok if self.required is None else self.ok[:, self.required]
+        return ok.all(axis=1)
+
+    def not_required(self, names) -> np.ndarray:
+        """``required`` with the checks ``names`` (reported only) switched off."""
+        req = np.ones(len(self.names), bool) if self.required is None else self.required.copy()
+        req[[self.names.index(n) for n in names if n in self.names]] = False
+        return req
 
 
 class DesignProblem(Problem):
@@ -157,11 +165,16 @@ def _map(fn, items, workers: int):
         return list(ex.map(fn, items, chunksize=max(1, len(items) // (2 * workers))))
 
 
+# layer 1 evaluates 360 samples per cycle: a pitch-radius dip narrower than a sample can
+# pass there and fail at full resolution (seen: 4.73 mm at 3600 samples against a 5 mm limit)
+LAYER1_PITCH_MARGIN_MM = 1.5
+
+
 def _layer1_row(args):
     from plantmech.workflows import seeder_inverse_checks
 
     design, samples = args
-    return seeder_inverse_checks(design, samples)
+    return seeder_inverse_checks(design, samples, LAYER1_PITCH_MARGIN_MM)
 
 
 class SeederLayer1(DesignProblem):
@@ -204,19 +217,21 @@ class SeederLayer1(DesignProblem):
         viol = np.array([r["violation"] for r in rows])
         infeasible = np.array([r["infeasible"] for r in rows], dtype=float)
         F = np.array([r["objectives"] for r in rows])
+        speed_cols = [names.index(n) for n in names if "speed" in n]
         if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
             viol = viol.copy()
-            viol[:, [names.index(n) for n in names if "speed" in n]] = 0.0
-            ok = ok.copy()
-            ok[:, [names.index(n) for n in names if "speed" in n]] = True
+            viol[:, speed_cols] = 0.0
         G = np.c_[infeasible, viol]
         limits = list(rows[0]["limits"])
         if not self.speed_constraints:
             limits = [f"{lim} (reported, not a constraint here)" if "speed" in n else lim
                       for n, lim in zip(names, limits, strict=True)]
+        required = np.ones(1 + len(names), bool)
+        if not self.speed_constraints:
+            required[[1 + c for c in speed_cols]] = False
         return Batch(F, G, ["feasible_inverse"] + names, [""] + rows[0]["units"],
                      ["= 0 errors"] + limits,
-                     np.c_[infeasible, values], np.c_[infeasible == 0, ok])
+                     np.c_[infeasible, values], np.c_[infeasible == 0, ok], required=required)
 
 
 # --- seeder, layer 2: interpolation radii of gears 2 and 3 -> speeds (§4.4) ---------------
@@ -282,16 +297,18 @@ class SeederLayer2(DesignProblem):
         peak = values[:, names.index("seeding_peak_speed")]
         ret = values[:, names.index("return_min_speed_dynamic")]
         closure = pop.motion.closure_error.max(axis=1)
+        required = np.ones(len(names), bool)
         if not self.gear_shape:
-            viol, ok = viol.copy(), ok.copy()
+            viol = viol.copy()
             for c in [k for k, n in enumerate(names) if is_gear_shape_check(n)]:
                 viol[:, c] = 0.0
-                ok[:, c] = True
+                required[c] = False
                 limits[c] = f"{limits[c]} (reported, not a constraint here)"
         G = np.c_[viol, np.maximum(closure - 1e-6, 0)]
         if G.shape[1] < self.n_ieq_constr:
             G = np.c_[G, np.zeros((len(X), self.n_ieq_constr - G.shape[1]))]
-        return Batch(np.c_[peak, -ret], G, names, units, limits, values, ok)
+        return Batch(np.c_[peak, -ret], G, names, units, limits, values, ok,
+                     required=required)
 
 
 # --- seeder, joint: both layers' variables in one problem ---------------------------------
@@ -344,7 +361,8 @@ class SeederJoint(DesignProblem):
 
         rows = []
         for x in X:
-            l1 = seeder_inverse_checks(self.layer1.decode(x[:self.layer1.n_var]), self.samples)
+            l1 = seeder_inverse_checks(self.layer1.decode(x[:self.layer1.n_var]), self.samples,
+                                       LAYER1_PITCH_MARGIN_MM)
             if l1["infeasible"]:
                 rows.append(None)
                 continue
@@ -374,14 +392,15 @@ class SeederJoint(DesignProblem):
             shape = np.array([is_gear_shape_check(n) and not self.gear_shape
                               for n in ev.names])
             values[i] = np.r_[l1["values"][:7], ev.values[0], dev]
-            ok[i] = np.r_[l1["ok"][:7], ev.ok[0] | shape, dv <= 0]
+            ok[i] = np.r_[l1["ok"][:7], ev.ok[0], dv <= 0]
+            required = np.r_[np.ones(7, bool), ~shape, True]
             G[i] = np.r_[0.0, l1["violation"][:7], np.where(shape, 0.0, ev.violation[0]), dv]
             units = l1["units"][:7] + list(ev.units) + ["mm"]
             limits = l1["limits"][:7] + list(ev.limits) + [f"< {self.max_deviation_mm:g} mm"]
             v = dict(zip(ev.names, ev.values[0], strict=True))
             F[i] = [v["picking_swing"], v["seeding_peak_speed"], -v["return_min_speed_dynamic"]]
         return Batch(F, G, names if good else ["feasible_inverse"] * K, units, limits, values,
-                     ok)
+                     ok, required=required if good else None)
 
 
 # --- transplanter: published variables -> twelve objectives --------------------------------
@@ -458,15 +477,16 @@ class Transplanter(DesignProblem):
         lo, hi = self.design.limits.angle_difference_deg
         F = np.c_[v[:, names.index("seedling_block_skew")], v[:, names.index("hole_width")],
                   np.abs(v[:, names.index("angle_difference")] - 0.5 * (lo + hi))]
-        G, ok, limits = ev.violation, ev.ok, list(ev.limits)
+        G, limits = ev.violation, list(ev.limits)
+        required = np.ones(len(names), bool)
         if not self.tooth_fit:  # the paper's objectives only; the tooth fit is reported
             cols = [names.index(n) for n in self.TOOTH_FIT if n in names]
-            G, ok = G.copy(), ok.copy()
+            G = G.copy()
             G[:, cols] = 0.0
-            ok[:, cols] = True
+            required[cols] = False
             for c in cols:
                 limits[c] = f"{limits[c]} (reported, not a constraint here)"
-        return Batch(F, G, names, ev.units, limits, v, ok)
+        return Batch(F, G, names, ev.units, limits, v, ev.ok, required=required)
 
     def _one_by_one(self, X):
         """Fallback when some candidate's planet cannot mesh: evaluate the others, give
@@ -489,7 +509,7 @@ class Transplanter(DesignProblem):
                 for p in parts]
         return Batch(np.vstack([r.F for r in rows]), np.vstack([r.G for r in rows]),
                      good.names, good.units, good.limits, np.vstack([r.values for r in rows]),
-                     np.vstack([r.ok for r in rows]))
+                     np.vstack([r.ok for r in rows]), required=good.required)
 
     def _single(self, x):
         from plantmech.workflows import evaluate_transplanter_population

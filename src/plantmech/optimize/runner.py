@@ -58,7 +58,7 @@ class RunResult:
 
     @property
     def feasible(self) -> bool:
-        return bool(self.best.ok[0].all())
+        return bool(self.best.feasible[0])
 
     def record(self) -> dict:
         """run.json contents (everything needed to rerun it)."""
@@ -77,9 +77,11 @@ class RunResult:
             "feasible": self.feasible,
             "objectives": [
                 {"name": n, "value": (None if not np.isfinite(v) else float(v)), "unit": u,
-                 "limit": lim, "ok": bool(o)}
-                for n, v, u, lim, o in zip(names, self.best.values[0], self.best.units,
-                                           self.best.limits, self.best.ok[0], strict=True)],
+                 "limit": lim, "ok": bool(o), "required": bool(q)}
+                for n, v, u, lim, o, q in zip(
+                    names, self.best.values[0], self.best.units, self.best.limits,
+                    self.best.ok[0], (np.ones(len(names), bool) if self.best.required is None
+                                      else self.best.required), strict=True)],
             "total_violation": float(self.best.violation[0]),
             "settings": self.settings,
             "machine": {"python": platform.python_version(), "platform": platform.platform(),
@@ -144,9 +146,10 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
     else:
         from pymoo.algorithms.soo.nonconvex.cmaes import CMAES
 
-        # start at the current design, step a tenth of the box; restarts are not used
+        # start at the current design, step a tenth of the box; restarts are not used.
+        # The cma package reads seed 0 as "seed from the clock": it gets seed + 1.
         algo = CMAES(x0=x0, sigma=0.1, popsize=pop_size, normalize=True, restarts=0,
-                     seed=seed)
+                     seed=seed + 1)
         target = WeightedViolation(problem)
     bar = None
     if progress:
@@ -167,8 +170,8 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
                 return 1.0 if done else algorithm.n_gen / generations
 
         termination = _Stop()
-    res = minimize(target, algo, termination, seed=seed, callback=rec, verbose=False,
-                   save_history=False)
+    res = minimize(target, algo, termination, seed=seed + (algorithm == "cmaes"),
+                   callback=rec, verbose=False, save_history=False)
     wall = time.perf_counter() - t0
     if bar is not None:
         bar.close()
@@ -206,4 +209,4 @@ def _pick_best(b: Batch) -> int:
 
 def _row(b: Batch, k: int) -> Batch:
     return Batch(b.F[k:k + 1], b.G[k:k + 1], b.names, b.units, b.limits, b.values[k:k + 1],
-                 b.ok[k:k + 1])
+                 b.ok[k:k + 1], required=b.required)

@@ -55,7 +55,9 @@ def write_csv(path: Path, columns: dict[str, np.ndarray], fmt: str = "%.6f") -> 
 
 
 def check_line(c: dict, name_width: int = 26, digits: int = 2, value_width: int = 14) -> str:
-    """One objective/check dict as a console line: status, name, value with unit, limit."""
+    """One objective/check dict as a console line: status (ok, FAIL, or info for a check
+    reported but not required), name, value with unit, limit."""
     val = "n/a" if c["value"] is None else f"{c['value']:.{digits}f} {c['unit']}"
-    return (f"  {'ok  ' if c['ok'] else 'FAIL'} {c['name']:<{name_width}} "
+    status = "info" if c.get("required", True) is False else ("ok  " if c["ok"] else "FAIL")
+    return (f"  {status} {c['name']:<{name_width}} "
             f"{val:>{value_width}}   limit {c['limit']}")
