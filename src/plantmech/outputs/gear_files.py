@@ -65,8 +65,30 @@ def write_step(path: Path, poly, face_width: float) -> str | None:
         return "build123d is not installed (pip install 'plantmech[step]')"
 
     def face_of(ring):
-        pts = [bd.Vector(float(x), float(y), 0.0) for x, y in ring[:-1, :2]]
-        return bd.Face(bd.Wire([bd.Edge.make_spline(pts + [pts[0]], periodic=False)]))
+        # one spline per smooth run of the outline (a flank, a tip land, a root fillet),
+        # split where the direction turns by more than 25 deg: a single spline through a
+        # toothed outline loops at the corners (its face came out 70 % too large)
+        xy = np.asarray(ring, dtype=float)[:, :2]
+        xy = xy[:-1] if np.allclose(xy[0], xy[-1]) else xy
+        d = np.diff(np.vstack([xy, xy[:1]]), axis=0)
+        keep = np.hypot(*d.T) > 1e-3
+        xy = xy[keep]
+        d = np.diff(np.vstack([xy, xy[:1]]), axis=0)
+        heading = np.arctan2(d[:, 1], d[:, 0])
+        turn = np.abs(np.angle(np.exp(1j * (heading - np.roll(heading, 1)))))
+        corners = np.flatnonzero(turn > np.radians(25.0))
+        if len(corners) == 0:
+            corners = np.array([0])
+        xy = np.roll(xy, -corners[0], axis=0)
+        corners = np.r_[corners - corners[0], len(xy)]
+        edges = []
+        for a, b in zip(corners[:-1], corners[1:], strict=True):
+            run = [bd.Vector(float(x), float(y), 0.0) for x, y in xy[a:b + 1]] if b < len(xy) \
+                else [bd.Vector(float(x), float(y), 0.0) for x, y in np.vstack([xy[a:], xy[:1]])]
+            edges.append(bd.Edge.make_spline(run) if len(run) > 3 else
+                         bd.Edge.make_line(run[0], run[-1]) if len(run) == 2 else
+                         bd.Edge.make_spline(run))
+        return bd.Face(bd.Wire(edges))
 
     rings = list(_rings(poly))
     face = face_of(rings[0])
