@@ -39,16 +39,21 @@ def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = F
     if design.mechanism != "sugarcane_seeder":
         raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
     if name == "seeder-layer1":
-        if design.mechanism != "sugarcane_seeder":
-            raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
-        if design.trajectory is None:
-            raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
+        _needs_trajectory(design, name)
         return P.SeederLayer1(design)
     if name == "seeder-layer2":
         return P.SeederLayer2(with_train(design, layer2_points), gear_shape=tooth_fit)
     if name == "seeder-joint":
         return P.SeederJoint(design, points=layer2_points, gear_shape=tooth_fit)
     raise ValueError(f"unknown problem {name!r} (expected one of {', '.join(PROBLEMS)})")
+
+
+def _needs_trajectory(design, name: str) -> None:
+    """Layer 1 (alone or layered) moves type-value points: refuse other designs."""
+    if design.mechanism != "sugarcane_seeder":
+        raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
+    if design.trajectory is None:
+        raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
 
 
 def with_train(design, points: int = 16):
@@ -76,32 +81,24 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     algo0, gen0, pop0 = DEFAULTS.get(name, ("nsga2", 30, 40))
     user_gen, user_pop = generations, pop
     algorithm, generations, pop = algorithm or algo0, generations or gen0, pop or pop0
-    if name == "seeder-layer1":
-        if design.mechanism != "sugarcane_seeder":
-            raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
-        if design.trajectory is None:
-            raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
-        problem, res, stages = layer1_staged(design, algorithm, seed, generations, pop,
-                                             progress, shifts=seeding_shifts)
-        written = write_run(out, res, problem, design_input)
-        rec = _verified(out, dict(res.record(), stages=stages), tooth_fit)
-        return JobOutcome(rec["feasible"], rec, written)
-    if name == "transplanter" and tooth_fit:
-        problem, res, stages = transplanter_tooth_fit_staged(design, algorithm, seed,
-                                                             generations, pop, progress)
-        written = write_run(out, res, problem, design_input)
-        rec = _verified(out, dict(res.record(), stages=stages), tooth_fit)
-        return JobOutcome(rec["feasible"], rec, written)
     if name != "seeder-layered":
-        problem = make_problem(design, name, layer2_points, tooth_fit)
-        res = run(problem, algorithm, seed, generations, pop, progress,
-                  stop_when_feasible=algorithm != "nsga2")
+        extra = {}
+        if name == "seeder-layer1":
+            _needs_trajectory(design, name)
+            problem, res, extra["stages"] = layer1_staged(
+                design, algorithm, seed, generations, pop, progress, shifts=seeding_shifts)
+        elif name == "transplanter" and tooth_fit:
+            problem, res, extra["stages"] = transplanter_tooth_fit_staged(
+                design, algorithm, seed, generations, pop, progress)
+        else:
+            problem = make_problem(design, name, layer2_points, tooth_fit)
+            res = run(problem, algorithm, seed, generations, pop, progress,
+                      stop_when_feasible=algorithm != "nsga2")
         written = write_run(out, res, problem, design_input)
-        rec = _verified(out, res.record(), tooth_fit)
+        rec = _verified(out, dict(res.record(), **extra), tooth_fit)
         return JobOutcome(rec["feasible"], rec, written)
     # layered: layer 1, then layer 2 on the resampled gears of layer 1's best trajectory
-    if design.mechanism != "sugarcane_seeder" or design.trajectory is None:
-        raise ValueError(f"problem {name!r} needs a sugarcane_seeder design with a [trajectory]")
+    _needs_trajectory(design, name)
     from plantmech.optimize import problems as P
 
     l1_dir, l2_dir = out / "layer1", out / "layer2"
@@ -170,15 +167,12 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
     per-stage records)."""
     from plantmech.optimize.runner import run
 
-    current, records, evals, wall, first = design, [], 0, 0.0, None
+    current, records, tally = design, [], _Tally()
     for k, stage in enumerate(stages):
         p = build(current, stage)
         r = run(p, algorithm, seed + k, max(1, int(round(generations * stage[-1]))), pop,
                 progress, stop_when_feasible=True)
-        if r.first_feasible_s is not None and first is None:
-            first = (wall + r.first_feasible_s, evals + r.first_feasible_evaluations)
-        evals += r.evaluations
-        wall += r.wall_s
+        tally.add(r)
         current = p.decode(r.best_x)
         records.append({"stage": list(stage), "generations": r.generations,
                         "evaluations": r.evaluations, "wall_s": round(r.wall_s, 3),
@@ -186,10 +180,27 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
                         "feasible": bool(r.feasible)})
         if r.feasible:
             break
-    r.evaluations, r.wall_s = evals, wall
-    if first is not None:
-        r.first_feasible_s, r.first_feasible_evaluations = first
-    return p, r, records
+    return p, tally.onto(r), records
+
+
+class _Tally:
+    """Evaluations, wall time and the first feasible design summed over several runs."""
+
+    def __init__(self):
+        self.evals, self.wall, self.first = 0, 0.0, None
+
+    def add(self, r) -> None:
+        if r.first_feasible_s is not None and self.first is None:
+            self.first = (self.wall + r.first_feasible_s,
+                          self.evals + r.first_feasible_evaluations)
+        self.evals += r.evaluations
+        self.wall += r.wall_s
+
+    def onto(self, r):
+        """``r`` with the totals (its own counts replaced)."""
+        r.evaluations, r.wall_s = self.evals, self.wall
+        r.first_feasible_s, r.first_feasible_evaluations = self.first or (None, None)
+        return r
 
 
 def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
@@ -202,20 +213,12 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
     def build(d, stage):
         return SeederLayer1(d, bound_mm=stage[0])
 
-    best, records, evals, wall, first = None, [], 0, 0.0, None
-
-    def account(r):
-        nonlocal evals, wall, first
-        if r.first_feasible_s is not None and first is None:
-            first = (wall + r.first_feasible_s, evals + r.first_feasible_evaluations)
-        evals += r.evaluations
-        wall += r.wall_s
-
+    best, records, tally = None, [], _Tally()
     for k in range(shifts + 1 if shifts else 0):
         d = shift_seeding_point(design, k)
         p, r, rec = staged(d, build, (LAYER1_SCOUT,), algorithm, seed, generations, pop,
                            progress)
-        account(r)
+        tally.add(r)
         records.append({"seeding_shift": k, "sections": d.trajectory.sections.model_dump(),
                         **rec[0]})
         score = -1.0 if r.feasible else float(r.best.violation[0])
@@ -227,13 +230,11 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
     if best is None or not best[2].feasible:
         p, r, rec = staged(start, build, stages, algorithm, seed + 100 * bool(shifts),
                            generations, pop, progress)
-        account(r)
+        tally.add(r)
         records += rec
     else:
         _, p, r = best
-    r.evaluations, r.wall_s = evals, wall
-    r.first_feasible_s, r.first_feasible_evaluations = first if first else (None, None)
-    return p, r, records
+    return p, tally.onto(r), records
 
 
 def transplanter_tooth_fit_staged(design, algorithm: str, seed: int, generations: int,

@@ -53,11 +53,6 @@ class Batch:
         ok = self.ok if self.required is None else self.ok[:, self.required]
         return ok.all(axis=1)
 
-    def not_required(self, names) -> np.ndarray:
-        """``required`` with the checks ``names`` (reported only) switched off."""
-        req = np.ones(len(self.names), bool) if self.required is None else self.required.copy()
-        req[[self.names.index(n) for n in names if n in self.names]] = False
-        return req
 
 
 class DesignProblem(Problem):
@@ -108,6 +103,19 @@ class DesignProblem(Problem):
         if getattr(self, "best_score", np.inf) > score[k]:
             self.best_score = float(score[k])
             self.best_x = np.array(X[k], dtype=float)
+
+
+def _reported_only(viol, limits, cols):
+    """Turn the checks in columns ``cols`` from constraints into reported values: no
+    violation, not required, and their limit text says so. Returns (viol, required,
+    limits)."""
+    viol = viol.copy()
+    viol[:, cols] = 0.0
+    required = np.ones(viol.shape[1], bool)
+    required[cols] = False
+    limits = [f"{lim} (reported, not a constraint here)" if k in cols else lim
+              for k, lim in enumerate(limits)]
+    return viol, required, limits
 
 
 def _violations(values, lo, hi, scale):
@@ -217,21 +225,15 @@ class SeederLayer1(DesignProblem):
         viol = np.array([r["violation"] for r in rows])
         infeasible = np.array([r["infeasible"] for r in rows], dtype=float)
         F = np.array([r["objectives"] for r in rows])
-        speed_cols = [names.index(n) for n in names if "speed" in n]
-        if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
-            viol = viol.copy()
-            viol[:, speed_cols] = 0.0
-        G = np.c_[infeasible, viol]
         limits = list(rows[0]["limits"])
-        if not self.speed_constraints:
-            limits = [f"{lim} (reported, not a constraint here)" if "speed" in n else lim
-                      for n, lim in zip(names, limits, strict=True)]
-        required = np.ones(1 + len(names), bool)
-        if not self.speed_constraints:
-            required[[1 + c for c in speed_cols]] = False
+        required = np.ones(len(names), bool)
+        if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
+            viol, required, limits = _reported_only(
+                viol, limits, [k for k, n in enumerate(names) if "speed" in n])
+        G = np.c_[infeasible, viol]
         return Batch(F, G, ["feasible_inverse"] + names, [""] + rows[0]["units"],
-                     ["= 0 errors"] + limits,
-                     np.c_[infeasible, values], np.c_[infeasible == 0, ok], required=required)
+                     ["= 0 errors"] + limits, np.c_[infeasible, values],
+                     np.c_[infeasible == 0, ok], required=np.r_[True, required])
 
 
 # --- seeder, layer 2: interpolation radii of gears 2 and 3 -> speeds (§4.4) ---------------
@@ -299,11 +301,8 @@ class SeederLayer2(DesignProblem):
         closure = pop.motion.closure_error.max(axis=1)
         required = np.ones(len(names), bool)
         if not self.gear_shape:
-            viol = viol.copy()
-            for c in [k for k, n in enumerate(names) if is_gear_shape_check(n)]:
-                viol[:, c] = 0.0
-                required[c] = False
-                limits[c] = f"{limits[c]} (reported, not a constraint here)"
+            viol, required, limits = _reported_only(
+                viol, limits, [k for k, n in enumerate(names) if is_gear_shape_check(n)])
         G = np.c_[viol, np.maximum(closure - 1e-6, 0)]
         if G.shape[1] < self.n_ieq_constr:
             G = np.c_[G, np.zeros((len(X), self.n_ieq_constr - G.shape[1]))]
@@ -480,12 +479,8 @@ class Transplanter(DesignProblem):
         G, limits = ev.violation, list(ev.limits)
         required = np.ones(len(names), bool)
         if not self.tooth_fit:  # the paper's objectives only; the tooth fit is reported
-            cols = [names.index(n) for n in self.TOOTH_FIT if n in names]
-            G = G.copy()
-            G[:, cols] = 0.0
-            required[cols] = False
-            for c in cols:
-                limits[c] = f"{limits[c]} (reported, not a constraint here)"
+            G, required, limits = _reported_only(
+                G, limits, [names.index(n) for n in self.TOOTH_FIT if n in names])
         return Batch(F, G, names, ev.units, limits, v, ev.ok, required=required)
 
     def _one_by_one(self, X):
