@@ -650,7 +650,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         th = np.r_[np.mod(ang, 2 * np.pi)[order], 2 * np.pi + np.mod(ang, 2 * np.pi)[order][0]]
         r = np.r_[R[order], R[order][0]]
         P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
-        if g.teeth:
+        if g.teeth and module is None:
             z, m = g.teeth, P / (np.pi * g.teeth)
         else:
             z, m = teeth_count(P, module or standard_module(P, min_teeth * g.lobes), g.lobes)
@@ -708,12 +708,13 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
         done = {g["name"] for g in record["gears"]}
-        for gname, poly, pitch, z, internal in (
-                (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal),
-                (names[1], pair.gear_b, pair.pitch_b, pair.teeth_b, False)):
+        for gname, poly, pitch, z, internal, cut_by in (
+                (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal, None),
+                (names[1], pair.gear_b, pair.pitch_b, pair.teeth_b, False,
+                 names[0] if pair.b_cut_by_a else None)):
             if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
                 continue
-            c = gear_checks(gname, pitch, spec, z, internal)
+            c = gear_checks(gname, pitch, spec, z, internal, cut_by)
             for ext, writer in (("dxf", lambda p, g=poly, n=gname: gf.write_dxf(p, {n: g})),
                                 ("svg", lambda p, g=poly, n=gname: gf.write_svg(p, g, n))):
                 writer(out / f"{gname}.{ext}")

@@ -1,6 +1,7 @@
 """Teeth of non-circular gears by simulated cutting (seed 001, Eq. 11-18 in spirit):
-a pinion-shaped (shaper) cutter rolls without slip along the pitch curve and its swept
-teeth are subtracted from the blank (shapely Booleans), for external and internal gears.
+a cutter rolls without slip along the pitch curve and its swept teeth are subtracted from
+the blank (shapely Booleans) — a rack where the curve is convex everywhere (external
+gears), a pinion-shaped (shaper) cutter for internal gears and curves with concave spans.
 
 Conventions: a pitch curve is a closed polyline (mm) around its gear's rotation centre
 at the origin, counter-clockwise; s is arc length from its first point; n(s) the unit
@@ -26,7 +27,8 @@ class ToothSpec:
     addendum: float = 1.0  # x m
     dedendum: float = 1.25  # x m
     backlash_mm: float = 0.0  # circumferential, per pair
-    cutter_teeth: int = 20
+    cutter_teeth: int = 20  # the shaper's
+    cutter: str = "shaper"  # "shaper" or "rack" (``fit_cutter`` chooses)
 
     @property
     def alpha(self) -> float:
@@ -165,6 +167,10 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
     """
     import shapely
 
+    if spec.cutter not in ("shaper", "rack"):
+        raise ValueError(f"cutter must be 'shaper' or 'rack', not {spec.cutter!r}")
+    if spec.cutter == "rack" and internal:
+        raise ValueError("a rack cannot cut an internal gear: use the shaper")
     m, zc = spec.module, spec.cutter_teeth
     rc = m * zc / 2
     P = pitch.perimeter
@@ -195,13 +201,16 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
         b0 = toothless[1]
         s_eff = b0 + np.mod(s - b0, P)
         t_eff = b0 + np.mod(tooth_at - b0, P)
-    beta = 0.5 * pitch_angle - sign * (s_eff - t_eff) / rc
-    rot = face - beta  # absolute orientation of the cutter's body frame
-    # only the cutter teeth within +-3 pitches of the contact can touch the blank
-    k0 = np.round(beta / pitch_angle)
-    ang = rot[:, None] + (k0[:, None] + np.arange(-3, 4)[None, :]) * pitch_angle
-    pts = centre[:, None, None] + np.exp(1j * ang)[:, :, None] * wz[None, None, :]
-    polys = shapely.polygons(np.stack([pts.real, pts.imag], -1).reshape(-1, len(wz), 2))
+    if spec.cutter == "rack":
+        polys = _rack_teeth(spec, pz, p, n, s_eff, t_eff)
+    else:
+        beta = 0.5 * pitch_angle - sign * (s_eff - t_eff) / rc
+        rot = face - beta  # absolute orientation of the cutter's body frame
+        # only the cutter teeth within +-3 pitches of the contact can touch the blank
+        k0 = np.round(beta / pitch_angle)
+        ang = rot[:, None] + (k0[:, None] + np.arange(-3, 4)[None, :]) * pitch_angle
+        pts = centre[:, None, None] + np.exp(1j * ang)[:, :, None] * wz[None, None, :]
+        polys = shapely.polygons(np.stack([pts.real, pts.imag], -1).reshape(-1, len(wz), 2))
     sweep = shapely.union_all(shapely.make_valid(polys))
     base = shapely.Polygon(pitch.xy)
     if internal:
@@ -218,6 +227,30 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
             gear = gear.difference(shapely.Point(0, 0).buffer(bore / 2, 64))
     gear = _largest(gear)
     return gear
+
+
+def _rack_teeth(spec: ToothSpec, pz, p, n, s_eff, t_eff):
+    """The rack's teeth at every station: its pitch line tangent to the pitch curve at
+    the contact p (mm) with normal n, rolled without slip, so the rack coordinate sigma
+    (mm) sits at sigma - s along the tangent; a rack tooth (straight flanks at the
+    pressure angle, thicker by half the backlash) fills every space of the gear, centred
+    at t_eff + pitch / 2 + k pitch, from the root (dedendum) to beyond the tip."""
+    import shapely
+
+    m, pitch = spec.module, spec.pitch
+    half = (pitch / 2 + spec.backlash_mm / 2) / 2  # half thickness on the pitch line
+    v = np.array([-spec.dedendum, -spec.dedendum, spec.addendum + 0.05,
+                  spec.addendum + 0.05]) * m
+    u = np.array([-1, 1, 1, -1]) * (half + v * np.tan(spec.alpha))
+    k0 = np.round((s_eff - t_eff - pitch / 2) / pitch)
+    centre = t_eff + pitch / 2 + (k0[:, None] + np.arange(-3, 4)[None, :]) * pitch
+    off = centre - s_eff[:, None]  # (S, 7): tooth centres along the tangent
+    t = np.c_[-n[:, 1], n[:, 0]]
+    tz = t[:, 0] + 1j * t[:, 1]
+    nz = n[:, 0] + 1j * n[:, 1]
+    pts = (pz[:, None, None] + tz[:, None, None] * (off[:, :, None] + u[None, None, :])
+           + nz[:, None, None] * v[None, None, :])
+    return shapely.polygons(np.stack([pts.real, pts.imag], -1).reshape(-1, 4, 2))
 
 
 def _toothless_wedge(pitch: PitchPolyline, toothless: tuple[float, float], base, spec):
@@ -271,6 +304,7 @@ class GearPair:
     module: float
     gear_a: object = None  # shapely polygons
     gear_b: object = None
+    r_a: np.ndarray | None = None  # A's contact radius at phi_a (mm)
 
 
 def polar_contacts(theta_a, r_a, a: float, internal: bool, turn_b: float | None = None):
@@ -287,9 +321,11 @@ def polar_contacts(theta_a, r_a, a: float, internal: bool, turn_b: float | None 
 
 def fit_cutter(spec: ToothSpec, *pitches: PitchPolyline, internal_first: bool = False,
                largest: int = 20, smallest: int = 8) -> ToothSpec:
-    """The shaper with the most teeth (<= ``largest``) whose pitch radius is below every
-    concave radius of curvature of the curves it must cut (a rack or a big cutter would
-    gouge concave spans); at least ``smallest`` teeth."""
+    """The cutter for the curves it must cut: a rack where every curve is convex and
+    external (the hob or rack of gear shops; it generates the teeth of the basic rack
+    exactly), otherwise the shaper with the most teeth (<= ``largest``) whose pitch
+    radius is below every concave radius of curvature (a rack or a big cutter would gouge
+    concave spans); at least ``smallest`` teeth."""
     from dataclasses import replace
 
     limit = np.inf
@@ -298,9 +334,11 @@ def fit_cutter(spec: ToothSpec, *pitches: PitchPolyline, internal_first: bool = 
         concave = -rho[np.isfinite(rho) & (rho < 0)]
         if len(concave):
             limit = min(limit, float(concave.min()))
+    if not np.isfinite(limit) and not internal_first:
+        return replace(spec, cutter="rack")
     zc = int(np.clip(np.floor(2 * limit / spec.module) - 1, smallest, largest)) \
         if np.isfinite(limit) else largest
-    return replace(spec, cutter_teeth=zc)
+    return replace(spec, cutter_teeth=zc, cutter="shaper")
 
 
 def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool = False,
@@ -321,10 +359,9 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     phib, rb = polar_contacts(th, r, a, internal)
     pa = PitchPolyline.from_polar(th, r, samples) if pitch_a is None else pitch_a
     pb = PitchPolyline.from_polar(phib, rb, samples)
-    if gear_a is None:
-        spec = fit_cutter(spec, pa, pb, internal_first=internal)
-    else:
-        spec = fit_cutter(spec, pb)
+    # the cutter cuts A (B is A's envelope), or B alone when A was cut for another mesh
+    spec = fit_cutter(spec, pa, internal_first=internal) if gear_a is None else \
+        fit_cutter(spec, pb)
     za = pa.perimeter / spec.pitch
     sa = _arc_to_angle(pa, th[0])
     sb = _arc_to_angle(pb, phib[0])
@@ -355,8 +392,9 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     zb = (pb.perimeter - (np.mod(toothless[1] - toothless[0], pb.perimeter) + spec.pitch
                           if toothless else 0.0)) / spec.pitch
     pair = GearPair(name, pa, pb, th, phib, a, internal, int(round(za)), int(round(zb)),
-                    spec.module, gear_a, gear_b)
+                    spec.module, gear_a, gear_b, r_a=r)
     pair.spec = spec
+    pair.b_cut_by_a = tooth_at_a is None  # B is A's envelope (not cut by the cutter)
     pair.tooth_at_b = sb_tooth + spec.pitch / 2
     return pair
 
@@ -381,23 +419,34 @@ def envelope_cut(pitch_ring: PitchPolyline, pitch_planet: PitchPolyline, theta_r
     tool = cut_gear(pitch_ring, replace(spec, addendum=spec.dedendum,
                                         backlash_mm=-spec.backlash_mm),
                     internal=internal, tooth_at=tooth_at, rim=rim)
-    n = int(np.ceil(pitch_ring.perimeter / spec.pitch * steps_per_pitch))
-    k = np.linspace(0, len(theta_ring) - 1, n, endpoint=False).astype(int)
-    ta, tb = np.asarray(theta_ring)[k], np.asarray(phi_planet)[k]
-    r_contact = np.asarray(r_ring)[k]
-    # the ring placed in the mesh frame, clipped to 3 pitches around the contact
-    windows = shapely.buffer(shapely.points(r_contact, np.zeros_like(r_contact)),
-                             3 * spec.pitch, quad_segs=16)
-    ring = shapely.intersection(_rotated(tool, -ta), windows)
-    # ... and carried into B's body frame: shift by -a, turn by phi_B (internal) or
-    # phi_B - pi (external: B faces A across the line of centres, see ``placed``)
+    # stations spaced by the relative motion (arc rolled or turn of B against A,
+    # whichever is faster), so fast-turning spans near cusps are cut as finely as the rest;
+    # a partial B (toothless) also gets the cycle's last position
+    ta, tb, r_contact = motion_stations(theta_ring, phi_planet, r_ring, spec.module,
+                                        spacing=spec.pitch / steps_per_pitch,
+                                        endpoint=toothless is not None)
+    # the ring's teeth within 3 pitches (of arc) of the contact: pieces cut once, chosen
+    # per station, turned into the mesh frame (by -theta_A), shifted by -a and turned by
+    # phi_B (internal) or phi_B - pi (external: B faces A across the line of centres,
+    # see ``placed``) into B's body frame
+    # only the band within the tool's tooth depth (and a margin) of its pitch curve can
+    # reach B's blank near the contact; the body below it would only slow the union
+    base_a = shapely.Polygon(pitch_ring.xy)
+    depth = (spec.dedendum + 0.35) * m
+    band = base_a.buffer(depth, join_style="round").difference(
+        base_a.buffer(-depth, join_style="round"))
+    pieces, centres, plen = _pieces(tool.intersection(band), pitch_ring, spec.pitch)
+    sel, owner = _near(centres, plen, _arc_of_angle(pitch_ring, ta), 3 * spec.pitch,
+                       pitch_ring.perimeter)
+    ring = pieces[sel]
     turn = tb if internal else tb - np.pi
-    c, s_ = np.cos(turn), np.sin(turn)
     counts = shapely.get_num_coordinates(ring)
-    cc, ss = np.repeat(c, counts), np.repeat(s_, counts)
+    ca, sa = np.repeat(np.cos(-ta[owner]), counts), np.repeat(np.sin(-ta[owner]), counts)
+    cc, ss = np.repeat(np.cos(turn[owner]), counts), np.repeat(np.sin(turn[owner]), counts)
 
     def to_planet(xy):
-        x, y = xy[:, 0] - a, xy[:, 1]
+        x = ca * xy[:, 0] - sa * xy[:, 1] - a
+        y = sa * xy[:, 0] + ca * xy[:, 1]
         return np.c_[cc * x - ss * y, ss * x + cc * y]
 
     sweep = shapely.union_all(shapely.make_valid(shapely.transform(ring, to_planet)))
@@ -408,6 +457,71 @@ def envelope_cut(pitch_ring: PitchPolyline, pitch_planet: PitchPolyline, theta_r
     if bore:
         gear = gear.difference(shapely.Point(0, 0).buffer(bore / 2, 64))
     return _largest(gear)
+
+
+def _pieces(gear, pitch: PitchPolyline, length: float):
+    """``gear`` (polygon, mm) cut into wedges from its centre, one per ``length`` of arc
+    of its pitch curve (about one tooth each). Returns (pieces, arc of each wedge's middle
+    (mm), wedge arc (mm))."""
+    import shapely
+
+    P = pitch.perimeter
+    n = max(8, int(round(P / length)))
+    plen = P / n
+    q, _, _ = pitch.at(np.arange(n + 1) * plen)
+    ang = np.unwrap(np.arctan2(q[:, 1], q[:, 0]))
+    big = 10.0 * (np.hypot(*pitch.xy.T).max() + 10.0 * length)
+    f = np.linspace(0.0, 1.0, 5)
+    rays = ang[:-1, None] + f[None, :] * np.diff(ang)[:, None]  # (n, 5)
+    ring = np.stack([big * np.cos(rays), big * np.sin(rays)], -1)
+    wedges = shapely.polygons(np.concatenate([np.zeros((n, 1, 2)), ring], axis=1))
+    pieces = shapely.intersection(gear, wedges)
+    return pieces, (np.arange(n) + 0.5) * plen, plen
+
+
+def _arc_of_angle(pitch: PitchPolyline, angles) -> np.ndarray:
+    """Arc length (mm) from the polyline's first point to its points at polar ``angles``
+    (the curve is star-shaped about its centre)."""
+    ang = np.unwrap(np.arctan2(pitch.xy[:, 1], pitch.xy[:, 0]))
+    cum = np.r_[0.0, np.cumsum(np.hypot(*pitch.seg.T))]
+    x = np.mod(np.asarray(angles, float) - ang[0], TWO_PI) + ang[0]
+    return np.interp(x, np.r_[ang, ang[0] + TWO_PI], cum)
+
+
+def _near(centres, plen: float, s, half: float, perimeter: float):
+    """Indices of the pieces within ``half`` mm of arc of each station's arc ``s`` (cyclic)
+    and, for each, the station it belongs to."""
+    n = len(centres)
+    k = int(np.ceil(half / plen)) + 1
+    j = np.round((np.asarray(s)[:, None] - centres[0]) / plen).astype(int) + np.arange(-k, k + 1)
+    j = np.mod(j, n)
+    d = np.abs(np.mod(centres[j] - np.asarray(s)[:, None] + perimeter / 2, perimeter)
+               - perimeter / 2)
+    keep = d <= half + plen / 2
+    owner = np.broadcast_to(np.arange(len(s))[:, None], j.shape)
+    return j[keep], owner[keep]
+
+
+def motion_stations(phi_a, phi_b, r_a, module: float, count: int | None = None,
+                    spacing: float | None = None, endpoint: bool = False):
+    """Positions of a pair over its cycle spaced evenly in relative motion: per sample
+    the larger of the arc rolled on A (mm) and 3 modules times the turn of B relative to
+    A (rad; a tooth three modules from the contact moves that far). ``count`` stations,
+    or as many as ``spacing`` (mm) needs. Returns (phi_a, phi_b, r_a) at the stations."""
+    pa, pb, ra = (np.asarray(x, float) for x in (phi_a, phi_b, r_a))
+    ds = np.hypot(0.5 * (ra[1:] + ra[:-1]) * np.diff(pa), np.diff(ra))
+    turn = np.abs(np.diff(pb) - np.diff(pa))
+    # a flank at working pressure angle alpha_w keeps only cos(alpha_w) of the backlash
+    # as normal clearance: denser where the pitch curve is steep
+    steep = np.cos(np.radians(20.0) + np.arctan(np.abs(np.diff(ra)) / np.maximum(
+        0.5 * (ra[1:] + ra[:-1]) * np.abs(np.diff(pa)), 1e-12)))
+    u = np.r_[0.0, np.cumsum(np.maximum(ds, 3.0 * module * turn)
+                             / np.maximum(steep, 0.1))]
+    if count is None:
+        count = int(np.ceil(u[-1] / spacing)) + (1 if endpoint else 0)
+    at = np.interp(np.linspace(0.0, u[-1], count, endpoint=endpoint), u, np.arange(len(u)))
+    k = np.arange(len(u))
+    return np.interp(at, k, pa), np.interp(at, k, pb), np.interp(at, k, ra)
 
 
 def _arc_to_angle(pitch: PitchPolyline, angle: float) -> float:
@@ -435,21 +549,24 @@ def placed(pair: GearPair, phi_a: float, phi_b: float):
     return shapely.make_valid(ga), shapely.make_valid(gb)
 
 
-def _rotated(geom, angles, dx: float = 0.0):
-    """Copies (T,) of ``geom`` rotated about the origin by ``angles`` (T,) then shifted
-    by dx along x, with one vectorised coordinate transform."""
+def _turn_each(geoms, angles, dx: float = 0.0):
+    """Each geometry of ``geoms`` (T,) turned about the origin by its angle (T,), then
+    shifted by dx along x (one vectorised coordinate transform)."""
     import shapely
 
-    T = len(angles)
-    geoms = np.full(T, geom, dtype=object)
-    K = len(shapely.get_coordinates(geom))
-    c, s_ = np.repeat(np.cos(angles), K), np.repeat(np.sin(angles), K)
+    counts = shapely.get_num_coordinates(geoms)
+    c, s_ = np.repeat(np.cos(angles), counts), np.repeat(np.sin(angles), counts)
 
     def f(xy):
         x, y = xy[:, 0], xy[:, 1]
         return np.c_[c * x - s_ * y + dx, s_ * x + c * y]
 
     return shapely.transform(geoms, f)
+
+
+def _polar(pitch: PitchPolyline):
+    """(angles, radii) of a pitch polyline's vertices."""
+    return np.arctan2(pitch.xy[:, 1], pitch.xy[:, 0]), np.hypot(*pitch.xy.T)
 
 
 def _safe_intersection(a, b, grid):
@@ -466,14 +583,18 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     measure, at every step, overlap (interference) and the gap between the outlines,
     inside a window of +-``window_pitches`` pitches around the line of centres (external
     pairs) or over the planet's whole reach (internal pairs).
-    Interference depth is estimated as 2 x area / perimeter of the overlap (a thin
-    sliver); backlash as the smallest distance between the outlines' boundaries."""
+    Interference depth is estimated per overlap sliver as 2 x area / perimeter (a thin
+    sliver), the deepest counting; backlash as the smallest distance between the
+    outlines' boundaries within 2.5 pitches of the contact point."""
     import shapely
+    import shapely.affinity
 
-    idx = np.linspace(0, len(pair.phi_a) - 1, steps).astype(int)
-    pa, pb = pair.phi_a[idx], pair.phi_b[idx]
-    ga = _rotated(pair.gear_a, -pa)
-    gb = _rotated(pair.gear_b, (-pb if pair.internal else np.pi - pb), dx=pair.a)
+    r_a = pair.r_a
+    if r_a is None:
+        r_a = np.interp(np.mod(pair.phi_a, TWO_PI), *_polar(pair.pitch_a), period=TWO_PI)
+    pa, pb, r_contact = motion_stations(pair.phi_a, pair.phi_b, r_a, pair.module,
+                                        count=steps, endpoint=True)
+    turn_b = -pb if pair.internal else np.pi - pb
     if pair.internal:
         # the planet may touch the ring anywhere around it (far-side tip interference when
         # the tooth counts are close): the window is the planet's whole reach
@@ -484,17 +605,33 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
         h = window_pitches * np.pi * pair.module
         window = shapely.box(r_a.min() - 3 * pair.module, -h, r_a.max() + 3 * pair.module, h)
     grid = 1e-4  # mm: snap rounding keeps the overlays robust on cut outlines
-    ga = shapely.buffer(shapely.intersection(shapely.buffer(ga, 0), window, grid_size=grid), 0)
-    gb = shapely.buffer(shapely.intersection(shapely.buffer(gb, 0), window, grid_size=grid), 0)
+    # clip each gear in its own body frame (the window turned back), then place the small
+    # clipped parts: cheaper than turning and repairing the whole outline at every step
+    T = len(pa)
+    body_a, body_b = shapely.buffer(pair.gear_a, 0), shapely.buffer(pair.gear_b, 0)
+    wa = _turn_each(np.full(T, window), pa)
+    wb = _turn_each(np.full(T, shapely.affinity.translate(window, xoff=-pair.a)), -turn_b)
+    ga = _turn_each(shapely.buffer(shapely.intersection(body_a, wa, grid_size=grid), 0), -pa)
+    gb = _turn_each(shapely.buffer(shapely.intersection(body_b, wb, grid_size=grid), 0),
+                    turn_b, dx=pair.a)
     try:
         inter = shapely.intersection(ga, gb, grid_size=grid)
     except shapely.errors.GEOSException:  # one bad step must not sink the whole check
         inter = np.array([_safe_intersection(x, y, grid) for x, y in zip(ga, gb, strict=True)])
     area = shapely.area(inter)
-    length = shapely.length(inter)
-    depth = np.where(area > 1e-6, 2 * area / np.maximum(length, 1e-9), 0.0)
-    gap = np.where(area > 1e-6, 0.0, shapely.distance(shapely.boundary(ga),
-                                                      shapely.boundary(gb)))
+    # each overlap sliver on its own (one per fouling flank): depth 2 x area / perimeter
+    parts, owner = shapely.get_parts(inter, return_index=True)
+    pa_, pl_ = shapely.area(parts), shapely.length(parts)
+    depth = np.zeros(len(inter))
+    np.maximum.at(depth, owner, np.where(pa_ > 1e-6, 2 * pa_ / np.maximum(pl_, 1e-9), 0.0))
+    # the gap between the outlines within 2.5 pitches of the contact point (the teeth in
+    # and about to come into mesh), where there is no overlap
+    free = area <= 1e-6
+    gap = np.zeros(len(inter))
+    discs = shapely.buffer(shapely.points(r_contact[free], np.zeros(free.sum())),
+                           2.5 * np.pi * pair.module, quad_segs=16)
+    gap[free] = shapely.distance(shapely.intersection(shapely.boundary(ga[free]), discs),
+                                 shapely.intersection(shapely.boundary(gb[free]), discs))
     worst = int(np.argmax(depth))
     return {"pair": pair.name, "max_interference_mm": float(depth.max()),
             "worst_at_contact_angle_deg": float(np.degrees(pa[worst])) if depth.max() > 0
@@ -522,7 +659,7 @@ def smooth_curvature(pitch: PitchPolyline, internal: bool = False, samples: int 
 
 
 def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
-                internal: bool = False) -> dict:
+                internal: bool = False, cut_by: str | None = None) -> dict:
     """Checks of one generated gear from its pitch curve (equivalent-spur-gear rules):
 
     - radius of curvature: smallest convex and concave values; a concave span is cut
@@ -533,7 +670,8 @@ def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
     - pointed: where the equivalent gear's top land is below 0.2 m;
     - working pressure angle: alpha + atan(|dr/dtheta| / r) about the gear centre.
     For an internal gear the material lies outside the pitch curve, so its concave spans
-    (seen from the centre) play the role of convex ones.
+    (seen from the centre) play the role of convex ones. ``cut_by``: the gear whose
+    envelope this one is (its mate's teeth are the cutter; no cutter-fit question).
     """
     m, alpha = spec.module, spec.alpha
     tt, rho, r0, r1 = smooth_curvature(pitch, internal)
@@ -548,7 +686,7 @@ def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
         aa = np.arccos(np.clip(d * np.cos(alpha) / da, -1, 1))
         top = da * (np.pi / (2 * np.where(np.isfinite(z_eq), z_eq, 1e9)) + inv(alpha) - inv(aa))
     pointed = convex & (top < 0.2 * m)
-    rc = m * spec.cutter_teeth / 2
+    rc = m * spec.cutter_teeth / 2 if spec.cutter == "shaper" and cut_by is None else np.inf
     min_concave = float(-rho[concave].max()) if concave.any() else None
     press = np.degrees(alpha + np.arctan(np.abs(r1) / r0))
     ang = np.degrees(tt)
@@ -561,8 +699,9 @@ def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
         "min_curvature_radius_mm": float(np.abs(rho[np.isfinite(rho)]).min()),
         "min_convex_curvature_radius_mm": float(rho[convex].min()) if convex.any() else None,
         "min_concave_curvature_radius_mm": min_concave,
-        "cutter_pitch_radius_mm": float(rc),
-        "cutter_fits": bool(min_concave is None or min_concave > rc),
+        "cutter": spec.cutter if cut_by is None else f"envelope of {cut_by}",
+        "cutter_pitch_radius_mm": float(rc) if np.isfinite(rc) else None,
+        "cutter_fits": bool(cut_by is not None or min_concave is None or min_concave > rc),
         "undercut": bool(undercut.any()),
         "undercut_at_deg": _spans(ang, undercut),
         "pointed": bool(pointed.any()),

@@ -204,10 +204,12 @@ def _gears(args) -> int:
         return EXIT_INPUT
     for g in rec["gears"]:
         flags = [k for k in ("undercut", "pointed") if g[k]]
+        rc = g["cutter_pitch_radius_mm"]
+        cutter = (g["cutter"] if rc is None else f"shaper r {rc:.2f} mm")
         if not g["cutter_fits"]:
             flags.append(f"concave radius {g['min_concave_curvature_radius_mm']:.2f} mm < "
-                         f"cutter {g['cutter_pitch_radius_mm']:.2f} mm")
-        print(f"  {g['name']:<9} z = {g['teeth']:>3}, m = {g['module_mm']:.4f} mm, "
+                         f"{cutter}")
+        print(f"  {g['name']:<9} z = {g['teeth']:>3}, m = {g['module_mm']:.4f} mm, {cutter}, "
               f"max pressure angle {g['max_pressure_angle_deg']:.1f} deg"
               + (f"  WARNING: {', '.join(flags)}" if flags else ""))
     for mm in rec["mesh"]:
