@@ -74,3 +74,20 @@ def test_speed_lower_bound_is_met_by_every_designed_train():
     v = np.hypot(*spl(psi, 1).T) * 2 * np.pi / 1000
     bound = speed_lower_bound(np.hypot(*tip.T), res.L1, res.L2)
     assert np.all(v >= bound - 1e-6)
+
+
+def test_seeding_speed_need_is_the_least_speed_with_enough_vertical_speed():
+    """Against a brute-force search over the free across-arm component: the along-arm
+    component is the carrier's, L1 omega sin(phi - theta)."""
+    from plantmech.objectives.seeder import seeding_speed_need
+
+    L1, w = 254.0, 2 * np.pi  # mm, rad/s (360 deg/s)
+    phi = np.radians([-40.0, 10.0, 75.0, 200.0])
+    theta = np.radians([-16.0, -24.0, 80.0, 30.0])
+    along, need = seeding_speed_need(L1, phi, theta, 360.0, 1.1)
+    assert along == pytest.approx(L1 * w * np.sin(phi - theta) / 1000)
+    across = np.linspace(-8, 8, 800001)[None, :]
+    vx = along[:, None] * np.cos(theta)[:, None] - across * np.sin(theta)[:, None]
+    vy = along[:, None] * np.sin(theta)[:, None] + across * np.cos(theta)[:, None]
+    speed = np.where(np.abs(vy) >= 1.1, np.hypot(vx, vy), np.inf).min(axis=1)
+    assert need == pytest.approx(speed, abs=1e-4)

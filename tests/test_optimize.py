@@ -94,7 +94,14 @@ def test_cli_exit_4_when_nothing_meets_every_objective(tmp_path):
     assert rc == 4
     rec = json.loads((out / "run.json").read_text())
     assert rec["feasible"] is False
-    assert load_design(out / "best.toml").trajectory is not None  # closest design written
+    best = load_design(out / "best.toml")
+    assert best.trajectory is not None  # closest design written
+    # the seeding point was placed first (and recorded), unless the user keeps it
+    assert rec["seeding_point"]["shift"] == 3 and best.trajectory.sections.e == 7
+    rc = main(["optimize", str(EXAMPLES / "sugarcane_seeder.toml"), "--problem",
+               "seeder-layer1", "--out", str(tmp_path / "keep"), "--generations", "1",
+               "--pop", "4", "--quiet", "--seeding-point", "keep"])
+    assert load_design(tmp_path / "keep" / "best.toml").trajectory.sections.e == 4
 
 
 def test_bad_problem_for_the_mechanism_is_refused(tmp_path, capsys):
@@ -185,7 +192,8 @@ def test_layer1_scouts_every_seeding_point_then_stages_around_the_best():
 
 def test_optimized_seeder_example_meets_every_section_4_1_objective():
     """examples/sugarcane_seeder_optimized.toml is the layered optimization's best design
-    (layer 1 on examples/sugarcane_seeder_g.toml, then layer 2): re-simulated here from its
+    from examples/sugarcane_seeder.toml (seeding point placed at q7, layer 1, then layer 2
+    handed off when close): re-simulated here from its
     pitch curves at full resolution, every section-4.1 objective holds, the path stays
     within 20 mm of the planned one, and zero-speed seeding at e needs a slow machine."""
     from plantmech.workflows import run_seeder_forward
@@ -199,6 +207,8 @@ def test_optimized_seeder_example_meets_every_section_4_1_objective():
     assert s["deviation_from_trajectory_mm"]["max_tip_to_plan"] < 20.0
     # |y_dot(e)| > 1.1 with |v(e)| < 1.5 leaves |x_dot(e)| < sqrt(1.5^2 - 1.1^2) = 1.02 m/s
     assert abs(s["zero_speed_seeding"]["zero_speed_travel_m_s"]) < 1.02
+    t = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml").trajectory.sections
+    assert (t.e, t.f) == (7, 11)  # where the automatic placement put them
 
 
 def test_cmaes_seed_zero_is_reproducible_too():
@@ -209,3 +219,47 @@ def test_cmaes_seed_zero_is_reproducible_too():
     xs = [run(SeederLayer1(d, workers=1), "cmaes", seed=0, generations=3, pop_size=6,
               progress=False).best_x for _ in range(2)]
     assert np.array_equal(xs[0], xs[1])
+
+
+def test_seeding_point_is_placed_where_objectives_4_and_5_can_hold_together():
+    """Table 2's e (q4): a 1.1 m/s vertical speed needs 1.525 m/s (> 1.5) in the three-bar
+    model, so e moves on, to q7 (1.111 m/s; q8's 1.106 is within 1 %); from q7 it stays."""
+    from plantmech.optimize.jobs import place_seeding_point
+
+    d, placement = place_seeding_point(load_design(EXAMPLES / "sugarcane_seeder.toml"))
+    need = [r["least_speed_m_s"] for r in placement["rows"]]
+    assert need == pytest.approx([1.525, 1.340, 1.177, 1.111, 1.106], abs=2e-3)
+    assert placement["shift"] == 3 and "q4 to q7" in placement["reason"]
+    assert (d.trajectory.sections.e, d.trajectory.sections.f) == (7, 11)
+    g, placement = place_seeding_point(load_design(EXAMPLES / "sugarcane_seeder_g.toml"))
+    assert placement["shift"] == 0 and g.trajectory.sections.e == 7
+
+
+def test_a_hook_stops_a_run_and_the_handoff_tries_layer_2_when_layer_1_is_close():
+    from plantmech.optimize.jobs import TABLE1, Layer2Handoff
+    from plantmech.optimize.problems import SeederLayer1
+    from plantmech.optimize.runner import run
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_g.toml")
+    p = SeederLayer1(d, workers=1)
+    calls = []
+    r = run(p, "cmaes", 0, 10, 6, progress=False, hook=lambda prob: calls.append(1) or
+            len(calls) >= 2)
+    # stopped after the second generation (CMA-ES evaluates its start point first)
+    assert r.evaluations == 1 + 2 * 6 and len(calls) >= 2
+    assert set(TABLE1) <= set(p.best_ok)
+    # the handoff: tried once layer 1's best meets Table 1 and is close enough; never when
+    # Table 1 fails
+    # (Table 2 with e at q7 misses two Table 1 limits: mark them met to see a try)
+    assert not all(p.best_ok[n] for n in TABLE1)
+    p.best_ok = dict(p.best_ok, **dict.fromkeys(TABLE1, True))
+    h = Layer2Handoff(0, 8, False, max_violation=np.inf, generations=1)
+    assert h(p) is False  # layer 2 (one generation) cannot finish it
+    (a,) = h.attempts
+    assert a["layer1_violation"] == p.best_score and a["result"] == "layer 2 fell short"
+    assert a["layer2_evaluations"] == 40
+    h(p)  # the residual has not halved: no second try
+    assert len(h.attempts) == 1
+    p.best_ok = dict(p.best_ok, small_ring_height=False)
+    h2 = Layer2Handoff(0, 8, False, max_violation=np.inf, generations=1)
+    assert h2(p) is False and h2.attempts == []

@@ -533,6 +533,54 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
             "violation": viol, "infeasible": 0.0, "objectives": objectives}
 
 
+def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
+                            tolerance: float = 0.01) -> dict:
+    """Where the seeding point e can be (docs/optimization.md, "Where the seeding point can
+    be"): for e and the next ``max_shift`` type-value points, the least static speed that
+    gives the return section's minimum as vertical speed there (``seeding_speed_need`` on
+    the inverse design's motion). If e itself allows objectives 4 and 5 together it stays;
+    otherwise e (and f with it) moves on to the nearest point whose need is within
+    ``tolerance`` of the smallest. Returns {shift, rows, reason}."""
+    from plantmech.objectives.seeder import seeding_speed_need
+
+    job = run_seeder_inverse(design)
+    if not job.result.feasible:
+        raise ValueError("the trajectory's inverse design is infeasible: fix it before "
+                         "placing the seeding point")
+    res, t = job.result, design.trajectory
+    n = len(t.points)
+    psi = res.carrier_angle
+    phi, arm = np.unwrap(res.carrier_abs), np.unwrap(res.arm_angle)
+    rows = []
+    for k in range(max_shift + 1):
+        i = (t.sections.e + k) % n
+        x = float(np.mod(res.point_carrier_angle[i], 2 * np.pi))
+        ph, th = float(np.interp(x, psi, phi)), float(np.interp(x, psi, arm))
+        along, need = seeding_speed_need(res.L1, ph, th, design.operation.carrier_speed_deg_s,
+                                         design.speed.return_min_m_s)
+        rows.append({"shift": k, "point": f"q{i}",
+                     "rho_mm": float(np.hypot(*t.points[i])),
+                     "along_arm_m_s": float(along), "arm_deg": float(np.degrees(np.angle(
+                         np.exp(1j * th)))), "least_speed_m_s": float(need)})
+    limit = design.speed.seeding_max_m_s
+    need = np.array([r["least_speed_m_s"] for r in rows])
+    if need[0] <= limit:
+        return {"shift": 0, "rows": rows, "reason": (
+            f"e stays at q{t.sections.e}: a {design.speed.return_min_m_s:g} m/s vertical "
+            f"speed there needs {need[0]:.3f} m/s, within the {limit:g} m/s seeding limit")}
+    ok = np.flatnonzero((need <= need.min() * (1 + tolerance)) & (need <= limit))
+    if not len(ok):
+        return {"shift": 0, "rows": rows, "reason": (
+            f"e stays at q{t.sections.e}: no point within {max_shift} of it lets a "
+            f"{design.speed.return_min_m_s:g} m/s vertical speed stay under {limit:g} m/s")}
+    k = int(ok[0])
+    return {"shift": k, "rows": rows, "reason": (
+        f"seeding point e moved from q{t.sections.e} to {rows[k]['point']} (f with it): at "
+        f"q{t.sections.e} a {design.speed.return_min_m_s:g} m/s vertical speed needs "
+        f"{need[0]:.3f} m/s, above the {limit:g} m/s seeding limit (objectives 4 and 5 "
+        f"exclude each other there); {rows[k]['point']} needs {need[k]:.3f} m/s")}
+
+
 def _check_violation(name: str, value: float, design: SeederDesign) -> float:
     """Relative violation of one layer-1 check (0 when met)."""
     from plantmech.objectives import relative_violation

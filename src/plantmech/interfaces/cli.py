@@ -179,7 +179,8 @@ def _optimize(args) -> int:
                            generations=args.generations, pop=args.pop,
                            algorithm=args.algorithm, progress=not args.quiet,
                            layer2_points=args.points, tooth_fit=args.tooth_fit,
-                           seeding_shifts=args.seeding_shifts)
+                           seeding_shifts=args.seeding_shifts,
+                           seeding_point=args.seeding_point)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -339,6 +340,11 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False), default=0,
                      help="seeder layer 1: also scout moving the seeding point e (and f) on "
                      "by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
+    opt.add_argument("--seeding-point", choices=("auto", "keep"), default="auto",
+                     help="seeder problems that move type-value points: 'auto' moves the "
+                     "seeding point e (and f) on when, at e, a return speed above its "
+                     "minimum needs a seeding speed above its limit (the three-bar bound, "
+                     "docs/optimization.md); 'keep' never moves it")
     opt.add_argument("--tooth-fit", action="store_true",
                      help="also require the pitch-curve shape checks (transplanter: tooth "
                      "fit (xiii)-(xv); seeder layer 2: convexity and working pressure "

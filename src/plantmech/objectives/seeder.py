@@ -296,3 +296,25 @@ def speed_lower_bound(rho, L1: float, L2: float, carrier_speed_deg_s: float = 36
     rho = np.asarray(rho, dtype=float)
     c = np.clip((rho**2 - L1**2 - L2**2) / (2 * L1 * L2), -1.0, 1.0)
     return L1 * np.radians(carrier_speed_deg_s) * np.sqrt(1.0 - c**2) / 1000.0
+
+
+def seeding_speed_need(L1: float, carrier_abs, arm_abs, carrier_speed_deg_s: float = 360.0,
+                       vertical_min_m_s: float = 1.1):
+    """Smallest static tip speed (m/s) that gives a vertical speed |y_dot| of at least
+    ``vertical_min_m_s`` at tip states with carrier angle phi and arm angle theta
+    (absolute, rad; carrier clockwise at ``carrier_speed_deg_s``). In the three-bar model
+    the velocity component along the arm is the carrier's, L1 omega sin(phi - theta),
+    whatever the gears; only the component across the arm is free. With zero-speed
+    seeding the absolute speed at the seeding point is |y_dot|, so this is the least
+    seeding-section speed that lets the return section start above its minimum
+    (objectives 4 and 5 at e). Returns (along-arm speed (m/s, signed), needed speed (m/s),
+    inf where the arm is vertical and the carrier alone is too slow vertically)."""
+    phi, theta = np.asarray(carrier_abs, float), np.asarray(arm_abs, float)
+    along = L1 * np.radians(carrier_speed_deg_s) * np.sin(phi - theta) / 1000.0
+    vy = along * np.sin(theta)
+    c = np.cos(theta)
+    sign = np.where(vy >= 0, 1.0, -1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        across = np.where(np.abs(c) > 1e-9, (sign * vertical_min_m_s - vy) / c, np.inf)
+    need = np.where(np.abs(vy) >= vertical_min_m_s, np.abs(along), np.hypot(along, across))
+    return along, need

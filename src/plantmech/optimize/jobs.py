@@ -48,6 +48,21 @@ def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = F
     raise ValueError(f"unknown problem {name!r} (expected one of {', '.join(PROBLEMS)})")
 
 
+def place_seeding_point(design):
+    """(design with the seeding point where objectives 4 and 5 can hold together, the
+    placement record: ``workflows.seeding_point_placement``)."""
+    from plantmech.optimize.problems import shift_seeding_point
+    from plantmech.workflows import seeding_point_placement
+
+    try:
+        placement = seeding_point_placement(design)
+    except ValueError as exc:  # infeasible start: layer 1 has to repair it first
+        return design, {"shift": 0, "rows": [], "reason": f"seeding point kept: {exc}"}
+    if placement["shift"]:
+        design = shift_seeding_point(design, placement["shift"])
+    return design, placement
+
+
 def _needs_trajectory(design, name: str) -> None:
     """Layer 1 (alone or layered) moves type-value points: refuse other designs."""
     if design.mechanism != "sugarcane_seeder":
@@ -74,9 +89,17 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
              generations: int | None = None, pop: int | None = None,
              algorithm: str | None = None, progress: bool = True,
              layer2_points: int = 16, tooth_fit: bool = False,
-             seeding_shifts: int = 0) -> JobOutcome:
+             seeding_shifts: int = 0, seeding_point: str = "auto") -> JobOutcome:
     from plantmech.optimize.runner import run
     from plantmech.outputs.optimization_report import write_run
+
+    placement = None
+    if (name in ("seeder-layer1", "seeder-layered", "seeder-joint") and seeding_point == "auto"
+            and not seeding_shifts and design.mechanism == "sugarcane_seeder"
+            and design.trajectory is not None):
+        design, placement = place_seeding_point(design)
+        if progress:
+            print(placement["reason"])
 
     algo0, gen0, pop0 = DEFAULTS.get(name, ("nsga2", 30, 40))
     user_gen, user_pop = generations, pop
@@ -94,6 +117,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
             problem = make_problem(design, name, layer2_points, tooth_fit)
             res = run(problem, algorithm, seed, generations, pop, progress,
                       stop_when_feasible=algorithm != "nsga2")
+        if placement is not None:
+            extra["seeding_point"] = placement
         written = write_run(out, res, problem, design_input)
         rec = _verified(out, dict(res.record(), **extra), tooth_fit)
         return JobOutcome(rec["feasible"], rec, written)
@@ -104,8 +129,9 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     l1_dir, l2_dir = out / "layer1", out / "layer2"
     l1_dir.mkdir(exist_ok=True)
     l2_dir.mkdir(exist_ok=True)
+    handoff = Layer2Handoff(seed, layer2_points, tooth_fit)
     p1, r1, stages = layer1_staged(design, algorithm, seed, generations, pop, progress,
-                                   shifts=seeding_shifts)
+                                   shifts=seeding_shifts, hook=handoff)
     written = write_run(l1_dir, r1, p1, design_input)
     d1 = p1.decode(r1.best_x)
     try:
@@ -131,8 +157,10 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         "seed": seed,
         "evaluations": r1.evaluations + r2.evaluations,
         "wall_s": round(r1.wall_s + r2.wall_s, 3),
-        "first_feasible_s": (None if r2.first_feasible_s is None
+        "first_feasible_s": (round(handoff.found, 3) if handoff.found is not None
+                             else None if r2.first_feasible_s is None
                              else round(r1.wall_s + r2.first_feasible_s, 3)),
+        "handoff": handoff.record(),
         # the final design: layer 2 holds every section-4.1 objective (and the deviation
         # bound) as constraints; Table 1 bounds the planned path, i.e. layer 1's design
         "feasible": bool(r2.feasible and _table1_met(r1)),
@@ -140,6 +168,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         "layer1": dict(r1.record(), stages=stages),
         "layer2": r2.record(),
     }
+    if placement is not None:
+        rec["seeding_point"] = placement
     rec = _verified(out, rec, tooth_fit)
     for f in ("history.csv", "pareto.csv"):
         (out / f).write_text((l2_dir / f).read_text(), encoding="utf-8")
@@ -159,7 +189,7 @@ TOOTH_FIT_STAGES = ((25.0, 1.0), (10.0, 1.0), (6.0, 1.0), (4.0, 1.0))
 
 
 def staged(design, build, stages, algorithm: str, seed: int, generations: int, pop: int,
-           progress: bool = True):
+           progress: bool = True, hook=None):
     """Run ``build(current_design, stage)`` problems one after the other, each starting
     from the previous stage's best (stage[-1] is its share of ``generations``); stop at the
     first design meeting every objective. Returns (last problem, its result with
@@ -171,14 +201,14 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
     for k, stage in enumerate(stages):
         p = build(current, stage)
         r = run(p, algorithm, seed + k, max(1, int(round(generations * stage[-1]))), pop,
-                progress, stop_when_feasible=True)
+                progress, stop_when_feasible=True, hook=hook)
         tally.add(r)
         current = p.decode(r.best_x)
         records.append({"stage": list(stage), "generations": r.generations,
                         "evaluations": r.evaluations, "wall_s": round(r.wall_s, 3),
                         "best_violation": float(r.best.violation[0]),
                         "feasible": bool(r.feasible)})
-        if r.feasible:
+        if r.feasible or getattr(hook, "found", None) is not None:
             break
     return p, tally.onto(r), records
 
@@ -204,7 +234,7 @@ class _Tally:
 
 
 def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
-                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = 0):
+                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = 0, hook=None):
     """Seed 000's layer 1: scout ``shifts`` + 1 places of the seeding point
     (``LAYER1_SCOUT``; none when 0), then staged runs (``LAYER1_STAGES``) from the best
     design so far. Stops at the first design meeting every objective."""
@@ -217,19 +247,20 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
     for k in range(shifts + 1 if shifts else 0):
         d = shift_seeding_point(design, k)
         p, r, rec = staged(d, build, (LAYER1_SCOUT,), algorithm, seed, generations, pop,
-                           progress)
+                           progress, hook)
         tally.add(r)
         records.append({"seeding_shift": k, "sections": d.trajectory.sections.model_dump(),
                         **rec[0]})
-        score = -1.0 if r.feasible else float(r.best.violation[0])
+        score = -1.0 if r.feasible or getattr(hook, "found", None) is not None else float(
+            r.best.violation[0])
         if best is None or score < best[0]:
             best = (score, p, r)
-        if r.feasible:
+        if score < 0:
             break
     start = design if best is None else best[1].decode(best[2].best_x)
-    if best is None or not best[2].feasible:
+    if best is None or best[0] >= 0:
         p, r, rec = staged(start, build, stages, algorithm, seed + 100 * bool(shifts),
-                           generations, pop, progress)
+                           generations, pop, progress, hook)
         tally.add(r)
         records += rec
     else:
@@ -250,6 +281,68 @@ def transplanter_tooth_fit_staged(design, algorithm: str, seed: int, generations
     for rec in records:
         rec["stage"] = dict(zip(("radius_bound_mm", "share"), rec["stage"], strict=True))
     return p, r, records
+
+
+# Layered seeder: layer 2 is tried from layer 1's best as soon as that meets Table 1 and its
+# attitude and speed residual (total relative violation) is at most this, and again each
+# time the residual has halved; layer 1 stops when layer 2 meets everything from there.
+HANDOFF_VIOLATION = 0.05
+HANDOFF_GENERATIONS = 40
+
+
+class Layer2Handoff:
+    """Hook for layer 1's runs: tries a short layer 2 (``HANDOFF_GENERATIONS``) on the
+    best layer-1 design when it is close (``HANDOFF_VIOLATION``); ``found``: seconds from
+    the start of layer 1 to the first design meeting every objective, if one was."""
+
+    def __init__(self, seed: int, points: int, tooth_fit: bool,
+                 max_violation: float = HANDOFF_VIOLATION,
+                 generations: int = HANDOFF_GENERATIONS):
+        import time
+
+        self.seed, self.points, self.tooth_fit = seed, points, tooth_fit
+        self.generations = generations
+        self.max_violation, self.last = max_violation, np.inf
+        self.t0, self.found, self.attempts = time.perf_counter(), None, []
+
+    def __call__(self, p1) -> bool:
+        import time
+
+        from plantmech.optimize.problems import SeederLayer2
+        from plantmech.optimize.runner import run
+
+        if self.found is not None:
+            return True
+        v, ok = getattr(p1, "best_score", np.inf), getattr(p1, "best_ok", None)
+        if (ok is None or v <= 0 or v > self.max_violation or v > 0.5 * self.last
+                or not all(ok.get(n, True) for n in TABLE1)):
+            return False
+        self.last = v
+        attempt = {"at_s": round(time.perf_counter() - self.t0, 3),
+                   "layer1_violation": float(v), "evaluations_layer1": p1.evaluations}
+        self.attempts.append(attempt)
+        try:
+            d2 = with_train(p1.decode(p1.best_x).model_copy(update={"train": None}),
+                            self.points)
+        except ValueError:
+            attempt["result"] = "no feasible inverse design at full resolution"
+            return False
+        p2 = SeederLayer2(d2, gear_shape=self.tooth_fit)
+        r2 = run(p2, "nsga2", self.seed, self.generations, DEFAULTS["seeder-layer2"][2],
+                 progress=False, stop_when_feasible=True)
+        attempt.update(layer2_evaluations=r2.evaluations, layer2_wall_s=round(r2.wall_s, 3),
+                       layer2_violation=float(r2.best.violation[0]))
+        if r2.feasible and verify(p2.decode(r2.best_x), self.tooth_fit)["all_met"]:
+            self.found = time.perf_counter() - self.t0
+            attempt["result"] = "every objective met: layer 1 stops here"
+            return True
+        attempt["result"] = "layer 2 fell short"
+        return False
+
+    def record(self) -> dict:
+        return {"max_violation": self.max_violation, "layer2_generations": self.generations,
+                "found_s": None if self.found is None else round(self.found, 3),
+                "attempts": self.attempts}
 
 
 TABLE1 = ("feasible_inverse", "small_ring_height", "small_ring_width", "large_ring_height",
@@ -313,6 +406,8 @@ def summary_lines(record: dict) -> list[str]:
                 if record.get("first_feasible_s") is not None else "")]
     from plantmech.outputs.files import check_line
 
+    if record.get("seeding_point"):
+        lines.append(record["seeding_point"]["reason"])
     lines += [check_line(o, 34, 3, 16) for o in record["objectives"]]
     v = record.get("verified_full_resolution")
     if v is not None:

@@ -103,6 +103,7 @@ class DesignProblem(Problem):
         if getattr(self, "best_score", np.inf) > score[k]:
             self.best_score = float(score[k])
             self.best_x = np.array(X[k], dtype=float)
+            self.best_ok = dict(zip(b.names, b.ok[k].tolist(), strict=True))
 
 
 def _reported_only(viol, limits, cols):

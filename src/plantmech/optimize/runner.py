@@ -90,9 +90,10 @@ class RunResult:
 
 
 class _Recorder(Callback):
-    def __init__(self, problem: DesignProblem, bar, t0: float):
+    def __init__(self, problem: DesignProblem, bar, t0: float, hook=None):
         super().__init__()
-        self.problem, self.bar, self.t0 = problem, bar, t0
+        self.problem, self.bar, self.t0, self.hook = problem, bar, t0, hook
+        self.stop = False
         self.history: list[dict] = []
         self.first_feasible_s = None
         self.first_feasible_evals = None
@@ -117,13 +118,16 @@ class _Recorder(Callback):
         if self.bar is not None:
             self.bar.update(1)
             self.bar.set_postfix(best_violation=f"{best:.4g}", feasible=n_feas)
+        if self.hook is not None and self.hook(self.problem):
+            self.stop = True
 
 
 def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
         generations: int = 40, pop_size: int = 40, progress: bool = True,
-        stop_when_feasible: bool = False) -> RunResult:
+        stop_when_feasible: bool = False, hook=None) -> RunResult:
     """Optimize ``problem``; the initial population holds the design's current values
-    and samples spread over the bounds (seeded)."""
+    and samples spread over the bounds (seeded). ``hook(problem)`` is called after every
+    generation; it stops the run by returning True."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.algorithms.soo.nonconvex.de import DE
     from pymoo.termination import get_termination
@@ -159,14 +163,15 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
     t0 = time.perf_counter()
     problem.evaluations = 0
     problem.best_score, problem.best_x = np.inf, None
-    rec = _Recorder(problem, bar, t0)
+    rec = _Recorder(problem, bar, t0, hook)
     termination = get_termination("n_gen", generations)
-    if stop_when_feasible:
+    if stop_when_feasible or hook is not None:
         from pymoo.core.termination import Termination
 
         class _Stop(Termination):
             def _update(self, algorithm):
-                done = rec.first_feasible_s is not None or algorithm.n_gen >= generations
+                done = (rec.stop or algorithm.n_gen >= generations
+                        or (stop_when_feasible and rec.first_feasible_s is not None))
                 return 1.0 if done else algorithm.n_gen / generations
 
         termination = _Stop()
