@@ -301,3 +301,27 @@ def test_step_solids_match_the_stl_volume(tmp_path):
         assert solid.is_valid
         stl = trimesh.load(out / f"{name}.stl")
         assert solid.volume == pytest.approx(stl.volume, rel=0.02)
+
+
+def test_tooth_proportions_are_parameters_checked_and_recorded(tmp_path):
+    """--pressure-angle / --addendum / --dedendum reach the cutter and the checks: the
+    K-H-V set cut at 25 deg meshes, and its working pressure angle is 5 deg higher than at
+    20 deg (alpha + atan(|r'| / r)); impossible proportions are refused by name."""
+    import json
+
+    from plantmech.interfaces.cli import main
+    from plantmech.workflows import tooth_proportions
+    from tests.conftest import EXAMPLES
+
+    out = tmp_path / "g"
+    assert main(["gears", str(EXAMPLES / "rice_transplanter_khv.toml"), "--out", str(out),
+                 "--pressure-angle", "25"]) == 0
+    rec = json.loads((out / "verification.json").read_text())
+    assert rec["tooth"] == {"pressure_angle_deg": 25.0, "addendum": 1.0, "dedendum": 1.25}
+    assert rec["all_pairs_mesh"]
+    sun = next(g for g in rec["gears"] if g["name"] == "sun")
+    assert sun["max_pressure_angle_deg"] == pytest.approx(38.1 + 5.0, abs=0.1)
+    with pytest.raises(ValueError, match="pressure angle"):
+        tooth_proportions(pressure_angle_deg=45.0)
+    with pytest.raises(ValueError, match="dedendum"):
+        tooth_proportions(dedendum=1.0)

@@ -655,11 +655,29 @@ def train_from_inverse_job(job: SeederInverseJob, points: int = 8):
 # --- teeth -------------------------------------------------------------------------------
 
 
+def tooth_proportions(pressure_angle_deg: float = 20.0, addendum: float = 1.0,
+                      dedendum: float = 1.25) -> dict:
+    """Checked tooth proportions (ToothSpec fields): pressure angle (deg), addendum and
+    dedendum (x module); the dedendum must exceed the addendum (root clearance)."""
+    if not 0.0 < pressure_angle_deg < 45.0:
+        raise ValueError(f"pressure angle {pressure_angle_deg:g} deg: must lie between 0 and "
+                         "45 deg (standard: 20)")
+    if not addendum > 0.0:
+        raise ValueError(f"addendum {addendum:g} x module: must be positive (standard: 1.0)")
+    if not dedendum > addendum:
+        raise ValueError(f"dedendum {dedendum:g} x module must exceed the addendum "
+                         f"{addendum:g} (root clearance; standard: 1.25)")
+    return {"pressure_angle_deg": float(pressure_angle_deg), "addendum": float(addendum),
+            "dedendum": float(dedendum)}
+
+
 def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
-               samples: int = 3000, min_teeth: int = 20):
+               samples: int = 3000, min_teeth: int = 20, tooth: dict | None = None):
     """Toothed gear pairs of a design: the seeder's sun-gear 2 and gear 3-planet pairs
     (from its [train], or from the inverse design of its trajectory), the transplanter's
-    internal gear-planet pair. Returns [(GearPair, ToothSpec)]."""
+    internal gear-planet pair; ``tooth``: tooth proportions (``tooth_proportions``).
+    Returns [(GearPair, ToothSpec)]."""
+    tooth = tooth_proportions(**(tooth or {}))
     from plantmech.gears.teeth import (
         PitchPolyline,
         ToothSpec,
@@ -686,7 +704,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
             m0 = module or standard_module(P, min_teeth)
             z, m = teeth_count(P, m0)
-            spec = ToothSpec(module=m, backlash_mm=backlash)
+            spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
             bore = _bore(r.min(), spec)
             out.append((make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
                                   bore_b=_bore((a - r).min(), spec)), spec))
@@ -702,7 +720,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             z, m = g.teeth, P / (np.pi * g.teeth)
         else:
             z, m = teeth_count(P, module or standard_module(P, min_teeth * g.lobes), g.lobes)
-        spec = ToothSpec(module=m, backlash_mm=backlash)
+        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
         a = float(pair.a[0])
         out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
                               samples=samples, rim=g.rim_mm + 3.0,
@@ -723,7 +741,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             m = P / (np.pi * design.sun_gear.teeth)
         else:
             z, m = teeth_count(P, module or standard_module(P, min_teeth))
-        spec = ToothSpec(module=m, backlash_mm=backlash)
+        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
         p1 = make_pair("sun_middle", th, r, a, spec, samples=samples,
                        bore_a=_bore(r.min(), spec), bore_b=_bore((a - r).min(), spec))
         # the middle meets the planet half a middle turn from the sun contact
@@ -743,16 +761,17 @@ def _bore(min_pitch_radius: float, spec) -> float | None:
 
 
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
-              backlash: float = 0.1, steps: int = 360) -> dict:
+              backlash: float = 0.1, steps: int = 360, tooth: dict | None = None) -> dict:
     """Generate, check and write every gear of ``design`` into ``out``; returns the
     verification record (also written as verification.json)."""
     from plantmech.gears.teeth import gear_checks, mesh_check, placed
     from plantmech.outputs import gear_files as gf
     from plantmech.outputs.files import write_json
 
+    tooth = tooth_proportions(**(tooth or {}))
     record = {"gears": [], "mesh": [], "files": [], "face_width_mm": face_width,
-              "backlash_mm": backlash}
-    for pair, spec in gear_pairs(design, module, backlash):
+              "backlash_mm": backlash, "tooth": tooth}
+    for pair, spec in gear_pairs(design, module, backlash, tooth=tooth):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
         done = {g["name"] for g in record["gears"]}

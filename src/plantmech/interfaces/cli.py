@@ -199,7 +199,9 @@ def _gears(args) -> int:
     design, out = loaded
     try:
         rec = run_gears(design, out, module=args.module, face_width=args.face_width,
-                        backlash=args.backlash)
+                        backlash=args.backlash,
+                        tooth={"pressure_angle_deg": args.pressure_angle,
+                               "addendum": args.addendum, "dedendum": args.dedendum})
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -322,6 +324,12 @@ def build_parser() -> argparse.ArgumentParser:
                        help="mm, for STL/STEP")
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False), default=0.1,
                        help="circumferential backlash per pair, mm")
+    gears.add_argument("--pressure-angle", type=_number(float, 0.0), default=20.0,
+                       help="tool pressure angle, deg (0-45)")
+    gears.add_argument("--addendum", type=_number(float, 0.0), default=1.0,
+                       help="addendum, x module")
+    gears.add_argument("--dedendum", type=_number(float, 0.0), default=1.25,
+                       help="dedendum, x module (above the addendum: root clearance)")
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
