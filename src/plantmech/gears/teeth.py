@@ -506,7 +506,9 @@ def motion_stations(phi_a, phi_b, r_a, module: float, count: int | None = None,
                     spacing: float | None = None, endpoint: bool = False):
     """Positions of a pair over its cycle spaced evenly in relative motion: per sample
     the larger of the arc rolled on A (mm) and 3 modules times the turn of B relative to
-    A (rad; a tooth three modules from the contact moves that far). ``count`` stations,
+    A (rad; a tooth three modules from the contact moves that far), divided by the cosine
+    of the working pressure angle 20 deg + atan(|dr/dphi| / r) (floored at 0.1: a steep
+    flank keeps only that share of the backlash as normal clearance). ``count`` stations,
     or as many as ``spacing`` (mm) needs. Returns (phi_a, phi_b, r_a) at the stations."""
     pa, pb, ra = (np.asarray(x, float) for x in (phi_a, phi_b, r_a))
     ds = np.hypot(0.5 * (ra[1:] + ra[:-1]) * np.diff(pa), np.diff(ra))
