@@ -39,3 +39,30 @@ def test_cyclic_runs_wrap_and_edges():
     assert cyclic_runs(m) == [(4, 4), (6, 1)]  # last run wraps through index 0
     assert cyclic_runs(np.zeros(4, bool)) == []
     assert cyclic_runs(np.ones(4, bool)) == [(0, 3)]
+
+
+def test_uniform_periodic_spline_slopes_and_integral_match_scipy():
+    """The FFT-solved periodic cubic spline (used in the hot inverse-design path) is
+    SciPy's CubicSpline(bc_type="periodic"): node slopes and running integral."""
+    from scipy.interpolate import CubicSpline
+
+    from plantmech.geometry.periodic import (
+        periodic_spline_node_slopes,
+        periodic_spline_running_integral,
+    )
+
+    rng = np.random.default_rng(0)
+    n = 360
+    h = 2 * np.pi / n
+    x = np.arange(n + 1) * h
+    y = np.sin(3 * x[:-1]) + 0.3 * rng.standard_normal(n)
+    spl = CubicSpline(x, np.r_[y, y[0]], bc_type="periodic")
+    assert np.allclose(periodic_spline_node_slopes(y, h), spl(x[:-1], 1), atol=1e-10)
+    assert np.allclose(periodic_spline_running_integral(y, h), spl.antiderivative()(x),
+                       atol=1e-12)
+    two = rng.standard_normal((n, 2))  # columns at once (tip x, y)
+    spl2 = CubicSpline(x, np.vstack([two, two[:1]]), bc_type="periodic")
+    assert np.allclose(periodic_spline_node_slopes(two, h), spl2(x[:-1], 1), atol=1e-10)
+    # and exact on a trigonometric law it can represent to 4th order: d/dx sin x = cos x
+    assert np.allclose(periodic_spline_node_slopes(np.sin(x[:-1]), h), np.cos(x[:-1]),
+                       atol=1e-6)

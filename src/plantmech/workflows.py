@@ -475,8 +475,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     path is the planned one, its timing the inverse's carrier law — which the path fixes:
     docs/optimization.md). Values NaN and large violations when the inverse design is
     infeasible."""
-    from scipy.interpolate import CubicSpline
-
+    from plantmech.geometry.periodic import periodic_spline_node_slopes
     from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
 
     d = design.model_copy(deep=True)
@@ -508,8 +507,8 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     checks += job.summary["objectives"]
     psi = res.carrier_angle
     tip = res.tip_realized
-    spl = CubicSpline(np.r_[psi, 2 * np.pi], np.vstack([tip, tip[:1]]), bc_type="periodic")
-    vel = spl(psi, 1) * np.radians(d.operation.carrier_speed_deg_s) / 1000.0
+    vel = periodic_spline_node_slopes(tip, 2 * np.pi / len(psi)) * np.radians(
+        d.operation.carrier_speed_deg_s) / 1000.0  # psi: uniform over the cycle
     sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
     att = job.summary["attitude_deg"]
     zero = zero_speed_travel(psi, vel, att["sowing_angle"], sec["e"])

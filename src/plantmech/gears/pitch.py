@@ -11,7 +11,6 @@ Angles in radians, lengths in mm.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 
 def radii_from_speed_ratio(a: float, follower_per_driver) -> tuple[np.ndarray, np.ndarray]:
@@ -40,9 +39,9 @@ def cumulative_trapezoid_periodic(values: np.ndarray, step: float,
     ends of a toothless dwell).
     """
     if smooth:
-        x = np.arange(len(values) + 1) * step
-        spl = CubicSpline(x, np.r_[values, values[0]], bc_type="periodic")
-        return spl.antiderivative()(x)
+        from plantmech.geometry.periodic import periodic_spline_running_integral
+
+        return periodic_spline_running_integral(values, step)
     return np.r_[0.0, np.cumsum(0.5 * (values + np.roll(values, -1)) * step)]
 
 

@@ -159,3 +159,35 @@ def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
     cols = [RadiusCurve.from_samples(nodes, eye[k] + 1.0, kind=kind, theta0=float(nodes[0]))(
         at, nu) - (1.0 if nu == 0 else 0.0) for k in range(n)]  # linear: shift keeps r > 0
     return np.stack(cols, axis=-1)
+
+
+def _uniform_spline_moments(values: np.ndarray, step: float) -> np.ndarray:
+    """Second derivatives M at the nodes of the periodic cubic spline through ``values``
+    (n, ...) at uniform ``step``: the circulant system M[i-1] + 4 M[i] + M[i+1] =
+    6 / h^2 (y[i-1] - 2 y[i] + y[i+1]) solved by FFT (exactly the spline SciPy's
+    CubicSpline(bc_type="periodic") builds, without its per-call set-up)."""
+    y = np.asarray(values, dtype=float)
+    n = y.shape[0]
+    c = np.cos(TWO_PI * np.arange(n // 2 + 1) / n)
+    gain = (6.0 / step**2) * (2.0 * c - 2.0) / (4.0 + 2.0 * c)
+    shape = (-1,) + (1,) * (y.ndim - 1)
+    return np.fft.irfft(np.fft.rfft(y, axis=0) * gain.reshape(shape), n=n, axis=0)
+
+
+def periodic_spline_node_slopes(values: np.ndarray, step: float) -> np.ndarray:
+    """Slopes at the nodes of the periodic cubic spline through ``values`` (n, ...)
+    sampled at uniform ``step``: s'(x_i) = (y[i+1] - y[i]) / h - h (2 M[i] + M[i+1]) / 6."""
+    y = np.asarray(values, dtype=float)
+    m = _uniform_spline_moments(y, step)
+    return (np.roll(y, -1, axis=0) - y) / step - step * (2.0 * m + np.roll(m, -1, axis=0)) / 6.0
+
+
+def periodic_spline_running_integral(values: np.ndarray, step: float) -> np.ndarray:
+    """Running integral (n + 1 values from 0) of the periodic cubic spline through
+    ``values`` (n,) at uniform ``step``: per interval h (y[i] + y[i+1]) / 2 -
+    h^3 (M[i] + M[i+1]) / 24."""
+    y = np.asarray(values, dtype=float)
+    m = _uniform_spline_moments(y, step)
+    part = (0.5 * step * (y + np.roll(y, -1, axis=0))
+            - step**3 * (m + np.roll(m, -1, axis=0)) / 24.0)
+    return np.r_[0.0, np.cumsum(part)]

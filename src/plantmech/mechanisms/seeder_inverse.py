@@ -26,7 +26,7 @@ from plantmech.gears.pitch import (
     radii_from_speed_ratio,
     toothless_sector_follower_angle,
 )
-from plantmech.geometry.periodic import cyclic_runs
+from plantmech.geometry.periodic import cyclic_runs, periodic_spline_node_slopes
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.three_bar import tip_position
 
@@ -262,8 +262,10 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     # Planned total ratio g = d psi_4 / d psi from a periodic spline of psi_4 - psi.
     step = TWO_PI / n
     drift = planet_rel - psi
-    spl = CubicSpline(np.r_[psi, TWO_PI], np.r_[drift, drift[0]], bc_type="periodic")
-    g = spl(psi, 1) + 1.0
+    g = periodic_spline_node_slopes(drift, step) + 1.0
+    # the same spline between samples is needed only around a dwell (its edges)
+    spl = (CubicSpline(np.r_[psi, TWO_PI], np.r_[drift, drift[0]], bc_type="periodic")
+           if settings.dwell is not None else None)
 
     in_dwell = np.zeros(n, dtype=bool)
     realized_rel = planet_rel.copy()
