@@ -187,7 +187,7 @@ def _map(fn, items, workers: int):
         return [fn(x) for x in items]
     from concurrent.futures.process import BrokenProcessPool
 
-    chunk = max(1, len(items) // (2 * workers))
+    chunk = max(1, len(items) // (8 * workers))  # small chunks: candidates differ in cost
     try:
         return list(_pool(workers).map(fn, items, chunksize=chunk))
     except BrokenProcessPool:  # a worker died (e.g. killed): start afresh once
