@@ -186,7 +186,7 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
         a, b = toothless
         keep = ~((np.mod(s - a, P)) <= np.mod(b - a, P))
         s = s[keep]
-    p, _, n = pitch.at(s)
+    p, tangent, n = pitch.at(s)
     nz = n[:, 0] + 1j * n[:, 1]
     pz = p[:, 0] + 1j * p[:, 1]
     sign = -1.0 if internal else 1.0
@@ -202,7 +202,7 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
         s_eff = b0 + np.mod(s - b0, P)
         t_eff = b0 + np.mod(tooth_at - b0, P)
     if spec.cutter == "rack":
-        polys = _rack_teeth(spec, pz, p, n, s_eff, t_eff)
+        polys = _rack_teeth(spec, pz, tangent, n, s_eff, t_eff)
     else:
         beta = 0.5 * pitch_angle - sign * (s_eff - t_eff) / rc
         rot = face - beta  # absolute orientation of the cutter's body frame
@@ -229,12 +229,13 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
     return gear
 
 
-def _rack_teeth(spec: ToothSpec, pz, p, n, s_eff, t_eff):
-    """The rack's teeth at every station: its pitch line tangent to the pitch curve at
-    the contact p (mm) with normal n, rolled without slip, so the rack coordinate sigma
-    (mm) sits at sigma - s along the tangent; a rack tooth (straight flanks at the
-    pressure angle, thicker by half the backlash) fills every space of the gear, centred
-    at t_eff + pitch / 2 + k pitch, from the root (dedendum) to beyond the tip."""
+def _rack_teeth(spec: ToothSpec, pz, tangent, n, s_eff, t_eff):
+    """The rack's teeth at every station: its pitch line along the unit ``tangent`` of
+    the pitch curve at the contact pz (complex, mm) with normal n, rolled without slip,
+    so the rack coordinate sigma (mm) sits at sigma - s along the tangent; a rack tooth
+    (straight flanks at the pressure angle, thicker by half the backlash) fills every
+    space of the gear, centred at t_eff + pitch / 2 + k pitch, from the root (dedendum)
+    to beyond the tip."""
     import shapely
 
     m, pitch = spec.module, spec.pitch
@@ -245,8 +246,7 @@ def _rack_teeth(spec: ToothSpec, pz, p, n, s_eff, t_eff):
     k0 = np.round((s_eff - t_eff - pitch / 2) / pitch)
     centre = t_eff + pitch / 2 + (k0[:, None] + np.arange(-3, 4)[None, :]) * pitch
     off = centre - s_eff[:, None]  # (S, 7): tooth centres along the tangent
-    t = np.c_[-n[:, 1], n[:, 0]]
-    tz = t[:, 0] + 1j * t[:, 1]
+    tz = tangent[:, 0] + 1j * tangent[:, 1]
     nz = n[:, 0] + 1j * n[:, 1]
     pts = (pz[:, None, None] + tz[:, None, None] * (off[:, :, None] + u[None, None, :])
            + nz[:, None, None] * v[None, None, :])
@@ -302,9 +302,9 @@ class GearPair:
     teeth_a: int
     teeth_b: int
     module: float
+    r_a: np.ndarray  # A's contact radius at phi_a (mm)
     gear_a: object = None  # shapely polygons
     gear_b: object = None
-    r_a: np.ndarray | None = None  # A's contact radius at phi_a (mm)
 
 
 def polar_contacts(theta_a, r_a, a: float, internal: bool, turn_b: float | None = None):
@@ -392,7 +392,7 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     zb = (pb.perimeter - (np.mod(toothless[1] - toothless[0], pb.perimeter) + spec.pitch
                           if toothless else 0.0)) / spec.pitch
     pair = GearPair(name, pa, pb, th, phib, a, internal, int(round(za)), int(round(zb)),
-                    spec.module, gear_a, gear_b, r_a=r)
+                    spec.module, r, gear_a=gear_a, gear_b=gear_b)
     pair.spec = spec
     pair.b_cut_by_a = tooth_at_a is None  # B is A's envelope (not cut by the cutter)
     pair.tooth_at_b = sb_tooth + spec.pitch / 2
@@ -422,15 +422,15 @@ def envelope_cut(pitch_ring: PitchPolyline, pitch_planet: PitchPolyline, theta_r
     # stations spaced by the relative motion (arc rolled or turn of B against A,
     # whichever is faster), so fast-turning spans near cusps are cut as finely as the rest;
     # a partial B (toothless) also gets the cycle's last position
-    ta, tb, r_contact = motion_stations(theta_ring, phi_planet, r_ring, spec.module,
-                                        spacing=spec.pitch / steps_per_pitch,
-                                        endpoint=toothless is not None)
-    # the ring's teeth within 3 pitches (of arc) of the contact: pieces cut once, chosen
+    ta, tb, _ = motion_stations(theta_ring, phi_planet, r_ring, spec.module,
+                                spacing=spec.pitch / steps_per_pitch,
+                                endpoint=toothless is not None, pressure_angle=spec.alpha)
+    # only the band within the tool's tooth depth (and a margin) of its pitch curve can
+    # reach B's blank near the contact; the body below it would only slow the union.
+    # The ring's teeth within 3 pitches (of arc) of the contact: pieces cut once, chosen
     # per station, turned into the mesh frame (by -theta_A), shifted by -a and turned by
     # phi_B (internal) or phi_B - pi (external: B faces A across the line of centres,
     # see ``placed``) into B's body frame
-    # only the band within the tool's tooth depth (and a margin) of its pitch curve can
-    # reach B's blank near the contact; the body below it would only slow the union
     base_a = shapely.Polygon(pitch_ring.xy)
     depth = (spec.dedendum + 0.35) * m
     band = base_a.buffer(depth, join_style="round").difference(
@@ -438,18 +438,9 @@ def envelope_cut(pitch_ring: PitchPolyline, pitch_planet: PitchPolyline, theta_r
     pieces, centres, plen = _pieces(tool.intersection(band), pitch_ring, spec.pitch)
     sel, owner = _near(centres, plen, _arc_of_angle(pitch_ring, ta), 3 * spec.pitch,
                        pitch_ring.perimeter)
-    ring = pieces[sel]
     turn = tb if internal else tb - np.pi
-    counts = shapely.get_num_coordinates(ring)
-    ca, sa = np.repeat(np.cos(-ta[owner]), counts), np.repeat(np.sin(-ta[owner]), counts)
-    cc, ss = np.repeat(np.cos(turn[owner]), counts), np.repeat(np.sin(turn[owner]), counts)
-
-    def to_planet(xy):
-        x = ca * xy[:, 0] - sa * xy[:, 1] - a
-        y = sa * xy[:, 0] + ca * xy[:, 1]
-        return np.c_[cc * x - ss * y, ss * x + cc * y]
-
-    sweep = shapely.union_all(shapely.make_valid(shapely.transform(ring, to_planet)))
+    ring = _turn_each(_turn_each(pieces[sel], -ta[owner], dx=-a), turn[owner])
+    sweep = shapely.union_all(shapely.make_valid(ring))
     base = shapely.Polygon(pitch_planet.xy)
     gear = base.buffer(spec.addendum * m, join_style="round").difference(sweep)
     if toothless is not None:
@@ -503,20 +494,22 @@ def _near(centres, plen: float, s, half: float, perimeter: float):
 
 
 def motion_stations(phi_a, phi_b, r_a, module: float, count: int | None = None,
-                    spacing: float | None = None, endpoint: bool = False):
+                    spacing: float | None = None, endpoint: bool = False,
+                    pressure_angle: float = np.radians(20.0)):
     """Positions of a pair over its cycle spaced evenly in relative motion: per sample
     the larger of the arc rolled on A (mm) and 3 modules times the turn of B relative to
     A (rad; a tooth three modules from the contact moves that far), divided by the cosine
-    of the working pressure angle 20 deg + atan(|dr/dphi| / r) (floored at 0.1: a steep
-    flank keeps only that share of the backlash as normal clearance). ``count`` stations,
-    or as many as ``spacing`` (mm) needs. Returns (phi_a, phi_b, r_a) at the stations."""
+    of the working pressure angle alpha + atan(|dr/dphi| / r) (alpha: the tool's
+    ``pressure_angle``, rad; floored at 0.1: a steep flank keeps only that share of the
+    backlash as normal clearance). ``count`` stations, or as many as ``spacing`` (mm)
+    needs. Returns (phi_a, phi_b, r_a) at the stations."""
     pa, pb, ra = (np.asarray(x, float) for x in (phi_a, phi_b, r_a))
-    ds = np.hypot(0.5 * (ra[1:] + ra[:-1]) * np.diff(pa), np.diff(ra))
+    dr, along = np.diff(ra), 0.5 * (ra[1:] + ra[:-1]) * np.diff(pa)  # mm per sample
+    ds = np.hypot(along, dr)
     turn = np.abs(np.diff(pb) - np.diff(pa))
     # a flank at working pressure angle alpha_w keeps only cos(alpha_w) of the backlash
     # as normal clearance: denser where the pitch curve is steep
-    steep = np.cos(np.radians(20.0) + np.arctan(np.abs(np.diff(ra)) / np.maximum(
-        0.5 * (ra[1:] + ra[:-1]) * np.abs(np.diff(pa)), 1e-12)))
+    steep = np.cos(pressure_angle + np.arctan(np.abs(dr) / np.maximum(np.abs(along), 1e-12)))
     u = np.r_[0.0, np.cumsum(np.maximum(ds, 3.0 * module * turn)
                              / np.maximum(steep, 0.1))]
     if count is None:
@@ -566,11 +559,6 @@ def _turn_each(geoms, angles, dx: float = 0.0):
     return shapely.transform(geoms, f)
 
 
-def _polar(pitch: PitchPolyline):
-    """(angles, radii) of a pitch polyline's vertices."""
-    return np.arctan2(pitch.xy[:, 1], pitch.xy[:, 0]), np.hypot(*pitch.xy.T)
-
-
 def _safe_intersection(a, b, grid):
     import shapely
 
@@ -591,11 +579,9 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     import shapely
     import shapely.affinity
 
-    r_a = pair.r_a
-    if r_a is None:
-        r_a = np.interp(np.mod(pair.phi_a, TWO_PI), *_polar(pair.pitch_a), period=TWO_PI)
-    pa, pb, r_contact = motion_stations(pair.phi_a, pair.phi_b, r_a, pair.module,
-                                        count=steps, endpoint=True)
+    pa, pb, r_contact = motion_stations(pair.phi_a, pair.phi_b, pair.r_a, pair.module,
+                                        count=steps, endpoint=True,
+                                        pressure_angle=pair.spec.alpha)
     turn_b = -pb if pair.internal else np.pi - pb
     if pair.internal:
         # the planet may touch the ring anywhere around it (far-side tip interference when
@@ -603,9 +589,10 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
         r_b = np.hypot(*pair.pitch_b.xy.T)
         window = shapely.Point(pair.a, 0.0).buffer(r_b.max() + 2 * pair.module, 128)
     else:
-        r_a = np.hypot(*pair.pitch_a.xy.T)
+        r_pitch = np.hypot(*pair.pitch_a.xy.T)
         h = window_pitches * np.pi * pair.module
-        window = shapely.box(r_a.min() - 3 * pair.module, -h, r_a.max() + 3 * pair.module, h)
+        window = shapely.box(r_pitch.min() - 3 * pair.module, -h,
+                             r_pitch.max() + 3 * pair.module, h)
     grid = 1e-4  # mm: snap rounding keeps the overlays robust on cut outlines
     # clip each gear in its own body frame (the window turned back), then place the small
     # clipped parts: cheaper than turning and repairing the whole outline at every step

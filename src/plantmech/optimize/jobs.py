@@ -315,7 +315,7 @@ class Layer2Handoff:
             return True
         v, ok = getattr(p1, "best_score", np.inf), getattr(p1, "best_ok", None)
         if (ok is None or v <= 0 or v > self.max_violation or v > 0.5 * self.last
-                or not all(ok.get(n, True) for n in TABLE1)):
+                or not _table1_ok(ok)):
             return False
         self.last = v
         attempt = {"at_s": round(time.perf_counter() - self.t0, 3),
@@ -350,10 +350,15 @@ TABLE1 = ("feasible_inverse", "small_ring_height", "small_ring_width", "large_ri
           "centre_to_trench_bottom")
 
 
+def _table1_ok(ok_by_name: dict) -> bool:
+    """A layer-1 path is inverse-designable and meets Table 1 (its attitude and speed
+    residuals are layer 2's to remove); ``ok_by_name``: check name -> met."""
+    return all(ok_by_name.get(n, True) for n in TABLE1)
+
+
 def _table1_met(r1) -> bool:
-    """Layer 1's best path is inverse-designable and meets Table 1 (its attitude and speed
-    residuals are layer 2's to remove)."""
-    return all(o["ok"] for o in r1.record()["objectives"] if o["name"] in TABLE1)
+    """Layer 1's best (a run result) passes ``_table1_ok``."""
+    return _table1_ok({o["name"]: o["ok"] for o in r1.record()["objectives"]})
 
 
 def verify(design, tooth_fit: bool = True) -> dict:

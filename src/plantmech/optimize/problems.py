@@ -54,7 +54,6 @@ class Batch:
         return ok.all(axis=1)
 
 
-
 class DesignProblem(Problem):
     """Base class: variables around the design's current values."""
 
