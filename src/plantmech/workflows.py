@@ -5,6 +5,7 @@ No physics here beyond wiring: each step lives in its layer.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -99,7 +100,8 @@ def train_from_design(design: SeederDesign):
 def locate_section_points(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
                           sections: dict[str, int], candidates: int = 4) -> tuple[dict, dict]:
     """Carrier angle (rad) at which the tip passes each section point, and the distance
-    (mm) it misses the point by.
+    (mm) it misses the point by (closest sample, refined between samples by the parabola
+    through its squared distances: ``refine_minimum``).
 
     An "8" passes near some points twice (near its crossing), so for every point the
     few closest local approaches are candidates and the combination that keeps the
@@ -107,13 +109,18 @@ def locate_section_points(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
     """
     from itertools import product
 
+    from plantmech.objectives.seeder_population import refine_minimum
+
     letters = list(sections)
     cands = []
+    step = float(psi[1] - psi[0])
     for letter in letters:
-        d = np.hypot(*(tip - points[sections[letter]]).T)
-        local = np.flatnonzero((d <= np.roll(d, 1)) & (d <= np.roll(d, -1)))
-        local = local[np.argsort(d[local])][:candidates]
-        cands.append([(float(psi[k]), float(d[k])) for k in local])
+        d2 = ((tip - points[sections[letter]]) ** 2).sum(axis=1)
+        local = np.flatnonzero((d2 <= np.roll(d2, 1)) & (d2 <= np.roll(d2, -1)))
+        local = local[np.argsort(d2[local])][:candidates]
+        at, low = refine_minimum(d2[None], local[None], step)
+        cands.append([(float(np.mod(psi[k] + a, 2 * np.pi)), float(np.sqrt(v)))
+                      for k, a, v in zip(local, at[0], low[0], strict=True)])
     best, best_cost = None, np.inf
     for combo in product(*cands):
         angles = np.array([c[0] for c in combo])
@@ -224,12 +231,14 @@ def _speeds_at_return_points(job: SeederForwardJob, vel: np.ndarray) -> list[dic
     return out
 
 
-def _distance_to_closed_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Distance (mm) of each point to a closed polyline: nearest vertex (k-d tree),
-    then the perpendicular foot on its two adjacent segments."""
+def _distance_to_closed_polyline(points: np.ndarray, poly: np.ndarray,
+                                 tree=None) -> np.ndarray:
+    """Distance (mm) of each point to a closed polyline: nearest vertex (k-d tree of the
+    polyline's vertices, built here unless given), then the perpendicular foot on its
+    two adjacent segments."""
     from scipy.spatial import cKDTree
 
-    _, k = cKDTree(poly).query(points)
+    _, k = (tree or cKDTree(poly)).query(points)
     n = len(poly)
     best = np.hypot(*(points - poly[k]).T)
     for a, b in ((k - 1) % n, k), (k, (k + 1) % n):
@@ -271,9 +280,18 @@ class SeederPopulation:
     section_psi: np.ndarray  # (P, 6) rad
 
 
+def section_reference_psi(design: SeederDesign) -> np.ndarray:
+    """Carrier angles (6,) rad where the design's own train passes the section points
+    a..f (the forward job's located sections): where ``evaluate_seeder_population``
+    searches each variant's. Depends on the design only: optimizers compute it once."""
+    base = run_seeder_forward(design)
+    return np.array([base.section_psi[k] for k in "abcdef"])
+
+
 def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
                                samples: int = 720, dense: int = 2048,
-                               window_deg: float = 40.0) -> SeederPopulation:
+                               window_deg: float = 40.0,
+                               reference_psi: np.ndarray | None = None) -> SeederPopulation:
     """Simulate and evaluate P variants of ``design``'s train at once.
 
     radii2, radii3: (P, N) interpolation radii (mm) at the design's angles (default:
@@ -282,7 +300,7 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     turn depends on r / a only; otherwise as given, unclosed pairs show in
     ``metrics['closure_error_rad']``). Section points: the design's ``sections_deg``,
     or located on each variant's path within +-window of where the base design passes
-    them.
+    them (``reference_psi``: ``section_reference_psi(design)`` if already known).
     """
     from plantmech.mechanisms.seeder_batch import simulate_population
     from plantmech.objectives.seeder_population import evaluate_population, locate_sections
@@ -308,8 +326,7 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
         sec = np.radians([getattr(t.sections_deg, k) for k in "abcdef"])
         section_psi = np.broadcast_to(sec, (R2.shape[0], 6))
     else:
-        base = run_seeder_forward(design)
-        ref = np.array([base.section_psi[k] for k in "abcdef"])
+        ref = section_reference_psi(design) if reference_psi is None else reference_psi
         pts = np.asarray(design.trajectory.points)[
             [getattr(design.trajectory.sections, k) for k in "abcdef"]]
         section_psi = locate_sections(motion.tip, motion.carrier_angle, pts, ref,
@@ -482,10 +499,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     d.trajectory.samples = samples
     # a coarse cycle can miss a narrow dip of a pitch radius: optimizers ask for a margin
     d.gear_train.min_pitch_radius_mm += pitch_margin_mm
-    names = ["small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
-             "cd_central_angle", "sowing_height_difference", "centre_to_trench_bottom",
-             "picking_swing", "seeding_swing", "sowing_angle", "seeding_peak_speed",
-             "return_min_speed_static", "return_min_speed_dynamic"]
+    names = list(LAYER1_NAMES)
     try:
         job = run_seeder_inverse(d)
     except Exception:  # a candidate whose curve cannot even be fitted
@@ -495,9 +509,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
         n_err = 10.0
         if job is not None:
             errs = [x for x in job.result.diagnostics if x.severity == "error"]
-            spans = [abs(x.carrier_angle_deg[1] - x.carrier_angle_deg[0])
-                     for x in errs if x.carrier_angle_deg]
-            n_err = len(errs) + sum(spans) / 30.0
+            n_err = len(errs) + sum(_span_deg(x) for x in errs) / 30.0
         return {"names": names, "units": [""] * len(names), "limits": [""] * len(names),
                 "values": [np.nan] * len(names), "ok": [False] * len(names),
                 "violation": [10.0] * len(names), "infeasible": float(max(n_err, 1.0)),
@@ -530,6 +542,17 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
                                                    "sowing_angle")]
     return {"names": names, "units": units, "limits": limits, "values": values, "ok": ok,
             "violation": viol, "infeasible": 0.0, "objectives": objectives}
+
+
+def _span_deg(diagnostic) -> float:
+    """Carrier angle (deg) a diagnostic covers: the backward turn of a carrier that would
+    have to turn back, else the clockwise span from its first to its last sample."""
+    if not diagnostic.carrier_angle_deg:
+        return 0.0
+    a, b = diagnostic.carrier_angle_deg
+    if diagnostic.kind == "carrier_not_monotonic":
+        return abs(b - a)
+    return (b - a) % 360.0
 
 
 def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
@@ -580,45 +603,111 @@ def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
         f"exclude each other there); {rows[k]['point']} needs {need[k]:.3f} m/s")}
 
 
+LAYER1_NAMES = ("small_ring_height", "small_ring_width", "large_ring_height",
+                "large_ring_width", "cd_central_angle", "sowing_height_difference",
+                "centre_to_trench_bottom", "picking_swing", "seeding_swing", "sowing_angle",
+                "seeding_peak_speed", "return_min_speed_static", "return_min_speed_dynamic")
+
+
+def layer1_bounds(design: SeederDesign) -> list[tuple[str, float | None, float | None, str]]:
+    """(name, lower, upper, unit) of every layer-1 check (``LAYER1_NAMES`` order): Table 1,
+    section 4.1's attitude and speed objectives (open intervals; None: unbounded)."""
+    L, A, S = design.planning_limits, design.attitude, design.speed
+    out = []
+    for name in LAYER1_NAMES[:7]:
+        lim = getattr(L, f"{name}_deg" if name == "cd_central_angle" else f"{name}_mm")
+        out.append((name, lim.min, lim.max, "deg" if name == "cd_central_angle" else "mm"))
+    out += [("picking_swing", None, A.picking_swing_max_deg, "deg"),
+            ("seeding_swing", None, A.seeding_swing_max_deg, "deg"),
+            ("sowing_angle", None, A.sowing_angle_max_deg, "deg"),
+            ("seeding_peak_speed", None, S.seeding_max_m_s, "m/s"),
+            ("return_min_speed_static", S.return_min_m_s, None, "m/s"),
+            ("return_min_speed_dynamic", S.return_min_m_s, None, "m/s")]
+    return out
+
+
 def _check_violation(name: str, value: float, design: SeederDesign) -> float:
     """Relative violation of one layer-1 check (0 when met)."""
     from plantmech.objectives import relative_violation
 
     if not np.isfinite(value):
         return 10.0
-    L = design.planning_limits
-    table = {
-        "small_ring_height": L.small_ring_height_mm, "small_ring_width": L.small_ring_width_mm,
-        "large_ring_height": L.large_ring_height_mm, "large_ring_width": L.large_ring_width_mm,
-        "cd_central_angle": L.cd_central_angle_deg,
-        "sowing_height_difference": L.sowing_height_difference_mm,
-        "centre_to_trench_bottom": L.centre_to_trench_bottom_mm,
-    }
-    if name in table:
-        lo, hi = table[name].min, table[name].max
-    elif name == "picking_swing":
-        lo, hi = None, design.attitude.picking_swing_max_deg
-    elif name == "seeding_swing":
-        lo, hi = None, design.attitude.seeding_swing_max_deg
-    elif name == "sowing_angle":
-        lo, hi = None, design.attitude.sowing_angle_max_deg
-    elif name == "seeding_peak_speed":
-        lo, hi = None, design.speed.seeding_max_m_s
-    else:
-        lo, hi = design.speed.return_min_m_s, None
+    _, lo, hi, _ = next(b for b in layer1_bounds(design) if b[0] == name)
     return float(relative_violation(value, lo, hi))
+
+
+def seeder_inverse_checks_population(design: SeederDesign, points, samples: int = 360,
+                                     pitch_margin_mm: float = 0.0) -> dict:
+    """``seeder_inverse_checks`` for P candidate trajectories at once: the design with its
+    type-value points replaced by each row of ``points`` (P, N, 2) mm. Inverse design
+    (``inverse_population``), Table 1, attitude and speeds as arrays over designs; the
+    design must have no toothless dwell (layer 1's trains). Returns names, units, limits
+    (lists) and values, ok, violation (P, 13), infeasible (P,) (the inverse design's
+    error grading, 0 when feasible), objectives (P, 3)."""
+    from plantmech.mechanisms.seeder_inverse_batch import _node_slopes, inverse_population
+    from plantmech.objectives import limit_text, relative_violation
+    from plantmech.objectives.seeder_inverse_population import (
+        attitude_values,
+        planning_values,
+        speed_values,
+    )
+
+    gt = design.gear_train
+    if gt.dwell is not None and gt.dwell.enabled:
+        raise ValueError("the population inverse design has no toothless dwell: evaluate "
+                         "dwell designs one by one (seeder_inverse_checks)")
+    sections = design.trajectory.sections.model_dump()
+    inv = inverse_population(points, samples, gt.a1_mm, gt.a2_mm, gt.split_exponent,
+                             gt.min_pitch_radius_mm + pitch_margin_mm)
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
+
+    plan, _ = planning_values(TrajectoryBatch(points), sections)
+    psi = inv.psi
+    att = attitude_values(psi, np.degrees(inv.arm_angle_realized), inv.point_carrier_angle,
+                          sections)
+    vel = _node_slopes(inv.tip_realized, 2 * np.pi / len(psi)) * np.radians(
+        design.operation.carrier_speed_deg_s) / 1000.0
+    speeds, _ = speed_values(psi, vel, inv.point_carrier_angle, sections,
+                             design.operation.travel_speed_m_s)
+    raw = np.c_[plan, att, speeds]
+    bounds = layer1_bounds(design)
+    lo = np.array([np.nan if b[1] is None else b[1] for b in bounds])
+    hi = np.array([np.nan if b[2] is None else b[2] for b in bounds])
+    with np.errstate(invalid="ignore"):
+        ok = (np.isnan(lo) | (raw > lo)) & (np.isnan(hi) | (raw < hi)) & np.isfinite(raw)
+    values = np.round(raw, 6)  # as the single-design checks report them
+    viol = np.stack([relative_violation(values[:, k], b[1], b[2], nan=10.0)
+                     for k, b in enumerate(bounds)], axis=1)
+    bad = ~inv.feasible
+    values[bad], ok[bad], viol[bad] = np.nan, False, 10.0
+    objectives = np.where(bad[:, None], 1e3, values[:, 7:10])
+    return {"names": list(LAYER1_NAMES), "units": [b[3] for b in bounds],
+            "limits": [limit_text(b[1], b[2], b[3]) for b in bounds], "values": values,
+            "ok": ok, "violation": viol, "infeasible": inv.error_score,
+            "objectives": objectives}
 
 
 def trajectory_deviation_batch(design: SeederDesign, tips: np.ndarray,
                                samples: int = 20000) -> np.ndarray:
     """Largest distance (mm) of each design's tip samples (P, S, 2) from the planned
     trajectory (point to segment; all designs in one k-d tree query)."""
-    traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
+    plan, tree = _plan_polyline(tuple(map(tuple, design.trajectory.points)), samples)
+    P, S, _ = tips.shape
+    d = _distance_to_closed_polyline(tips.reshape(-1, 2), plan, tree).reshape(P, S)
+    return d.max(axis=1)
+
+
+@functools.lru_cache(maxsize=8)
+def _plan_polyline(points: tuple, samples: int):
+    """The planned curve through ``points`` at ``samples`` equal arc lengths, and its k-d
+    tree (an optimizer asks for the same plan every generation)."""
+    from scipy.spatial import cKDTree
+
+    traj = ClosedTrajectory.through(np.asarray(points, dtype=float))
     _, u = traj.arc_length_samples(samples)
     plan = traj(u)
-    P, S, _ = tips.shape
-    d = _distance_to_closed_polyline(tips.reshape(-1, 2), plan).reshape(P, S)
-    return d.max(axis=1)
+    plan.flags.writeable = False
+    return plan, cKDTree(plan)
 
 
 def train_from_inverse_job(job: SeederInverseJob, points: int = 8):

@@ -150,6 +150,21 @@ def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
     interpolant through (nodes, r) at angles ``at`` (rad): ``spline`` (periodic cubic
     spline) or ``hermite`` (periodic cubic Hermite, centred-difference tangents, as
     ``RadiusCurve``)."""
+    nodes, at = np.asarray(nodes, dtype=float), np.asarray(at, dtype=float)
+    key = (nodes.tobytes(), at.shape, hash(at.tobytes()), nu, kind)
+    m = _MATRICES.get(key)
+    if m is None:
+        if len(_MATRICES) >= 64:
+            _MATRICES.clear()
+        m = _MATRICES[key] = _spline_matrix(nodes, at, nu, kind)
+        m.flags.writeable = False
+    return m
+
+
+_MATRICES: dict = {}  # population evaluations ask for the same few matrices every call
+
+
+def _spline_matrix(nodes, at, nu, kind):
     n = len(nodes)
     eye = np.eye(n)
     x = np.r_[nodes, nodes[0] + TWO_PI]

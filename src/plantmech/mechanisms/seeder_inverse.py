@@ -31,6 +31,7 @@ from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.three_bar import tip_position
 
 TWO_PI = 2.0 * np.pi
+ILLINOIS_ITERATIONS = 30
 
 
 @dataclass
@@ -116,7 +117,19 @@ class InverseResult:
 
 
 def _extreme_radius(traj: ClosedTrajectory, largest: bool) -> tuple[float, float]:
-    """(u, rho) of the farthest (largest=True) or nearest trajectory point to O."""
+    """(u, rho) of the farthest (largest=True) or nearest trajectory point to O.
+
+    A fitted trajectory goes through the population code's ``extreme_radius`` (samples,
+    then Newton on d(rho^2)/du = 0: one implementation for both, exact to 1e-9 mm of
+    parameter). Any other curve object (e.g. an analytic test curve without derivatives)
+    is searched on rho alone, which resolves the place only to ~1e-6 (rho is flat there).
+    """
+    if isinstance(traj, ClosedTrajectory):
+        from plantmech.geometry.trajectory_batch import TrajectoryBatch
+        from plantmech.mechanisms.seeder_inverse_batch import extreme_radius
+
+        u, rho = extreme_radius(TrajectoryBatch(traj.points[None]), largest)
+        return float(u[0]), float(rho[0])
     u = np.linspace(0.0, traj.period, 256 * len(traj.points), endpoint=False)
     rho = np.hypot(*traj(u).T)
     k = int(np.argmax(rho) if largest else np.argmin(rho))
@@ -147,6 +160,18 @@ def _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner):
     sigma = np.where(on_inner, sigma_inner, -sigma_inner)
     signed_sin = sigma * np.sqrt(np.clip(1.0 - cos_b1**2, 0.0, None))
     return beta3 + np.arctan2(signed_sin, cos_b1), xy
+
+
+def dense_grid_size(samples: int, points: int) -> int:
+    """Intervals of the dense parameter grid of the inverse design (4 per carrier
+    sample, at least 64 per type-value span)."""
+    return max(4 * samples, 64 * points)
+
+
+def _on_run(values: np.ndarray, first: int, last: int) -> np.ndarray:
+    """values[first..last] of a cyclic run (one that wraps past the end has last < first)."""
+    n = len(values)
+    return values[np.arange(first, first + (last - first) % n + 1) % n]
 
 
 def _bracket_points(traj: ClosedTrajectory, u0: float, u1: float) -> list[int]:
@@ -184,8 +209,10 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     cos_off = np.clip((a1**2 + L1**2 - a2**2) / (2 * a1 * L1), -1.0, 1.0)
     res.shaft_offset = float(np.arccos(cos_off))
 
-    # Dense parameter grid starting at the initial position (farthest point).
-    m = max(16 * n, 64 * len(traj.points))
+    # Dense parameter grid starting at the initial position (farthest point): it picks
+    # the assembly branch, finds where the carrier would turn back and brackets the
+    # inversion below (whose result does not depend on it).
+    m = dense_grid_size(n, len(traj.points))
     u_dense = u_max + np.linspace(0.0, traj.period, m + 1)
     best = None
     for sigma_inner in (1.0, -1.0):
@@ -223,7 +250,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     f_lo, f_hi = psi_dense[k] - psi, psi_dense[k + 1] - psi  # <= 0 <= f_hi
     side = np.zeros(n)
     u = lo
-    for _ in range(30):
+    for _ in range(ILLINOIS_ITERATIONS):
         den = f_hi - f_lo
         u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
                      0.5 * (lo + hi))
@@ -243,14 +270,16 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     arm = np.unwrap(np.arctan2(tip[:, 1] - elbow[:, 1], tip[:, 0] - elbow[:, 0]))
     planet_rel = arm - phi
     planet_rel = planet_rel - planet_rel[0]
-    tip_dense = traj(u_dense)
-    arm_dense = np.unwrap(np.arctan2(tip_dense[:, 1] - L1 * np.sin(phi_dense),
-                                     tip_dense[:, 0] - L1 * np.cos(phi_dense)))
-    net_arm = float(arm_dense[-1] - arm_dense[0])
+    net_arm = float(arm[-1] - arm[0] + np.angle(np.exp(1j * (arm[0] - arm[-1]))))
     res.carrier_angle, res.u, res.tip = psi, np.mod(u, traj.period), tip
     res.carrier_abs, res.arm_angle, res.planet_rel = phi, arm, planet_rel
-    res.point_carrier_angle = np.interp(
-        np.mod(traj.knots[:-1] - u_max, traj.period), u_dense - u_max, psi_dense)
+    # carrier angle at each type-value point: exact, unwrapped by the dense grid
+    u_pts = traj.knots[:-1]
+    j = np.clip(np.floor(np.mod(u_pts - u_max, traj.period) / traj.period * m).astype(int),
+                0, m - 1)
+    phi_pts, _ = _carrier_direction(traj, u_pts, L1, L2, u_min, u_max, sigma_inner)
+    res.point_carrier_angle = phi_dense[0] - (phi_dense[j] + np.angle(
+        np.exp(1j * (phi_pts - phi_dense[j]))))
     if abs(net_arm) > 1e-3:
         diags.append(Diagnostic(
             "planet_turn",
@@ -285,7 +314,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
         diags.append(Diagnostic(
             "ratio_not_positive",
             "the planet would have to stop or turn back relative to the carrier "
-            f"(d psi4/d psi reaches {g_real[s:e + 1].min():.3f}): a gear pair cannot give a "
+            f"(d psi4/d psi reaches {_on_run(g_real, s, e).min():.3f}): a gear pair cannot give a "
             "zero or negative speed ratio, pitch radius would be <= 0",
             [i0, i1],
             [float(np.degrees(psi[s])), float(np.degrees(psi[e]))],
@@ -371,7 +400,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
         for s, e in cyclic_runs(small):
             diags.append(Diagnostic(
                 "pitch_radius",
-                f"pitch radius {name} falls to {r[s:e + 1].min():.2f} mm, below the minimum "
+                f"pitch radius {name} falls to {_on_run(r, s, e).min():.2f} mm, below the minimum "
                 f"{settings.min_pitch_radius:g} mm (centre distance {a:.2f} mm)",
                 _bracket_points(traj, u[s], u[e]),
                 [float(np.degrees(psi[s])), float(np.degrees(psi[e]))],

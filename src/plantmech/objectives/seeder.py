@@ -5,109 +5,37 @@ from __future__ import annotations
 
 import numpy as np
 
-from plantmech.geometry.trajectory import ClosedTrajectory, segment_self_intersections
+from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.objectives import Check, range_check
 
 
-def _loops(traj: ClosedTrajectory, n: int = 160):
-    """Split the "8" at its self-crossing: (crossing point, [(u0, u1), (u1, u0+period)]).
-
-    Crossings are found on an n-gon and refined on the curve by Newton's method on
-    traj(u_i) = traj(u_j).
-    """
-    u = np.linspace(0.0, traj.period, n, endpoint=False)
-    hits = segment_self_intersections(traj(u))
-    if len(hits) != 1:
-        return None, len(hits)
-    i, j, _ = hits[0]
-    h = u[1] - u[0]
-    ui, uj = u[i] + 0.5 * h, u[j] + 0.5 * h
-    start = (ui, uj)
-    for _ in range(20):
-        f = traj(ui) - traj(uj)
-        jac = np.c_[traj(ui, 1), -traj(uj, 1)]
-        try:
-            step = np.linalg.solve(jac, f)
-        except np.linalg.LinAlgError:  # tangential crossing: keep the polygon estimate
-            ui, uj = start
-            break
-        ui, uj = ui - step[0], uj - step[1]
-        if np.abs(step).max() < 1e-12:
-            break
-    if not (abs(ui - start[0]) < h and abs(uj - start[1]) < h):
-        ui, uj = start  # Newton wandered off this crossing
-    ui, uj = np.mod(ui, traj.period), np.mod(uj, traj.period)
-    if uj < ui:
-        ui, uj = uj, ui
-    return (traj(ui), [(ui, uj), (uj, ui + traj.period)]), 1
-
-
-def _contains(span, u, period):
-    u0, u1 = span
-    x = u0 + np.mod(u - u0, period)
-    return x <= u1
-
-
 def planning_checks(traj: ClosedTrajectory, sections: dict[str, int], limits) -> list[Check]:
-    """Table 1 of seed 000, computed from the fitted curve (mm, deg)."""
-    checks: list[Check] = []
-    loops, count = _loops(traj)
-    ua = traj.point_parameter(sections["a"])
-    ue = traj.point_parameter(sections["e"])
-    small = large = None
-    note = ""
-    if loops is None:
-        note = (f"the trajectory crosses itself {count} times; an '8' crosses once, "
-                "so its two ring buckles are undefined")
-    else:
-        _, spans = loops
-        in_a = [_contains(s, ua, traj.period) for s in spans]
-        in_e = [_contains(s, ue, traj.period) for s in spans]
-        if in_a[0] != in_a[1] and in_e[0] != in_e[1] and in_a != in_e:
-            small = spans[int(np.argmax(in_a))]
-            large = spans[int(np.argmax(in_e))]
-        else:
-            note = "points a and e lie in the same loop of the '8'"
+    """Table 1 of seed 000, computed from the fitted curve (mm, deg): the population
+    code's ``planning_values`` for this one curve."""
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
+    from plantmech.objectives.seeder_inverse_population import planning_values
 
-    def extent(span):
-        if span is None:
-            return None, None
-        uu = np.linspace(span[0], span[1], 4000)
-        xy = traj(uu)
-        return float(np.ptp(xy[:, 1])), float(np.ptp(xy[:, 0]))
-
-    sh, sw = extent(small)
-    lh, lw = extent(large)
+    values, reason = planning_values(TrajectoryBatch(traj.points[None]), sections)
+    v = [None if not np.isfinite(x) else float(x) for x in values[0]]
+    note = reason[0]
     L = limits
-    checks.append(range_check("small_ring_height", sh, L.small_ring_height_mm.min,
-                              L.small_ring_height_mm.max, "mm", note if sh is None else
-                              "vertical extent of the loop through a, b"))
-    checks.append(range_check("small_ring_width", sw, L.small_ring_width_mm.min,
-                              L.small_ring_width_mm.max, "mm", note if sw is None else
-                              "horizontal extent of the loop through a, b"))
-    checks.append(range_check("large_ring_height", lh, L.large_ring_height_mm.min,
-                              L.large_ring_height_mm.max, "mm", note if lh is None else
-                              "vertical extent of the loop through d, e, f"))
-    checks.append(range_check("large_ring_width", lw, L.large_ring_width_mm.min,
-                              L.large_ring_width_mm.max, "mm", note if lw is None else
-                              "horizontal extent of the loop through d, e, f"))
-    pc, pd = traj.points[sections["c"]], traj.points[sections["d"]]
-    central = abs(np.degrees(np.angle(np.exp(1j * (np.arctan2(pd[1], pd[0])
-                                                    - np.arctan2(pc[1], pc[0]))))))
-    checks.append(range_check("cd_central_angle", central, L.cd_central_angle_deg.min,
-                              L.cd_central_angle_deg.max, "deg",
-                              "angle at the rotation centre between c and d"))
-    pe = traj.points[sections["e"]]
-    checks.append(range_check("sowing_height_difference", abs(pd[1] - pe[1]),
-                              L.sowing_height_difference_mm.min,
-                              L.sowing_height_difference_mm.max, "mm", "|y_d - y_e|"))
-    uu = np.linspace(0.0, traj.period, 20000, endpoint=False)
-    bottom = float(-traj(uu)[:, 1].min())
-    checks.append(range_check("centre_to_trench_bottom", bottom,
-                              L.centre_to_trench_bottom_mm.min,
-                              L.centre_to_trench_bottom_mm.max, "mm",
-                              "rotation centre above the lowest trajectory point"))
-    return checks
+    rows = [
+        ("small_ring_height", L.small_ring_height_mm, "mm", "vertical extent of the loop "
+         "through a, b"),
+        ("small_ring_width", L.small_ring_width_mm, "mm", "horizontal extent of the loop "
+         "through a, b"),
+        ("large_ring_height", L.large_ring_height_mm, "mm", "vertical extent of the loop "
+         "through d, e, f"),
+        ("large_ring_width", L.large_ring_width_mm, "mm", "horizontal extent of the loop "
+         "through d, e, f"),
+        ("cd_central_angle", L.cd_central_angle_deg, "deg",
+         "angle at the rotation centre between c and d"),
+        ("sowing_height_difference", L.sowing_height_difference_mm, "mm", "|y_d - y_e|"),
+        ("centre_to_trench_bottom", L.centre_to_trench_bottom_mm, "mm",
+         "rotation centre above the lowest trajectory point"),
+    ]
+    return [range_check(name, x, lim.min, lim.max, unit, text if x is not None else note)
+            for (name, lim, unit, text), x in zip(rows, v, strict=True)]
 
 
 def _section_mask(psi, p_start, p_end):

@@ -20,17 +20,34 @@ TWO_PI = 2.0 * np.pi
 LETTERS = ("a", "b", "c", "d", "e", "f")
 
 
+def refine_minimum(values: np.ndarray, k: np.ndarray, step: float):
+    """Sub-sample minimum of cyclic rows ``values`` (P, S) near their samples k (P, m):
+    the vertex of the parabola through k - 1, k, k + 1. Returns (offset from sample k in
+    the units of ``step`` (within +-step / 2), value at the vertex), each (P, m)."""
+    rows = np.arange(values.shape[0])[:, None]
+    S = values.shape[1]
+    a, b, c = values[rows, (k - 1) % S], values[rows, k], values[rows, (k + 1) % S]
+    curv = a - 2.0 * b + c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(curv > 0, 0.5 * (a - c) / curv, 0.0)
+    t = np.clip(t, -0.5, 0.5)
+    return t * step, b - 0.25 * (a - c) * t
+
+
 def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
                     reference: np.ndarray, window: float = np.radians(40.0)) -> np.ndarray:
     """(P, 6) carrier angles (rad) where each design's tip passes closest to each
-    section point (6, 2), searched within +-window of the reference angles (6,)."""
+    section point (6, 2), searched within +-window of the reference angles (6,), refined
+    between samples (``refine_minimum``)."""
     P = tip.shape[0]
     out = np.empty((P, len(points)))
+    step = float(psi[1] - psi[0])
     for j, (pt, ref) in enumerate(zip(points, reference, strict=True)):  # 6 points
-        d = np.hypot(tip[..., 0] - pt[0], tip[..., 1] - pt[1])
+        d2 = (tip[..., 0] - pt[0]) ** 2 + (tip[..., 1] - pt[1]) ** 2
         near = np.abs(np.angle(np.exp(1j * (psi - ref)))) <= window
-        d = np.where(near[None, :], d, np.inf)
-        out[:, j] = psi[np.argmin(d, axis=1)]
+        k = np.argmin(np.where(near[None, :], d2, np.inf), axis=1)
+        shift, _ = refine_minimum(d2, k[:, None], step)
+        out[:, j] = np.mod(psi[k] + shift[:, 0], TWO_PI)
     return out
 
 
@@ -42,9 +59,14 @@ def _mask(psi, start, end):
 
 
 def _at(psi, values, where):
-    """values (P, S) at the nearest sample to angles where (P,)."""
-    k = np.rint(np.mod(where, TWO_PI) / (psi[1] - psi[0])).astype(int) % len(psi)
-    return values[np.arange(values.shape[0]), k]
+    """values (P, S) at angles where (P,), linearly interpolated between the uniform
+    samples psi (S,) (periodic)."""
+    S = values.shape[1]
+    f = np.mod(where, TWO_PI) / (psi[1] - psi[0])
+    k = np.floor(f).astype(int) % S
+    w = f - np.floor(f)
+    rows = np.arange(values.shape[0])
+    return (1.0 - w) * values[rows, k] + w * values[rows, (k + 1) % S]
 
 
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
@@ -133,7 +155,10 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
         m = _mask(psi, A[s], A[e])
         start = _at(psi, rel, A[s])
         dev = np.where(m, np.abs(rel - start[:, None]), 0.0)
-        return dev.max(axis=1)
+        return np.maximum(dev.max(axis=1), np.abs(_at(psi, rel, A[e]) - start))
+
+    def ends(values, s, e):  # values at the two section ends (P, 2)
+        return np.c_[_at(psi, values, A[s]), _at(psi, values, A[e])]
 
     add("picking_swing", swing("a", "b"), attitude.picking_swing_max_deg, True, "deg")
     add("seeding_swing", swing("d", "e"), attitude.seeding_swing_max_deg, True, "deg")
@@ -145,11 +170,14 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
     static = np.hypot(v[..., 0], v[..., 1])
     dynamic = np.hypot(v[..., 0] - travel[:, None], v[..., 1])
     de, ef = _mask(psi, A["d"], A["e"]), _mask(psi, A["e"], A["f"])
-    add("seeding_peak_speed", np.where(de, static, -np.inf).max(axis=1),
+    add("seeding_peak_speed", np.maximum(np.where(de, static, -np.inf).max(axis=1),
+                                         ends(static, "d", "e").max(axis=1)),
         speed.seeding_max_m_s, True, "m/s")
-    add("return_min_speed_static", np.where(ef, static, np.inf).min(axis=1),
+    add("return_min_speed_static", np.minimum(np.where(ef, static, np.inf).min(axis=1),
+                                              ends(static, "e", "f").min(axis=1)),
         speed.return_min_m_s, False, "m/s")
-    add("return_min_speed_dynamic", np.where(ef, dynamic, np.inf).min(axis=1),
+    add("return_min_speed_dynamic", np.minimum(np.where(ef, dynamic, np.inf).min(axis=1),
+                                               ends(dynamic, "e", "f").min(axis=1)),
         speed.return_min_m_s, False, "m/s")
     metrics = {"zero_speed_travel_m_s": vx_e, "travel_m_s": travel, "sowing_angle_deg": sowing,
                "closure_error_rad": motion.closure_error, "a1_mm": motion.a1,

@@ -332,10 +332,15 @@ class Layer2Handoff:
                  progress=False, stop_when_feasible=True)
         attempt.update(layer2_evaluations=r2.evaluations, layer2_wall_s=round(r2.wall_s, 3),
                        layer2_violation=float(r2.best.violation[0]))
-        if r2.feasible and verify(p2.decode(r2.best_x), self.tooth_fit)["all_met"]:
-            self.found = time.perf_counter() - self.t0
-            attempt["result"] = "every objective met: layer 1 stops here"
-            return True
+        if r2.feasible:
+            check = verify(p2.decode(r2.best_x), self.tooth_fit)
+            if check["all_met"]:
+                self.found = time.perf_counter() - self.t0
+                attempt["result"] = "every objective met: layer 1 stops here"
+                return True
+            attempt["failed_full_resolution"] = {
+                o["name"]: o["value"] for o in check["objectives"]
+                if not o["ok"] and o.get("required", True)}
         attempt["result"] = "layer 2 fell short"
         return False
 
