@@ -644,6 +644,7 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
     design must have no toothless dwell (layer 1's trains). Returns names, units, limits
     (lists) and values, ok, violation (P, 13), infeasible (P,) (the inverse design's
     error grading, 0 when feasible), objectives (P, 3)."""
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
     from plantmech.mechanisms.seeder_inverse_batch import _node_slopes, inverse_population
     from plantmech.objectives import limit_text, relative_violation
     from plantmech.objectives.seeder_inverse_population import (
@@ -657,11 +658,10 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
         raise ValueError("the population inverse design has no toothless dwell: evaluate "
                          "dwell designs one by one (seeder_inverse_checks)")
     sections = design.trajectory.sections.model_dump()
-    inv = inverse_population(points, samples, gt.a1_mm, gt.a2_mm, gt.split_exponent,
+    curves = TrajectoryBatch(points)
+    inv = inverse_population(curves, samples, gt.a1_mm, gt.a2_mm, gt.split_exponent,
                              gt.min_pitch_radius_mm + pitch_margin_mm)
-    from plantmech.geometry.trajectory_batch import TrajectoryBatch
-
-    plan, _ = planning_values(TrajectoryBatch(points), sections)
+    plan, _ = planning_values(curves, sections)
     psi = inv.psi
     att = attitude_values(psi, np.degrees(inv.arm_angle_realized), inv.point_carrier_angle,
                           sections)

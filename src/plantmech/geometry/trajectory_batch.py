@@ -11,6 +11,8 @@ parameter ``u`` in mm of chord (per row, wrapped by the row's period).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 
@@ -80,12 +82,15 @@ class TrajectoryBatch:
         self._planes = [[np.ascontiguousarray(self.coef[:, :, j, axis]).ravel()
                          for j in range(4)] for axis in (0, 1)]
         self._start = np.ascontiguousarray(self.knots[:, :-1]).ravel()
+        # the rows' knots end to end (row p shifted by p (max period + 1)) for one search
+        self._offset = (np.arange(P) * (self.period.max() + 1.0))[:, None]
+        self._flat_knots = (self.knots + self._offset).ravel()
+        self._row_base = (N + 1) * np.arange(P)[:, None]
+        self._row_start = N * np.arange(P)[:, None]
 
     def __call__(self, u: np.ndarray, nu: int = 0) -> np.ndarray:
         """Point (nu=0) or derivative nu (1, 2) w.r.t. u at u (P, m) -> (P, m, 2)."""
-        period = self.period[:, None]
-        u = u - period * np.floor(u / period)
-        k = row_searchsorted(self.knots, u) + self.N * np.arange(self.P)[:, None]
+        u, k = self._segments(u)
         t = u - self._start[k]
         out = np.empty(u.shape + (2,))
         for axis in (0, 1):
@@ -100,11 +105,18 @@ class TrajectoryBatch:
                 raise ValueError("nu must be 0, 1 or 2")
         return out
 
-    def derivatives(self, u: np.ndarray):
-        """(point, first, second derivative) w.r.t. u at u (P, m), each (P, m, 2)."""
+    def _segments(self, u: np.ndarray):
+        """(u wrapped into each row's period, flat index row * N + segment) for u (P, m):
+        one search in the rows' knots laid end to end."""
         period = self.period[:, None]
         u = u - period * np.floor(u / period)
-        k = row_searchsorted(self.knots, u) + self.N * np.arange(self.P)[:, None]
+        k = np.searchsorted(self._flat_knots, (u + self._offset).ravel(), side="right")
+        k = k.reshape(u.shape) - 1 - self._row_base
+        return u, np.clip(k, 0, self.N - 1) + self._row_start
+
+    def derivatives(self, u: np.ndarray):
+        """(point, first, second derivative) w.r.t. u at u (P, m), each (P, m, 2)."""
+        u, k = self._segments(u)
         t = u - self._start[k]
         out = np.empty((3,) + u.shape + (2,))
         for axis in (0, 1):
@@ -147,20 +159,38 @@ class TrajectoryBatch:
         """Crossings of each row's n-gon inscribed at equal parameter steps: (count (P,),
         i (P,), j (P,)) with i < j the crossing segments of rows that cross exactly once
         (-1 elsewhere). Neighbouring segments are not tested (as
-        ``segment_self_intersections``)."""
+        ``segment_self_intersections``). Only pairs whose runs of 8 segments and whose own
+        bounding boxes overlap get the exact test."""
         u = self.period[:, None] * np.arange(n)[None, :] / n
         p = self(u)
         x, y = p[..., 0], p[..., 1]
         x1, y1 = np.roll(x, -1, axis=1), np.roll(y, -1, axis=1)
-        # candidate pairs: bounding boxes overlap (cheap, no gathers), then the exact test
+        # candidate pairs: bounding boxes of runs of c segments overlap, then those of the
+        # segments, then the exact test
         xl, xh, yl, yh = np.minimum(x, x1), np.maximum(x, x1), np.minimum(y, y1), np.maximum(y, y1)
-        near = ((xl[:, :, None] <= xh[:, None, :]) & (xl[:, None, :] <= xh[:, :, None])
-                & (yl[:, :, None] <= yh[:, None, :]) & (yl[:, None, :] <= yh[:, :, None]))
-        near &= _segment_pair_mask(n)[None]
-        pp, ii, jj = np.nonzero(near)
-        rx, ry = x1 - x, y1 - y
-        rxi, ryi, rxj, ryj = rx[pp, ii], ry[pp, ii], rx[pp, jj], ry[pp, jj]
-        qx, qy = x[pp, jj] - x[pp, ii], y[pp, jj] - y[pp, ii]
+        c = 8 if n % 8 == 0 else 1
+        C = n // c
+        bl = [v.reshape(self.P, C, c).min(axis=2) for v in (xl, yl)]
+        bh = [v.reshape(self.P, C, c).max(axis=2) for v in (xh, yh)]
+        near = np.triu(np.ones((C, C), bool))[None]
+        for lo, hi in zip(bl, bh, strict=True):
+            near = near & (lo[:, :, None] <= hi[:, None, :]) & (lo[:, None, :] <= hi[:, :, None])
+        pp, ci, cj = np.nonzero(near)
+        # every segment pair of the overlapping runs that is not a neighbour: (P*n) flat
+        pi_, pj_ = _run_pairs(n, c)  # (C, C, k) flat pair tables per run pair
+        fi = (pi_[ci, cj] + (pp * n)[:, None]).ravel()
+        fj = (pj_[ci, cj] + (pp * n)[:, None]).ravel()
+        ok = fi >= 0
+        fi, fj = fi[ok], fj[ok]
+        xl, xh, yl, yh = xl.ravel(), xh.ravel(), yl.ravel(), yh.ravel()
+        keep = ((xl[fi] <= xh[fj]) & (xl[fj] <= xh[fi]) & (yl[fi] <= yh[fj])
+                & (yl[fj] <= yh[fi]))
+        fi, fj = fi[keep], fj[keep]
+        pp, ii, jj = fi // n, fi % n, fj % n
+        rx, ry = (x1 - x).ravel(), (y1 - y).ravel()
+        x, y = x.ravel(), y.ravel()
+        rxi, ryi, rxj, ryj = rx[fi], ry[fi], rx[fj], ry[fj]
+        qx, qy = x[fj] - x[fi], y[fj] - y[fi]
         rxs = rxi * ryj - ryi * rxj
         sign = np.where(rxs < 0, -1.0, 1.0)
         den = rxs * sign  # |rxs|; t = tn / rxs, s = sn / rxs lie in [0, 1)
@@ -170,12 +200,27 @@ class TrajectoryBatch:
         count = np.bincount(pp[hit], minlength=self.P)
         one = count == 1
         first_i, first_j = np.full(self.P, -1), np.full(self.P, -1)
-        # the (row-major) first hit of each row, as the single-curve function lists them
-        order = np.flatnonzero(hit)[::-1]
-        first_i[pp[order]], first_j[pp[order]] = ii[order], jj[order]
+        first_i[pp[hit]], first_j[pp[hit]] = ii[hit], jj[hit]  # the hit, where only one
         return count, np.where(one, first_i, -1), np.where(one, first_j, -1)
 
 
+@functools.lru_cache(maxsize=4)
+def _run_pairs(n: int, c: int) -> tuple[np.ndarray, np.ndarray]:
+    """For runs ci <= cj of c segments of a closed n-gon: the (i, j) segment pairs between
+    them that ``_segment_pair_mask`` keeps, padded with (-n*n, -n*n) (two (C, C, c*c)
+    tables)."""
+    C = n // c
+    mask = _segment_pair_mask(n)
+    i = np.arange(C)[:, None, None, None] * c + np.arange(c)[None, None, :, None]
+    j = np.arange(C)[None, :, None, None] * c + np.arange(c)[None, None, None, :]
+    i, j = np.broadcast_to(i, (C, C, c, c)), np.broadcast_to(j, (C, C, c, c))
+    keep = mask[i, j]
+    pad = -n * n
+    return (np.where(keep, i, pad).reshape(C, C, c * c),
+            np.where(keep, j, pad).reshape(C, C, c * c))
+
+
+@functools.lru_cache(maxsize=4)
 def _segment_pair_mask(n: int) -> np.ndarray:
     """(n, n) True for segment pairs (i, j), i < j, of a closed n-gon that are not
     neighbours."""

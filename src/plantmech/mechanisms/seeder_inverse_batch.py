@@ -66,38 +66,53 @@ def _wrap(a):
     return a - TWO_PI * np.round(a / TWO_PI)
 
 
-def extreme_radii(tb: TrajectoryBatch, per_span: int = 64):
+def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2):
     """((u, rho) of the farthest, (u, rho) of the nearest) point of each trajectory to O,
-    each (P,): the best of ``per_span`` samples per knot span, refined by safeguarded
-    Newton on d(rho^2)/du = 0 within one sample step (to 1e-9 mm of parameter; rho itself
-    is flat there, so a search on rho alone cannot resolve the place)."""
+    each (P,): the ``candidates`` best local extremes of ``per_span`` samples per knot
+    span, each refined by safeguarded Newton on d(rho^2)/du = 0 within one sample step (to
+    1e-9 mm of parameter; rho itself is flat there, so a search on rho alone cannot
+    resolve the place), and the better kept (two near-equal bumps are told apart by
+    their refined values, not by their samples)."""
     m = per_span * tb.N
-    u = tb.period[:, None] * np.arange(m)[None, :] / m
+    h = tb.period / m
+    u = h[:, None] * np.arange(m)[None, :]
     xy = tb(u)
     rho2 = xy[..., 0] ** 2 + xy[..., 1] ** 2
-    h = tb.period / m
     out = []
     for largest in (True, False):
-        k = np.argmax(rho2, axis=1) if largest else np.argmin(rho2, axis=1)
-        uk = u[np.arange(tb.P), k]
-        lo, hi, x = uk - h, uk + h, uk.copy()
+        r = rho2 if largest else -rho2
+        local = (r >= np.roll(r, 1, axis=1)) & (r >= np.roll(r, -1, axis=1))
+        k = np.argsort(np.where(local, -r, np.inf), axis=1)[:, :candidates]  # (P, c)
+        lo = np.take_along_axis(u, k, axis=1) - h[:, None]
+        hi, x = lo + 2.0 * h[:, None], lo + h[:, None]
+
+        def slope(at, largest=largest):  # d(rho^2)/du / 2: > 0 before a max (min)
+            p, d1, _ = tb.derivatives(at)
+            f = (p * d1).sum(axis=-1)
+            return f if largest else -f
+
+        # a candidate without a turn inside its bracket keeps its sample (a flat stretch)
+        done = ~((slope(lo) > 0) & (slope(hi) < 0))
         for _ in range(40):
-            p, d1, d2 = tb.derivatives(x[:, None])
-            f = (p * d1).sum(axis=-1)[:, 0]
-            fp = ((d1 * d1).sum(axis=-1) + (p * d2).sum(axis=-1))[:, 0]
-            # keep a bracket: f goes + to - through a maximum, - to + through a minimum
+            p, d1, d2 = tb.derivatives(x)
+            f = (p * d1).sum(axis=-1)
+            fp = (d1 * d1).sum(axis=-1) + (p * d2).sum(axis=-1)
+            # keep the bracket: f goes + to - through a maximum, - to + through a minimum
             rising = f > 0 if largest else f < 0
             lo, hi = np.where(rising, x, lo), np.where(rising, hi, x)
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = f / fp
-            done = np.abs(step) < 1e-9
             nx = x - step
             nx = np.where(np.isfinite(nx) & (nx >= lo) & (nx <= hi), nx, 0.5 * (lo + hi))
             x = np.where(done, x, nx)
-            if (done | (hi - lo < 1e-9)).all():
+            done |= (np.abs(step) < 1e-9) | (hi - lo < 1e-9)
+            if done.all():
                 break
-        p = tb(x[:, None])[:, 0]
-        out.append((np.mod(x, tb.period), np.hypot(p[:, 0], p[:, 1])))
+        p = tb(x)
+        rho = np.hypot(p[..., 0], p[..., 1])
+        j = np.argmax(rho if largest else -rho, axis=1)
+        rows = np.arange(tb.P)
+        out.append((np.mod(x[rows, j], tb.period), rho[rows, j]))
     return out
 
 
@@ -170,9 +185,10 @@ def _node_slopes(values: np.ndarray, step: float) -> np.ndarray:
 def inverse_population(points, samples: int = 360, a1: float | None = None,
                        a2: float | None = None, split_exponent: float = 0.5,
                        min_pitch_radius: float = 5.0) -> InversePopulation:
-    """Inverse designs of the trajectories through ``points`` (P, N, 2) mm (no dwell);
-    see ``seeder_inverse.inverse_design`` for the model and the checks."""
-    tb = TrajectoryBatch(points)
+    """Inverse designs of the trajectories through ``points`` (P, N, 2) mm, or of a
+    ``TrajectoryBatch`` (no dwell); see ``seeder_inverse.inverse_design`` for the model
+    and the checks."""
+    tb = points if isinstance(points, TrajectoryBatch) else TrajectoryBatch(points)
     P, N, n = tb.P, tb.N, int(samples)
     score = np.zeros(P)
     alive = ~tb.bad
