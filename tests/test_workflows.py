@@ -1,0 +1,55 @@
+"""Population helpers of the job layer: deviation from the plan, section location."""
+
+import numpy as np
+import pytest
+
+from plantmech.design import load_design
+from plantmech.geometry.trajectory import ClosedTrajectory
+from plantmech.objectives.seeder_population import locate_sections, refine_minimum
+from plantmech.workflows import trajectory_deviation, trajectory_deviation_batch
+
+from .conftest import EXAMPLES
+
+
+def test_deviation_of_a_concentric_circle():
+    """Tips on a circle 3 mm outside a circular plan are 3 mm from it; half of them
+    pushed out to 7.5 mm: 7.5 mm."""
+    design = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    design.trajectory.points = [(450 + 200 * np.cos(a), 200 * np.sin(a)) for a in t]
+    s = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    ring = np.c_[450 + 203 * np.cos(s), 203 * np.sin(s)]
+    bulge = ring.copy()
+    bulge[:360] = np.c_[450 + 207.5 * np.cos(s[:360]), 207.5 * np.sin(s[:360])]
+    d = trajectory_deviation_batch(design, np.stack([ring, bulge]))
+    assert d == pytest.approx([3.0, 7.5], abs=1e-4)  # the spline through 60 points
+
+
+def test_deviation_equals_the_single_design_measure():
+    design = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml")
+    traj = ClosedTrajectory.through(np.asarray(design.trajectory.points))
+    rng = np.random.default_rng(4)
+    u = np.linspace(0, traj.period, 720, endpoint=False)
+    base = traj(u)
+    normal = traj(u, 1)[:, ::-1] * [1, -1]
+    normal /= np.hypot(*normal.T)[:, None]
+    tips = np.stack([base + (rng.uniform(-25, 25) * np.sin(u / traj.period * 2 * np.pi * k)
+                             )[:, None] * normal for k in (1, 2, 3, 5)])
+    d = trajectory_deviation_batch(design, tips)
+    ref = [trajectory_deviation(traj, tip)["max_tip_to_plan"] for tip in tips]
+    assert np.allclose(d, ref, atol=1e-4)
+
+
+def test_section_location_between_samples():
+    """A tip circling at 720 samples per turn passes a point at 100.3 samples' angle:
+    located to a small fraction of a sample (nearest sample: 0.3 of one off)."""
+    psi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    tip = np.c_[300 * np.cos(psi), 300 * np.sin(psi)][None]
+    where = 100.3 * (psi[1] - psi[0])
+    point = np.array([[330 * np.cos(where), 330 * np.sin(where)]])
+    got = locate_sections(tip, psi, point, np.array([where + 0.1]))
+    assert abs(got[0, 0] - where) < 1e-3 * (psi[1] - psi[0])
+    # the parabola vertex of samples of a parabola is exact
+    x = np.arange(10.0)
+    off, low = refine_minimum(((x - 4.3) ** 2 + 2.0)[None], np.array([[4]]), 1.0)
+    assert off[0, 0] == pytest.approx(0.3) and low[0, 0] == pytest.approx(2.0)
