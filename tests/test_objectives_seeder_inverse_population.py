@@ -16,7 +16,8 @@ def test_population_checks_equal_single_design_checks(name):
     design = load_design(EXAMPLES / name)
     pts = np.asarray(design.trajectory.points)
     rng = np.random.default_rng(5)
-    X = pts[None] + rng.uniform(-4.0, 4.0, (10,) + pts.shape)
+    amp = np.where(np.arange(10) % 2, 4.0, 1.0)[:, None, None]  # feasible and not
+    X = pts[None] + amp * rng.uniform(-1.0, 1.0, (10,) + pts.shape)
     X[0] = pts
     b = seeder_inverse_checks_population(design, X, 360, 1.5)
     assert 3 <= (b["infeasible"] == 0).sum() <= 10

@@ -28,22 +28,6 @@ def row_searchsorted(table: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.clip(k - K * np.arange(P)[:, None], 0, K - 2)
 
 
-def uniform_row_interp(x: np.ndarray, period: float | np.ndarray, values: np.ndarray,
-                       periodic: bool = True) -> np.ndarray:
-    """Linear interpolation at x (P, m) of rows of ``values`` (P, S) sampled at S equal
-    steps over [0, period] (periodic: S samples, the last joining the first; else S
-    samples including both ends)."""
-    P, S = values.shape
-    period = np.broadcast_to(np.asarray(period, float), (P,))[:, None]
-    steps = S if periodic else S - 1
-    f = (np.mod(x, period) if periodic else x) / period * steps
-    k = np.clip(np.floor(f).astype(int), 0, steps - 1)
-    w = f - k
-    rows = np.arange(P)[:, None]
-    k1 = (k + 1) % S if periodic else k + 1
-    return (1.0 - w) * values[rows, k] + w * values[rows, k1]
-
-
 class TrajectoryBatch:
     """P closed trajectories through ``points`` (P, N, 2). ``bad`` (P,): rows whose
     consecutive points coincide (no curve; their arrays are placeholders)."""

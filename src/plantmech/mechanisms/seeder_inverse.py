@@ -116,32 +116,31 @@ class InverseResult:
         return float(self.arm_angle[0])
 
 
-def _extreme_radius(traj: ClosedTrajectory, largest: bool) -> tuple[float, float]:
-    """(u, rho) of the farthest (largest=True) or nearest trajectory point to O.
+def _extreme_radii(traj: ClosedTrajectory) -> tuple[tuple[float, float], tuple[float, float]]:
+    """((u, rho) of the farthest, (u, rho) of the nearest) trajectory point to O.
 
-    A fitted trajectory goes through the population code's ``extreme_radius`` (samples,
+    A fitted trajectory goes through the population code's ``extreme_radii`` (samples,
     then Newton on d(rho^2)/du = 0: one implementation for both, exact to 1e-9 mm of
     parameter). Any other curve object (e.g. an analytic test curve without derivatives)
     is searched on rho alone, which resolves the place only to ~1e-6 (rho is flat there).
     """
     if isinstance(traj, ClosedTrajectory):
         from plantmech.geometry.trajectory_batch import TrajectoryBatch
-        from plantmech.mechanisms.seeder_inverse_batch import extreme_radius
+        from plantmech.mechanisms.seeder_inverse_batch import extreme_radii
 
-        u, rho = extreme_radius(TrajectoryBatch(traj.points[None]), largest)
-        return float(u[0]), float(rho[0])
+        return tuple((float(u[0]), float(rho[0]))
+                     for u, rho in extreme_radii(TrajectoryBatch(traj.points[None])))
     u = np.linspace(0.0, traj.period, 256 * len(traj.points), endpoint=False)
     rho = np.hypot(*traj(u).T)
-    k = int(np.argmax(rho) if largest else np.argmin(rho))
     h = u[1] - u[0]
-    sign = -1.0 if largest else 1.0
-    res = minimize_scalar(
-        lambda t: sign * float(np.hypot(*traj(t))),
-        bounds=(u[k] - h, u[k] + h),
-        method="bounded",
-        options={"xatol": 1e-10},
-    )
-    return float(np.mod(res.x, traj.period)), float(np.hypot(*traj(res.x)))
+    out = []
+    for sign in (-1.0, 1.0):  # farthest, then nearest
+        k = int(np.argmin(sign * rho))
+        res = minimize_scalar(lambda t, s=sign: s * float(np.hypot(*traj(t))),
+                              bounds=(u[k] - h, u[k] + h), method="bounded",
+                              options={"xatol": 1e-10})
+        out.append((float(np.mod(res.x, traj.period)), float(np.hypot(*traj(res.x)))))
+    return tuple(out)
 
 
 def _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner):
@@ -186,8 +185,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     """Run the full inverse design; never raises for an infeasible trajectory."""
     diags: list[Diagnostic] = []
     n = int(settings.samples)
-    u_max, rho_max = _extreme_radius(traj, largest=True)
-    u_min, rho_min = _extreme_radius(traj, largest=False)
+    (u_max, rho_max), (u_min, rho_min) = _extreme_radii(traj)
     L1 = 0.5 * (rho_max - rho_min)
     L2 = 0.5 * (rho_max + rho_min)
     res = InverseResult(feasible=False, diagnostics=diags, L1=L1, L2=L2, u_start=u_max)

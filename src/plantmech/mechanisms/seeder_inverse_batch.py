@@ -116,12 +116,6 @@ def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2):
     return out
 
 
-def extreme_radius(tb: TrajectoryBatch, largest: bool):
-    """(u, rho) (P,) of the farthest (largest) or nearest point of each trajectory to O
-    (``extreme_radii``)."""
-    return extreme_radii(tb)[0 if largest else 1]
-
-
 def _carrier_geometry(tb, u, L1, L2):
     """Tip (P, m, 2), its polar angle beta_3 and the unsigned angle beta_1 at O between
     the carrier and the tip (Eq. 2-3) at parameters u (P, m)."""
