@@ -263,3 +263,22 @@ def test_a_hook_stops_a_run_and_the_handoff_tries_layer_2_when_layer_1_is_close(
     p.best_ok = dict(p.best_ok, small_ring_height=False)
     h2 = Layer2Handoff(0, 8, False, max_violation=np.inf, generations=1)
     assert h2(p) is False and h2.attempts == []
+
+
+def test_joint_problem_layer1_checks_through_the_population_path():
+    """The joint problem checks its candidates' trajectories with the population inverse
+    design: the same batch as checking them one by one."""
+    from plantmech.optimize import problems as P
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml").model_copy(
+        update={"train": None})
+    p = P.SeederJoint(d, samples=360)
+    rng = np.random.default_rng(1)
+    X = np.clip(p.x0 + rng.normal(0, 0.5, (4, p.n_var)), p.xl, p.xu)
+    X[0] = p.x0
+    b = p.evaluate_batch(X)
+    rows = [P._layer1_row((p.layer1.decode(x[:p.layer1.n_var]), p.samples)) for x in X]
+    p._layer1_rows = lambda X: rows
+    c = p.evaluate_batch(X)
+    assert b.names == c.names and np.isfinite(b.values[0]).all()
+    assert np.array_equal(b.values, c.values, equal_nan=True) and np.array_equal(b.G, c.G)

@@ -435,17 +435,27 @@ class SeederJoint(DesignProblem):
                                                                dr[self.points:], strict=True)]
         return d.__class__.model_validate(d.model_dump())
 
+    def _layer1_rows(self, X) -> list[dict]:
+        """Layer-1 checks of each candidate's trajectory: the population inverse design
+        for all at once (one by one for a dwell design)."""
+        from plantmech.workflows import seeder_inverse_checks_population
+
+        n1 = self.layer1.n_var
+        gt = self.layer1.design.gear_train
+        if gt.dwell is not None and gt.dwell.enabled:
+            return [_layer1_row((self.layer1.decode(x[:n1]), self.samples)) for x in X]
+        b = seeder_inverse_checks_population(self.layer1.design,
+                                             self.layer1.points_of(X[:, :n1]),
+                                             self.samples, LAYER1_PITCH_MARGIN_MM)
+        keys = ("values", "ok", "violation", "infeasible")
+        return [dict(names=b["names"], units=b["units"], limits=b["limits"],
+                     **{k: b[k][i] for k in keys}) for i in range(len(X))]
+
     def evaluate_batch(self, X):
-        from plantmech.workflows import (
-            evaluate_seeder_population,
-            seeder_inverse_checks,
-            trajectory_deviation_batch,
-        )
+        from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
 
         rows = []
-        for x in X:
-            l1 = seeder_inverse_checks(self.layer1.decode(x[:self.layer1.n_var]), self.samples,
-                                       LAYER1_PITCH_MARGIN_MM)
+        for x, l1 in zip(X, self._layer1_rows(X), strict=True):
             if l1["infeasible"]:
                 rows.append(None)
                 continue
