@@ -176,6 +176,55 @@ def _node_slopes(values: np.ndarray, step: float) -> np.ndarray:
     return np.moveaxis(s, 0, 1)
 
 
+def _invert_carrier(psi, u_dense, phi_dense, psi_dense, alive, carrier_at):
+    """Curve parameters u (P, n) where the carrier has turned ``psi`` (n,) clockwise, by
+    the Illinois method (modified regula falsi) on each dense bracket, all rows and
+    samples at once; ``carrier_at(u)``: absolute carrier angle there (wrapped). Returns
+    (u, the dense carrier angle at each bracket's start, which unwraps it)."""
+    P, n = u_dense.shape[0], len(psi)
+    k = row_searchsorted(psi_dense, np.broadcast_to(psi, (P, n)))
+    rows = np.arange(P)[:, None]
+    lo, hi = u_dense[rows, k], u_dense[rows, k + 1]
+    f_lo, f_hi = psi_dense[rows, k] - psi, psi_dense[rows, k + 1] - psi  # <= 0 <= f_hi
+    phi_k = phi_dense[rows, k]
+    side = np.zeros((P, n))
+    u = lo
+    for _ in range(30):
+        den = f_hi - f_lo
+        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
+                     0.5 * (lo + hi))
+        f = phi_dense[:, :1] - (phi_k + _wrap(carrier_at(u) - phi_k)) - psi
+        right = f > 0
+        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
+        # Illinois: halve the value kept on the side that stayed, twice in a row
+        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
+        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
+        side = np.where(right, 1.0, -1.0)
+        if np.abs(np.where(alive[:, None], f, 0.0)).max() < 1e-10:
+            break
+    return u, phi_k
+
+
+def _split_and_close(g, split_exponent, a1, a2, step):
+    """Eq. 7-9 for P ratio laws g = d psi_4 / d psi (P, n): stage 1 takes C g^p, normalised
+    so gear 2 closes, stage 2 the rest, normalised so the planet closes under the same
+    (periodic spline) integration. Returns (pitch radii r1..r4 (P, 4, n) mm, the planet's
+    running turn (P, n + 1) rad, closure errors of both stages (P, 2) rad)."""
+    p = split_exponent
+    shape = g**p
+    c = TWO_PI / _running_integral(shape, step)[:, -1]
+    h = c[:, None] * shape  # d psi_2 / d psi = 1 / i_1
+    q = g ** (1 - p) / c[:, None]
+    q = q * (TWO_PI / _running_integral(h * q, step)[:, -1])[:, None]  # 1 / i_2
+    gear2 = _running_integral(h, step)
+    planet_train = _running_integral(h * q, step)
+    r2 = a1[:, None] / (1.0 + h)
+    r4 = a2[:, None] / (1.0 + q)
+    radii = np.stack([a1[:, None] - r2, r2, a2[:, None] - r4, r4], axis=1)
+    closure = np.c_[np.abs(gear2[:, -1] - TWO_PI), np.abs(planet_train[:, -1] - gear2[:, -1])]
+    return radii, planet_train, closure
+
+
 def inverse_population(points, samples: int = 360, a1: float | None = None,
                        a2: float | None = None, split_exponent: float = 0.5,
                        min_pitch_radius: float = 5.0) -> InversePopulation:
@@ -210,7 +259,7 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     for s in (1.0, -1.0):
         phi = _unwrap_rows(beta3 + s * inner * beta1)
         turns[s] = (np.abs((phi[:, -1] - phi[:, 0]) + TWO_PI) < 1e-3, phi)
-    # the single-design function keeps the last branch that turns once (-1 before +1)
+    # as the single-design function: the branch sigma = -1 wins when both turn once
     use_neg = turns[-1.0][0]
     sigma = np.where(use_neg, -1.0, 1.0)
     phi_dense = np.where(use_neg[:, None], turns[-1.0][1], turns[1.0][1])
@@ -227,28 +276,10 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     alive &= ~back
     psi_dense = np.where(alive[:, None], psi_dense, grid[None, :] * TWO_PI)  # monotone
 
-    # tip at uniform carrier angle: Illinois on each dense bracket (rows x samples)
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    k = row_searchsorted(psi_dense, np.broadcast_to(psi, (P, n)))
-    rows = np.arange(P)[:, None]
-    lo, hi = u_dense[rows, k], u_dense[rows, k + 1]
-    f_lo, f_hi = psi_dense[rows, k] - psi, psi_dense[rows, k + 1] - psi
-    phi_k = phi_dense[rows, k]
-    side = np.zeros((P, n))
-    u = lo
-    for _ in range(30):
-        den = f_hi - f_lo
-        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
-                     0.5 * (lo + hi))
-        p_u, _ = _carrier_direction(tb, u, L1s, L2s, u_min, u_max, sigma)
-        f = phi_dense[:, :1] - (phi_k + _wrap(p_u - phi_k)) - psi
-        right = f > 0
-        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
-        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
-        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
-        side = np.where(right, 1.0, -1.0)
-        if np.abs(np.where(alive[:, None], f, 0.0)).max() < 1e-10:
-            break
+    u, phi_k = _invert_carrier(psi, u_dense, phi_dense, psi_dense, alive,
+                               lambda x: _carrier_direction(tb, x, L1s, L2s, u_min, u_max,
+                                                            sigma)[0])
     phi, tip = _carrier_direction(tb, u, L1s, L2s, u_min, u_max, sigma)
     phi = phi_k + _wrap(phi - phi_k)
     ex, ey = L1s[:, None] * np.cos(phi), L1s[:, None] * np.sin(phi)
@@ -276,30 +307,15 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     score = np.where(reverses, _run_score(bad, step_deg), score)
     alive &= ~reverses
 
-    p = split_exponent
-    gs = np.where(alive[:, None], g, 1.0)
-    shape = gs**p
-    c = TWO_PI / _running_integral(shape, step)[:, -1]
-    h = c[:, None] * shape
-    q = gs ** (1 - p) / c[:, None]
-    norm = TWO_PI / _running_integral(h * q, step)[:, -1]
-    q = q * norm[:, None]
-    gear2 = _running_integral(h, step)
-    planet_train = _running_integral(h * q, step)
-    r2 = A1[:, None] / (1.0 + h)
-    r1 = A1[:, None] - r2
-    r4 = A2[:, None] / (1.0 + q)
-    r3 = A2[:, None] - r4
-    closure = np.c_[np.abs(gear2[:, -1] - TWO_PI), np.abs(planet_train[:, -1] - gear2[:, -1])]
+    radii, planet_train, closure = _split_and_close(np.where(alive[:, None], g, 1.0),
+                                                    split_exponent, A1, A2, step)
     train_rel = planet_train[:, :-1]  # anchored at the start, where the plan is 0
     arm_real = phi + train_rel + (arm[:, :1] - phi[:, :1])
     tip_real = np.stack([ex + L2s[:, None] * np.cos(arm_real),
                          ey + L2s[:, None] * np.sin(arm_real)], axis=-1)
-    radii = np.stack([r1, r2, r3, r4], axis=1)  # (P, 4, n)
     small = radii < min_pitch_radius
     pitch = alive & small.any(axis=(1, 2))
-    score = np.where(pitch, sum(_run_score(small[:, i], step_deg) * small[:, i].any(axis=1)
-                                for i in range(4)), score)
+    score = np.where(pitch, sum(_run_score(small[:, i], step_deg) for i in range(4)), score)
     unclosed = alive & (closure.max(axis=1) >= 1e-9)
     score = np.where(unclosed, score + 1.0, score)
     alive &= ~pitch & ~unclosed
