@@ -198,11 +198,11 @@ def periodic_spline_node_slopes(values: np.ndarray, step: float) -> np.ndarray:
 
 
 def periodic_spline_running_integral(values: np.ndarray, step: float) -> np.ndarray:
-    """Running integral (n + 1 values from 0) of the periodic cubic spline through
-    ``values`` (n,) at uniform ``step``: per interval h (y[i] + y[i+1]) / 2 -
-    h^3 (M[i] + M[i+1]) / 24."""
+    """Running integral (n + 1 values from 0, along the first axis) of the periodic cubic
+    spline through ``values`` (n, ...) at uniform ``step``: per interval
+    h (y[i] + y[i+1]) / 2 - h^3 (M[i] + M[i+1]) / 24."""
     y = np.asarray(values, dtype=float)
     m = _uniform_spline_moments(y, step)
     part = (0.5 * step * (y + np.roll(y, -1, axis=0))
             - step**3 * (m + np.roll(m, -1, axis=0)) / 24.0)
-    return np.r_[0.0, np.cumsum(part)]
+    return np.concatenate([np.zeros((1,) + y.shape[1:]), np.cumsum(part, axis=0)])

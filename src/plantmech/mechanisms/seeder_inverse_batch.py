@@ -19,7 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plantmech.geometry.periodic import _uniform_spline_moments
+from plantmech.geometry.periodic import (
+    periodic_spline_node_slopes,
+    periodic_spline_running_integral,
+)
 from plantmech.geometry.trajectory_batch import TrajectoryBatch, row_searchsorted
 from plantmech.mechanisms.seeder_inverse import dense_grid_size
 
@@ -159,21 +162,13 @@ def _run_score(mask, step_deg):
 
 
 def _running_integral(values: np.ndarray, step: float) -> np.ndarray:
-    """Running integral (P, n + 1) of the periodic cubic splines through the rows of
-    ``values`` (P, n) at uniform ``step`` (``periodic_spline_running_integral`` per row)."""
-    m = _uniform_spline_moments(values.T, step).T
-    part = (0.5 * step * (values + np.roll(values, -1, axis=1))
-            - step**3 * (m + np.roll(m, -1, axis=1)) / 24.0)
-    return np.concatenate([np.zeros((values.shape[0], 1)), np.cumsum(part, axis=1)], axis=1)
+    """``periodic_spline_running_integral`` of each row of ``values`` (P, n) -> (P, n + 1)."""
+    return periodic_spline_running_integral(values.T, step).T
 
 
 def _node_slopes(values: np.ndarray, step: float) -> np.ndarray:
-    """Slopes at the nodes of the periodic cubic splines through the rows of ``values``
-    (P, n[, k]) at uniform ``step``."""
-    y = np.moveaxis(values, 1, 0)
-    m = _uniform_spline_moments(y, step)
-    s = (np.roll(y, -1, axis=0) - y) / step - step * (2.0 * m + np.roll(m, -1, axis=0)) / 6.0
-    return np.moveaxis(s, 0, 1)
+    """``periodic_spline_node_slopes`` along axis 1 of ``values`` (P, n[, k])."""
+    return np.moveaxis(periodic_spline_node_slopes(np.moveaxis(values, 1, 0), step), 0, 1)
 
 
 def _invert_carrier(psi, u_dense, phi_dense, psi_dense, alive, carrier_at):
