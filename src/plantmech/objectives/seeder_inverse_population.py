@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from plantmech.geometry.trajectory_batch import TrajectoryBatch
+from plantmech.objectives.seeder_population import _at, _mask
 
 TWO_PI = 2.0 * np.pi
 PLANNING = ("small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
@@ -95,27 +96,6 @@ def planning_values(tb: TrajectoryBatch, sections: dict[str, int]):
     return values, reason
 
 
-def _periodic_at(psi, values, where):
-    """Linear interpolation of rows of ``values`` (P, n) sampled at the uniform carrier
-    angles psi (n,) at angles ``where`` (P,) or (P, k) (rad)."""
-    P, n = values.shape
-    w = np.mod(np.asarray(where, float), TWO_PI)
-    squeeze = w.ndim == 1
-    w = w[:, None] if squeeze else w
-    f = w / (psi[1] - psi[0])
-    k = np.clip(np.floor(f).astype(int), 0, n - 1)
-    t = f - k
-    rows = np.arange(P)[:, None]
-    out = (1.0 - t) * values[rows, k] + t * values[rows, (k + 1) % n]
-    return out[:, 0] if squeeze else out
-
-
-def _mask(psi, start, end):
-    """(P, n) membership of psi (n,) in the clockwise sections [start, end] (P,)."""
-    span = np.mod(end - start, TWO_PI)[:, None]
-    return np.mod(psi[None, :] - start[:, None], TWO_PI) <= span
-
-
 def attitude_values(psi, arm_deg, point_psi, sections: dict[str, int]) -> np.ndarray:
     """(P, 3) picking swing, seeding swing, |sowing angle| (deg, to 4 decimals as
     ``attitude_checks`` reports them): the arm attitude relative to the initial one,
@@ -124,13 +104,13 @@ def attitude_values(psi, arm_deg, point_psi, sections: dict[str, int]) -> np.nda
     pp = {k: point_psi[:, v] for k, v in sections.items()}
     out = np.empty((rel.shape[0], 3))
     for col, (s, e) in enumerate((("a", "b"), ("d", "e"))):
-        start = _periodic_at(psi, rel, pp[s])
-        end = _periodic_at(psi, rel, pp[e])
+        start = _at(psi, rel, pp[s])
+        end = _at(psi, rel, pp[e])
         dev = np.where(_mask(psi, pp[s], pp[e]), rel - start[:, None], 0.0)
         dev = np.c_[dev, end - start]
         k = np.argmax(np.abs(dev), axis=1)
         out[:, col] = np.abs(np.round(dev[np.arange(len(k)), k], 4))
-    out[:, 2] = np.abs(np.round(_periodic_at(psi, rel, pp["e"]), 4))
+    out[:, 2] = np.abs(np.round(_at(psi, rel, pp["e"]), 4))
     return out
 
 
@@ -142,13 +122,13 @@ def speed_values(psi, velocity, point_psi, sections: dict[str, int],
     there, seed 000 Eq. 18 as read in docs/conventions.md)."""
     vx, vy = velocity[..., 0], velocity[..., 1]
     pd, pe, pf = (point_psi[:, sections[k]] for k in ("d", "e", "f"))
-    travel = (_periodic_at(psi, vx, pe) if travel_m_s is None
+    travel = (_at(psi, vx, pe) if travel_m_s is None
               else np.full(len(pe), float(travel_m_s)))
     static = np.hypot(vx, vy)
     dynamic = np.hypot(vx - travel[:, None], vy)
 
     def ends(values, a, b):
-        return _periodic_at(psi, values, np.c_[a, b])
+        return _at(psi, values, np.c_[a, b])
 
     de, ef = _mask(psi, pd, pe), _mask(psi, pe, pf)
     peak = np.maximum(np.where(de, static, -np.inf).max(axis=1), ends(static, pd, pe).max(1))

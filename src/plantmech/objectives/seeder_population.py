@@ -59,14 +59,17 @@ def _mask(psi, start, end):
 
 
 def _at(psi, values, where):
-    """values (P, S) at angles where (P,), linearly interpolated between the uniform
-    samples psi (S,) (periodic)."""
+    """values (P, S) at angles ``where`` (P,) or (P, k), linearly interpolated between the
+    uniform samples psi (S,) (periodic)."""
     S = values.shape[1]
-    f = np.mod(where, TWO_PI) / (psi[1] - psi[0])
+    w = np.asarray(where, dtype=float)
+    squeeze = w.ndim == 1
+    f = np.mod(w[:, None] if squeeze else w, TWO_PI) / (psi[1] - psi[0])
     k = np.floor(f).astype(int) % S
-    w = f - np.floor(f)
-    rows = np.arange(values.shape[0])
-    return (1.0 - w) * values[rows, k] + w * values[rows, (k + 1) % S]
+    t = f - np.floor(f)
+    rows = np.arange(values.shape[0])[:, None]
+    out = (1.0 - t) * values[rows, k] + t * values[rows, (k + 1) % S]
+    return out[:, 0] if squeeze else out
 
 
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
