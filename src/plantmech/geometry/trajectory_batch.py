@@ -74,19 +74,28 @@ class TrajectoryBatch:
 
     def __call__(self, u: np.ndarray, nu: int = 0) -> np.ndarray:
         """Point (nu=0) or derivative nu (1, 2) w.r.t. u at u (P, m) -> (P, m, 2)."""
+        if nu not in (0, 1, 2):
+            raise ValueError("nu must be 0, 1 or 2")
+        return self._evaluate(u, (nu,))[0]
+
+    def derivatives(self, u: np.ndarray):
+        """(point, first, second derivative) w.r.t. u at u (P, m), each (P, m, 2)."""
+        return tuple(self._evaluate(u, (0, 1, 2)))
+
+    def _evaluate(self, u: np.ndarray, orders) -> np.ndarray:
+        """Derivatives of the given orders at u (P, m) -> (len(orders), P, m, 2)."""
         u, k = self._segments(u)
         t = u - self._start[k]
-        out = np.empty(u.shape + (2,))
+        out = np.empty((len(orders),) + u.shape + (2,))
         for axis in (0, 1):
             c0, c1, c2, c3 = (plane[k] for plane in self._planes[axis])
-            if nu == 0:
-                out[..., axis] = c0 + t * (c1 + t * (c2 + t * c3))
-            elif nu == 1:
-                out[..., axis] = c1 + t * (2.0 * c2 + 3.0 * t * c3)
-            elif nu == 2:
-                out[..., axis] = 2.0 * c2 + 6.0 * t * c3
-            else:
-                raise ValueError("nu must be 0, 1 or 2")
+            for i, nu in enumerate(orders):
+                if nu == 0:
+                    out[i, ..., axis] = c0 + t * (c1 + t * (c2 + t * c3))
+                elif nu == 1:
+                    out[i, ..., axis] = c1 + t * (2.0 * c2 + 3.0 * t * c3)
+                else:
+                    out[i, ..., axis] = 2.0 * c2 + 6.0 * t * c3
         return out
 
     def _segments(self, u: np.ndarray):
@@ -97,18 +106,6 @@ class TrajectoryBatch:
         k = np.searchsorted(self._flat_knots, (u + self._offset).ravel(), side="right")
         k = k.reshape(u.shape) - 1 - self._row_base
         return u, np.clip(k, 0, self.N - 1) + self._row_start
-
-    def derivatives(self, u: np.ndarray):
-        """(point, first, second derivative) w.r.t. u at u (P, m), each (P, m, 2)."""
-        u, k = self._segments(u)
-        t = u - self._start[k]
-        out = np.empty((3,) + u.shape + (2,))
-        for axis in (0, 1):
-            c0, c1, c2, c3 = (plane[k] for plane in self._planes[axis])
-            out[0, ..., axis] = c0 + t * (c1 + t * (c2 + t * c3))
-            out[1, ..., axis] = c1 + t * (2.0 * c2 + 3.0 * t * c3)
-            out[2, ..., axis] = 2.0 * c2 + 6.0 * t * c3
-        return out[0], out[1], out[2]
 
     def coordinate_range(self, u0: np.ndarray, u1: np.ndarray) -> np.ndarray:
         """Exact (P, 2, 2) [[x_min, x_max], [y_min, y_max]] of each row's curve over the
