@@ -28,6 +28,7 @@ from plantmech.gears.pitch import (
 )
 from plantmech.geometry.periodic import cyclic_runs, periodic_spline_node_slopes
 from plantmech.geometry.trajectory import ClosedTrajectory
+from plantmech.geometry.trajectory_batch import row_searchsorted
 from plantmech.mechanisms.three_bar import tip_position
 
 TWO_PI = 2.0 * np.pi
@@ -173,6 +174,43 @@ def _on_run(values: np.ndarray, first: int, last: int) -> np.ndarray:
     return values[np.arange(first, first + (last - first) % n + 1) % n]
 
 
+def invert_carrier(psi, u_dense, phi_dense, psi_dense, alive, carrier_at):
+    """Curve parameters u (P, n) where the carrier has turned ``psi`` (n,) clockwise, by
+    the Illinois method (modified regula falsi) on each bracket of the dense grids
+    (P, m + 1), all rows and samples at once; psi is smooth and monotonic there.
+    ``carrier_at(u)``: absolute carrier angle (wrapped) at u (P, n); ``alive`` (P,): the
+    rows whose convergence counts. Returns (u, the dense carrier angle at each bracket's
+    start, which unwraps it). Shared by the single-design (P = 1) and population codes."""
+    P, n = u_dense.shape[0], len(psi)
+    k = row_searchsorted(psi_dense, np.broadcast_to(psi, (P, n)))
+    rows = np.arange(P)[:, None]
+    lo, hi = u_dense[rows, k], u_dense[rows, k + 1]
+    f_lo, f_hi = psi_dense[rows, k] - psi, psi_dense[rows, k + 1] - psi  # <= 0 <= f_hi
+    phi_k = phi_dense[rows, k]
+    side = np.zeros((P, n))
+    u = lo
+    for _ in range(ILLINOIS_ITERATIONS):
+        den = f_hi - f_lo
+        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
+                     0.5 * (lo + hi))
+        f = phi_dense[:, :1] - (phi_k + wrap_angle(carrier_at(u) - phi_k)) - psi
+        right = f > 0
+        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
+        # Illinois: halve the value kept on the side that stayed, twice in a row
+        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
+        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
+        side = np.where(right, 1.0, -1.0)
+        # rad of carrier angle (round-off floor ~4e-11)
+        if np.abs(np.where(alive[:, None], f, 0.0)).max() < 1e-10:
+            break
+    return u, phi_k
+
+
+def wrap_angle(a):
+    """Angle(s) wrapped to [-pi, pi] (np.angle(exp(1j a)) without the complex numbers)."""
+    return a - TWO_PI * np.round(a / TWO_PI)
+
+
 def _bracket_points(traj: ClosedTrajectory, u0: float, u1: float) -> list[int]:
     """Type-value points enclosing the parameter span u0..u1 (traversal order)."""
     n = len(traj.points)
@@ -240,35 +278,19 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
             ))
         return res
 
-    # Tip samples at uniform carrier angle: invert psi(u) on each dense bracket by the
-    # Illinois (modified regula falsi) method, vectorised; psi is smooth and monotonic there
+    # Tip samples at uniform carrier angle
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    k = np.clip(np.searchsorted(psi_dense, psi, side="right") - 1, 0, m - 1)
-    lo, hi = u_dense[k], u_dense[k + 1]
-    f_lo, f_hi = psi_dense[k] - psi, psi_dense[k + 1] - psi  # <= 0 <= f_hi
-    side = np.zeros(n)
-    u = lo
-    for _ in range(ILLINOIS_ITERATIONS):
-        den = f_hi - f_lo
-        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
-                     0.5 * (lo + hi))
-        p_u, _ = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
-        f = phi_dense[0] - (phi_dense[k] + np.angle(np.exp(1j * (p_u - phi_dense[k])))) - psi
-        right = f > 0
-        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
-        # Illinois: halve the value kept on the side that stayed, twice in a row
-        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
-        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
-        side = np.where(right, 1.0, -1.0)
-        if np.abs(f).max() < 1e-10:  # rad of carrier angle (round-off floor ~4e-11)
-            break
+    u, phi_k = invert_carrier(
+        psi, u_dense[None], phi_dense[None], psi_dense[None], np.ones(1, bool),
+        lambda x: _carrier_direction(traj, x[0], L1, L2, u_min, u_max, sigma_inner)[0][None])
+    u, phi_k = u[0], phi_k[0]
     phi, tip = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
-    phi = phi_dense[k] + np.angle(np.exp(1j * (phi - phi_dense[k])))
+    phi = phi_k + wrap_angle(phi - phi_k)
     elbow = L1 * np.c_[np.cos(phi), np.sin(phi)]
     arm = np.unwrap(np.arctan2(tip[:, 1] - elbow[:, 1], tip[:, 0] - elbow[:, 0]))
     planet_rel = arm - phi
     planet_rel = planet_rel - planet_rel[0]
-    net_arm = float(arm[-1] - arm[0] + np.angle(np.exp(1j * (arm[0] - arm[-1]))))
+    net_arm = float(arm[-1] - arm[0] + wrap_angle(arm[0] - arm[-1]))
     res.carrier_angle, res.u, res.tip = psi, np.mod(u, traj.period), tip
     res.carrier_abs, res.arm_angle, res.planet_rel = phi, arm, planet_rel
     # carrier angle at each type-value point: exact, unwrapped by the dense grid
@@ -276,8 +298,7 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     j = np.clip(np.floor(np.mod(u_pts - u_max, traj.period) / traj.period * m).astype(int),
                 0, m - 1)
     phi_pts, _ = _carrier_direction(traj, u_pts, L1, L2, u_min, u_max, sigma_inner)
-    res.point_carrier_angle = phi_dense[0] - (phi_dense[j] + np.angle(
-        np.exp(1j * (phi_pts - phi_dense[j]))))
+    res.point_carrier_angle = phi_dense[0] - (phi_dense[j] + wrap_angle(phi_pts - phi_dense[j]))
     if abs(net_arm) > 1e-3:
         diags.append(Diagnostic(
             "planet_turn",

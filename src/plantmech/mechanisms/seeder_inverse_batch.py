@@ -23,8 +23,8 @@ from plantmech.geometry.periodic import (
     periodic_spline_node_slopes,
     periodic_spline_running_integral,
 )
-from plantmech.geometry.trajectory_batch import TrajectoryBatch, row_searchsorted
-from plantmech.mechanisms.seeder_inverse import dense_grid_size
+from plantmech.geometry.trajectory_batch import TrajectoryBatch
+from plantmech.mechanisms.seeder_inverse import dense_grid_size, invert_carrier, wrap_angle
 
 TWO_PI = 2.0 * np.pi
 
@@ -62,11 +62,6 @@ def _unwrap_rows(phase: np.ndarray) -> np.ndarray:
         corr[jump] = dmod - dj
         out[:, 1:] += np.cumsum(corr, axis=1)
     return out
-
-
-def _wrap(a):
-    """Angle(s) wrapped to [-pi, pi] (np.angle(exp(1j a)) without the complex numbers)."""
-    return a - TWO_PI * np.round(a / TWO_PI)
 
 
 def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2):
@@ -171,35 +166,6 @@ def _node_slopes(values: np.ndarray, step: float) -> np.ndarray:
     return np.moveaxis(periodic_spline_node_slopes(np.moveaxis(values, 1, 0), step), 0, 1)
 
 
-def _invert_carrier(psi, u_dense, phi_dense, psi_dense, alive, carrier_at):
-    """Curve parameters u (P, n) where the carrier has turned ``psi`` (n,) clockwise, by
-    the Illinois method (modified regula falsi) on each dense bracket, all rows and
-    samples at once; ``carrier_at(u)``: absolute carrier angle there (wrapped). Returns
-    (u, the dense carrier angle at each bracket's start, which unwraps it)."""
-    P, n = u_dense.shape[0], len(psi)
-    k = row_searchsorted(psi_dense, np.broadcast_to(psi, (P, n)))
-    rows = np.arange(P)[:, None]
-    lo, hi = u_dense[rows, k], u_dense[rows, k + 1]
-    f_lo, f_hi = psi_dense[rows, k] - psi, psi_dense[rows, k + 1] - psi  # <= 0 <= f_hi
-    phi_k = phi_dense[rows, k]
-    side = np.zeros((P, n))
-    u = lo
-    for _ in range(30):
-        den = f_hi - f_lo
-        u = np.where(den > 0, lo - f_lo * (hi - lo) / np.where(den > 0, den, 1.0),
-                     0.5 * (lo + hi))
-        f = phi_dense[:, :1] - (phi_k + _wrap(carrier_at(u) - phi_k)) - psi
-        right = f > 0
-        hi, lo = np.where(right, u, hi), np.where(right, lo, u)
-        # Illinois: halve the value kept on the side that stayed, twice in a row
-        f_lo = np.where(right, np.where(side > 0, 0.5 * f_lo, f_lo), f)
-        f_hi = np.where(right, f, np.where(side < 0, 0.5 * f_hi, f_hi))
-        side = np.where(right, 1.0, -1.0)
-        if np.abs(np.where(alive[:, None], f, 0.0)).max() < 1e-10:
-            break
-    return u, phi_k
-
-
 def _split_and_close(g, split_exponent, a1, a2, step):
     """Eq. 7-9 for P ratio laws g = d psi_4 / d psi (P, n): stage 1 takes C g^p, normalised
     so gear 2 closes, stage 2 the rest, normalised so the planet closes under the same
@@ -272,16 +238,16 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     psi_dense = np.where(alive[:, None], psi_dense, grid[None, :] * TWO_PI)  # monotone
 
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    u, phi_k = _invert_carrier(psi, u_dense, phi_dense, psi_dense, alive,
+    u, phi_k = invert_carrier(psi, u_dense, phi_dense, psi_dense, alive,
                                lambda x: _carrier_direction(tb, x, L1s, L2s, u_min, u_max,
                                                             sigma)[0])
     phi, tip = _carrier_direction(tb, u, L1s, L2s, u_min, u_max, sigma)
-    phi = phi_k + _wrap(phi - phi_k)
+    phi = phi_k + wrap_angle(phi - phi_k)
     ex, ey = L1s[:, None] * np.cos(phi), L1s[:, None] * np.sin(phi)
     arm = _unwrap_rows(np.arctan2(tip[..., 1] - ey, tip[..., 0] - ex))
     planet_rel = arm - phi
     planet_rel = planet_rel - planet_rel[:, :1]
-    net_arm = arm[:, -1] - arm[:, 0] + _wrap(arm[:, 0] - arm[:, -1])
+    net_arm = arm[:, -1] - arm[:, 0] + wrap_angle(arm[:, 0] - arm[:, -1])
     # carrier angle at each type-value point: exact, unwrapped by the dense grid
     u_pts = tb.knots[:, :-1]
     x_pts = u_pts - u_max[:, None]
@@ -289,7 +255,7 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     j = np.clip(np.floor(x_pts / tb.period[:, None] * m).astype(int), 0, m - 1)
     phi_pts, _ = _carrier_direction(tb, u_pts, L1s, L2s, u_min, u_max, sigma)
     phi_j = phi_dense[np.arange(P)[:, None], j]
-    point_psi = phi_dense[:, :1] - (phi_j + _wrap(phi_pts - phi_j))
+    point_psi = phi_dense[:, :1] - (phi_j + wrap_angle(phi_pts - phi_j))
     spins = alive & (np.abs(net_arm) > 1e-3)
     score[spins] = 1.0
     alive &= ~spins
