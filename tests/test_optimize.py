@@ -282,3 +282,20 @@ def test_joint_problem_layer1_checks_through_the_population_path():
     c = p.evaluate_batch(X)
     assert b.names == c.names and np.isfinite(b.values[0]).all()
     assert np.array_equal(b.values, c.values, equal_nan=True) and np.array_equal(b.G, c.G)
+
+
+def test_layer1_of_a_dwell_design_checks_each_candidate_alone():
+    """A dwell design has no population inverse design: layer 1 checks its candidates one
+    by one, with the same numbers as the single-design checks."""
+    from plantmech.optimize.problems import LAYER1_PITCH_MARGIN_MM, SeederLayer1
+    from plantmech.workflows import seeder_inverse_checks
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_dwell.toml")
+    p = SeederLayer1(d, workers=1)
+    X = np.zeros((2, p.n_var))
+    X[1, 0] = 1.5
+    b = p.evaluate_batch(X)
+    for k in range(2):
+        ref = seeder_inverse_checks(p.decode(X[k]), p.samples, LAYER1_PITCH_MARGIN_MM)
+        assert b.values[k, 0] == ref["infeasible"]
+        assert np.array_equal(b.values[k, 1:], ref["values"], equal_nan=True)

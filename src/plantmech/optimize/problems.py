@@ -180,19 +180,25 @@ def _pool(workers: int):
     return ex
 
 
-def _map(fn, items, workers: int, chunk: int | None = None):
-    """fn over items, in ``workers`` processes when there are enough items (``chunk``
-    items per task; default small: candidates differ in cost)."""
-    if workers <= 1 or len(items) < 4:
-        return [fn(x) for x in items]
+def _in_pool(workers: int, use):
+    """``use(pool)`` with the shared pool of ``workers`` processes; if a worker died (e.g.
+    killed), once more with a fresh pool."""
     from concurrent.futures.process import BrokenProcessPool
 
-    chunk = chunk or max(1, len(items) // (8 * workers))
     try:
-        return list(_pool(workers).map(fn, items, chunksize=chunk))
-    except BrokenProcessPool:  # a worker died (e.g. killed): start afresh once
+        return use(_pool(workers))
+    except BrokenProcessPool:
         _POOLS.pop(workers, None)
-        return list(_pool(workers).map(fn, items, chunksize=chunk))
+        return use(_pool(workers))
+
+
+def _map(fn, items, workers: int):
+    """fn over items, in ``workers`` processes when there are enough items (small chunks:
+    candidates differ in cost)."""
+    if workers <= 1 or len(items) < 4:
+        return [fn(x) for x in items]
+    chunk = max(1, len(items) // (8 * workers))
+    return _in_pool(workers, lambda ex: list(ex.map(fn, items, chunksize=chunk)))
 
 
 def _split_map(fn, items):
@@ -200,14 +206,7 @@ def _split_map(fn, items):
     pool at once, so no process waits for a task while another has two."""
     if len(items) == 1:
         return [fn(items[0])]
-    from concurrent.futures.process import BrokenProcessPool
-
-    n = len(items)
-    try:
-        futures = [_pool(n - 1).submit(fn, x) for x in items[1:]]
-    except BrokenProcessPool:
-        _POOLS.pop(n - 1, None)
-        futures = [_pool(n - 1).submit(fn, x) for x in items[1:]]
+    futures = _in_pool(len(items) - 1, lambda ex: [ex.submit(fn, x) for x in items[1:]])
     first = fn(items[0])
     return [first] + [f.result() for f in futures]
 
@@ -270,26 +269,34 @@ class SeederLayer1(DesignProblem):
             pts[:, i] += X[:, 2 * k: 2 * k + 2]
         return pts
 
-    def evaluate_batch(self, X):
+    def checks(self, X) -> dict:
+        """Every layer-1 check of the candidates X (P, n_var): names, units, limits and
+        values, ok, violation (P, 13), infeasible (P,) (the inverse design's error
+        grading), objectives (P, 3). The population inverse design split over the worker
+        processes; one inverse design per candidate for a dwell design."""
+        X = np.atleast_2d(X)
         gt = self.design.gear_train
-        if gt.dwell is not None and gt.dwell.enabled:  # one inverse design per candidate
+        if gt.dwell is not None and gt.dwell.enabled:
             rows = _map(_layer1_row, [(self.decode(x), self.samples) for x in X],
                         self.workers)
-            names, units, limits = rows[0]["names"], rows[0]["units"], rows[0]["limits"]
-            values = np.array([r["values"] for r in rows])
-            ok = np.array([r["ok"] for r in rows])
-            viol = np.array([r["violation"] for r in rows])
-            infeasible = np.array([r["infeasible"] for r in rows], dtype=float)
-            F = np.array([r["objectives"] for r in rows])
-        else:  # the population inverse design, split over the worker processes
-            pts = self.points_of(np.atleast_2d(X))
-            parts = np.array_split(np.arange(len(pts)), min(self.workers, len(pts)))
-            out = _split_map(_layer1_population, [(self.design, pts[k], self.samples)
-                                                  for k in parts])
-            names, units, limits = out[0]["names"], out[0]["units"], out[0]["limits"]
-            values, ok, viol, infeasible, F = (np.concatenate([o[key] for o in out]) for key in
-                                               ("values", "ok", "violation", "infeasible",
-                                                "objectives"))
+            return dict({k: rows[0][k] for k in ("names", "units", "limits")},
+                        **{k: np.array([r[k] for r in rows], dtype=float if k != "ok"
+                                       else bool)
+                           for k in ("values", "ok", "violation", "infeasible",
+                                     "objectives")})
+        pts = self.points_of(X)
+        parts = np.array_split(np.arange(len(pts)), min(self.workers, len(pts)))
+        out = _split_map(_layer1_population, [(self.design, pts[k], self.samples)
+                                              for k in parts])
+        return dict({k: out[0][k] for k in ("names", "units", "limits")},
+                    **{k: np.concatenate([o[k] for o in out]) for k in
+                       ("values", "ok", "violation", "infeasible", "objectives")})
+
+    def evaluate_batch(self, X):
+        c = self.checks(X)
+        names, units, limits = c["names"], c["units"], c["limits"]
+        values, ok, viol, infeasible, F = (c[k] for k in ("values", "ok", "violation",
+                                                          "infeasible", "objectives"))
         limits = list(limits)
         required = np.ones(len(names), bool)
         if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
@@ -309,23 +316,6 @@ def is_gear_shape_check(name: str) -> bool:
     the optimizers only on request (``--tooth-fit``), always reported."""
     return (name.startswith(("convex_", "working_pressure_angle"))
             or name in Transplanter.TOOTH_FIT)
-
-
-def _layer2_part(args):
-    """Layer-2 evaluation of some of the radii: every section-4.1 objective, gear checks,
-    closure error and (with a planned trajectory) the deviation from it."""
-    from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
-
-    design, R2, R3, samples, reference = args
-    pop = evaluate_seeder_population(design, R2, R3, samples=samples, dense=2048,
-                                     reference_psi=reference)
-    ev = pop.evaluation
-    out = {"names": list(ev.names), "units": list(ev.units), "limits": list(ev.limits),
-           "values": ev.values, "ok": ev.ok, "violation": ev.violation,
-           "closure": pop.motion.closure_error.max(axis=1)}
-    if design.trajectory is not None:
-        out["deviation"] = trajectory_deviation_batch(design, pop.motion.tip)
-    return out
 
 
 class SeederLayer2(DesignProblem):
@@ -362,18 +352,23 @@ class SeederLayer2(DesignProblem):
         self._reference = None  # where the base train passes the section points
 
     def evaluate_batch(self, X):
+        from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
+
         if self._reference is None and self.design.train.sections_deg is None:
             from plantmech.workflows import section_reference_psi
 
             self._reference = section_reference_psi(self.design)
         # one process: split over this machine's two cores a generation took as long
-        # (323 vs 305 ms for 40 designs; each half ran ~1.7x slower beside the other)
-        out = _layer2_part((self.design, X[:, :self.n2], X[:, self.n2:], self.samples,
-                            self._reference))
-        names, units, limits = out["names"], out["units"], out["limits"]
-        values, ok, viol, closure = out["values"], out["ok"], out["violation"], out["closure"]
+        # (323 vs 305 ms for 40 designs: the two processes slow each other down)
+        pop = evaluate_seeder_population(self.design, X[:, :self.n2], X[:, self.n2:],
+                                         samples=self.samples, dense=2048,
+                                         reference_psi=self._reference)
+        ev = pop.evaluation
+        names, units, limits = list(ev.names), list(ev.units), list(ev.limits)
+        values, ok, viol = ev.values, ev.ok, ev.violation
+        closure = pop.motion.closure_error.max(axis=1)
         if self.design.trajectory is not None:
-            dev = out["deviation"]
+            dev = trajectory_deviation_batch(self.design, pop.motion.tip)
             dv = _violations(dev, None, self.max_deviation_mm, self.max_deviation_mm)
             names.append("deviation_from_plan")
             units.append("mm")
@@ -436,20 +431,11 @@ class SeederJoint(DesignProblem):
         return d.__class__.model_validate(d.model_dump())
 
     def _layer1_rows(self, X) -> list[dict]:
-        """Layer-1 checks of each candidate's trajectory: the population inverse design
-        for all at once (one by one for a dwell design)."""
-        from plantmech.workflows import seeder_inverse_checks_population
-
-        n1 = self.layer1.n_var
-        gt = self.layer1.design.gear_train
-        if gt.dwell is not None and gt.dwell.enabled:
-            return [_layer1_row((self.layer1.decode(x[:n1]), self.samples)) for x in X]
-        b = seeder_inverse_checks_population(self.layer1.design,
-                                             self.layer1.points_of(X[:, :n1]),
-                                             self.samples, LAYER1_PITCH_MARGIN_MM)
+        """Layer-1 checks of each candidate's trajectory (``SeederLayer1.checks``)."""
+        c = self.layer1.checks(np.atleast_2d(X)[:, :self.layer1.n_var])
         keys = ("values", "ok", "violation", "infeasible")
-        return [dict(names=b["names"], units=b["units"], limits=b["limits"],
-                     **{k: b[k][i] for k in keys}) for i in range(len(X))]
+        return [dict(names=c["names"], units=c["units"], limits=c["limits"],
+                     **{k: c[k][i] for k in keys}) for i in range(len(X))]
 
     def evaluate_batch(self, X):
         from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
