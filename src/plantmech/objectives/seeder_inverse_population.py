@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from plantmech.geometry.trajectory_batch import TrajectoryBatch
-from plantmech.objectives.seeder_population import _at, _mask
+from plantmech.objectives.seeder_population import _at, section_extreme, section_swing
 
 TWO_PI = 2.0 * np.pi
 PLANNING = ("small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
@@ -104,12 +104,7 @@ def attitude_values(psi, arm_deg, point_psi, sections: dict[str, int]) -> np.nda
     pp = {k: point_psi[:, v] for k, v in sections.items()}
     out = np.empty((rel.shape[0], 3))
     for col, (s, e) in enumerate((("a", "b"), ("d", "e"))):
-        start = _at(psi, rel, pp[s])
-        end = _at(psi, rel, pp[e])
-        dev = np.where(_mask(psi, pp[s], pp[e]), rel - start[:, None], 0.0)
-        dev = np.c_[dev, end - start]
-        k = np.argmax(np.abs(dev), axis=1)
-        out[:, col] = np.abs(np.round(dev[np.arange(len(k)), k], 4))
+        out[:, col] = np.round(section_swing(psi, rel, pp[s], pp[e]), 4)
     out[:, 2] = np.abs(np.round(_at(psi, rel, pp["e"]), 4))
     return out
 
@@ -127,12 +122,6 @@ def speed_values(psi, velocity, point_psi, sections: dict[str, int],
     static = np.hypot(vx, vy)
     dynamic = np.hypot(vx - travel[:, None], vy)
 
-    def ends(values, a, b):
-        return _at(psi, values, np.c_[a, b])
-
-    de, ef = _mask(psi, pd, pe), _mask(psi, pe, pf)
-    peak = np.maximum(np.where(de, static, -np.inf).max(axis=1), ends(static, pd, pe).max(1))
-    low_s = np.minimum(np.where(ef, static, np.inf).min(axis=1), ends(static, pe, pf).min(1))
-    low_d = np.minimum(np.where(ef, dynamic, np.inf).min(axis=1),
-                       ends(dynamic, pe, pf).min(1))
-    return np.c_[peak, low_s, low_d], travel
+    return np.c_[section_extreme(psi, static, pd, pe, True),
+                 section_extreme(psi, static, pe, pf, False),
+                 section_extreme(psi, dynamic, pe, pf, False)], travel

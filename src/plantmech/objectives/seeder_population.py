@@ -72,6 +72,25 @@ def _at(psi, values, where):
     return out[:, 0] if squeeze else out
 
 
+def section_swing(psi, rel, start, end) -> np.ndarray:
+    """(P,) largest |rel - rel(start)| over the clockwise sections [start, end] (P,) of
+    rows ``rel`` (P, S) sampled at psi (S,), both section ends included."""
+    s = _at(psi, rel, start)
+    dev = np.where(_mask(psi, start, end), np.abs(rel - s[:, None]), 0.0)
+    return np.maximum(dev.max(axis=1), np.abs(_at(psi, rel, end) - s))
+
+
+def section_extreme(psi, values, start, end, largest: bool) -> np.ndarray:
+    """(P,) largest (or smallest) of rows ``values`` (P, S) over the clockwise sections
+    [start, end] (P,), the values at both section ends (interpolated) included."""
+    ends = _at(psi, values, np.c_[start, end])
+    if largest:
+        return np.maximum(np.where(_mask(psi, start, end), values, -np.inf).max(axis=1),
+                          ends.max(axis=1))
+    return np.minimum(np.where(_mask(psi, start, end), values, np.inf).min(axis=1),
+                      ends.min(axis=1))
+
+
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
                         dense: int = 2048, turn_scale=None) -> dict:
     """Convexity and pressure-angle proxy of a gear (P, N radii) and of its mate at
@@ -154,17 +173,10 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
                                        abs(lim) if note_scale is None else note_scale, np.nan))
         return value
 
-    def swing(s, e):
-        m = _mask(psi, A[s], A[e])
-        start = _at(psi, rel, A[s])
-        dev = np.where(m, np.abs(rel - start[:, None]), 0.0)
-        return np.maximum(dev.max(axis=1), np.abs(_at(psi, rel, A[e]) - start))
-
-    def ends(values, s, e):  # values at the two section ends (P, 2)
-        return np.c_[_at(psi, values, A[s]), _at(psi, values, A[e])]
-
-    add("picking_swing", swing("a", "b"), attitude.picking_swing_max_deg, True, "deg")
-    add("seeding_swing", swing("d", "e"), attitude.seeding_swing_max_deg, True, "deg")
+    add("picking_swing", section_swing(psi, rel, A["a"], A["b"]),
+        attitude.picking_swing_max_deg, True, "deg")
+    add("seeding_swing", section_swing(psi, rel, A["d"], A["e"]),
+        attitude.seeding_swing_max_deg, True, "deg")
     sowing = _at(psi, rel, A["e"])
     add("sowing_angle", np.abs(sowing), attitude.sowing_angle_max_deg, True, "deg")
     v = motion.tip_rate * (np.radians(carrier_speed_deg_s) / 1000.0)  # (P, S, 2) m/s
@@ -172,15 +184,11 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
     travel = vx_e if travel_m_s is None else np.broadcast_to(float(travel_m_s), (P,))
     static = np.hypot(v[..., 0], v[..., 1])
     dynamic = np.hypot(v[..., 0] - travel[:, None], v[..., 1])
-    de, ef = _mask(psi, A["d"], A["e"]), _mask(psi, A["e"], A["f"])
-    add("seeding_peak_speed", np.maximum(np.where(de, static, -np.inf).max(axis=1),
-                                         ends(static, "d", "e").max(axis=1)),
+    add("seeding_peak_speed", section_extreme(psi, static, A["d"], A["e"], True),
         speed.seeding_max_m_s, True, "m/s")
-    add("return_min_speed_static", np.minimum(np.where(ef, static, np.inf).min(axis=1),
-                                              ends(static, "e", "f").min(axis=1)),
+    add("return_min_speed_static", section_extreme(psi, static, A["e"], A["f"], False),
         speed.return_min_m_s, False, "m/s")
-    add("return_min_speed_dynamic", np.minimum(np.where(ef, dynamic, np.inf).min(axis=1),
-                                               ends(dynamic, "e", "f").min(axis=1)),
+    add("return_min_speed_dynamic", section_extreme(psi, dynamic, A["e"], A["f"], False),
         speed.return_min_m_s, False, "m/s")
     metrics = {"zero_speed_travel_m_s": vx_e, "travel_m_s": travel, "sowing_angle_deg": sowing,
                "closure_error_rad": motion.closure_error, "a1_mm": motion.a1,
