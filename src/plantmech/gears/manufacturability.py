@@ -1,0 +1,328 @@
+"""Can these pitch curves be cut? The manufacturability rules of non-circular gears, in one place.
+
+The conditions are the standard ones of the non-circular gear literature (Litvin & Fuentes,
+*Gear Geometry and Applied Theory*, 2nd ed., ch. 9 "Noncircular gears": generation by a rack
+or a shaper, the equivalent spur gear of each span, the pressure angle of a non-circular pair),
+applied to the pitch curves *before* any tooth is cut, vectorised over P designs so an optimizer
+can require them. docs/manufacturing.md states each rule with its numbers.
+
+Every rule becomes a bound on the module m (mm) of a gear pair, so one number decides a pair:
+the **module window** [m_lo, m_hi]. A pair can be cut iff m_hi >= m_lo and its working pressure
+angle is within its limit.
+
+- **Convex spans, no undercut, no pointed teeth.** The equivalent spur gear of a convex span
+  with radius of curvature rho has z_eq = 2 rho / m teeth; a rack of addendum ha m and pressure
+  angle alpha does not undercut it while z_eq >= 2 ha / sin^2(alpha) (17.1 at 20 deg, ha = 1),
+  and its top land stays above ``min_top_land`` m while z_eq >= the pointed-tooth limit
+  (``pointed_teeth``). So m <= 2 rho_min / z_min.
+- **Concave spans** can only be cut by a shaper cutter whose pitch radius is below the span's
+  radius of curvature, and the span meshes with it like an internal gear with the cutter as
+  pinion: 2 |rho| / m >= z_cutter_min + dz_min, so m <= 2 |rho|min / (z_c + dz).
+- **Internal pairs**: where the ring curves around the planet, the local pair is an internal
+  spur pair z_ring,eq / z_planet,eq; tip and trochoid interference need their difference
+  2 (rho_ring - rho_planet) / m >= dz_min.
+- **Hub**: below the root (dedendum hf m) at least ``hub_modules`` modules of material and a
+  bore of ``min_bore_mm``: r_min - (hf + hub) m >= bore / 2.
+- **Tooth count**: between ``min_teeth`` and ``max_teeth`` on the perimeter P: P / (pi max) <=
+  m <= P / (pi min). And the design's own minimum module (strength), ``min_module_mm``.
+- **Working pressure angle** alpha + max atan(|dr/dtheta| / r) <= limit: two rolling pitch
+  curves share their tangent at the contact on the line of centres, so the angle between the
+  contact normal and the line of motion of the driven point grows by atan(|r'| / r) (the
+  angle mu between the tangent and the normal to the radius vector). It does not depend on m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+# ISO 54 first-choice modules (mm), the modules a workshop has cutters for
+STANDARD_MODULES = (0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0,
+                    12.0, 16.0, 20.0)
+
+
+def _inv(a):
+    return np.tan(a) - a
+
+
+@dataclass(frozen=True)
+class CuttingRules:
+    """Tooth system and the limits of what the workshop can cut (module-relative sizes are
+    multiples of m)."""
+
+    pressure_angle_deg: float = 20.0  # tool pressure angle alpha
+    addendum: float = 1.0  # ha, x m
+    dedendum: float = 1.25  # hf, x m
+    min_cutter_teeth: int = 12  # smallest shaper cutter for concave spans and internal gears
+    min_internal_difference: float = 8.0  # dz: ring - planet (or span - cutter) equivalent teeth
+    min_top_land: float = 0.25  # x m, a tooth thinner at its tip is "pointed"
+    max_working_pressure_angle_deg: float = 45.0
+    hub_modules: float = 1.5  # material below the root, x m
+    min_bore_mm: float = 3.0
+    min_teeth: int = 8
+    max_teeth: int = 400
+    min_module_mm: float = 1.0  # strength: the design's smallest acceptable module
+
+    @property
+    def alpha(self) -> float:
+        return float(np.radians(self.pressure_angle_deg))
+
+    @property
+    def undercut_teeth(self) -> float:
+        """Smallest rack-cut tooth count free of undercut: 2 ha / sin^2(alpha)."""
+        return 2.0 * self.addendum / np.sin(self.alpha) ** 2
+
+    @property
+    def pointed_teeth(self) -> float:
+        """Smallest tooth count whose standard tooth keeps a top land of ``min_top_land`` m:
+        s_a = d_a (pi / (2 z) + inv(alpha) - inv(alpha_a)), d = z m, d_a = d + 2 ha m
+        (bisection on z; the top land grows with z)."""
+        a = self.alpha
+
+        def land(z):
+            za = z + 2 * self.addendum
+            aa = np.arccos(z * np.cos(a) / za)
+            return za * (np.pi / (2 * z) + _inv(a) - _inv(aa)) - self.min_top_land
+
+        lo, hi = 1.0, 200.0
+        if land(lo) >= 0:
+            return lo
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if land(mid) >= 0 else (mid, hi)
+        return hi
+
+    @property
+    def min_equivalent_teeth(self) -> float:
+        """z_eq a convex span needs: no undercut and no pointed tooth."""
+        return max(self.undercut_teeth, self.pointed_teeth)
+
+    def record(self) -> dict:
+        return {**asdict(self), "undercut_teeth": round(self.undercut_teeth, 3),
+                "pointed_teeth": round(self.pointed_teeth, 3)}
+
+
+@dataclass
+class GearShape:
+    """One pitch curve of P designs sampled at N body angles.
+
+    ``curvature_radius`` (P, N) mm, signed on the gear's material: positive where the material
+    is convex (an external gear's convex span, an internal gear's inward bulge), negative where
+    it is concave; ``radius`` (P, N) pitch radius r (mm); ``angle`` (N,) or (P, N) body angle
+    (rad) for locating findings; ``perimeter`` (P,) mm."""
+
+    name: str
+    curvature_radius: np.ndarray
+    radius: np.ndarray
+    angle: np.ndarray
+    perimeter: np.ndarray
+    internal: bool = False
+    toothed: np.ndarray | None = None  # (P, N) bool: False on a toothless sector
+
+
+@dataclass
+class PairShape:
+    """A gear pair: its two gears, ``mu`` (P, N) the angle (rad) between the pitch tangent and
+    the normal to the radius vector at the contact, and for internal pairs ``internal_difference``
+    (P, N): 2 (rho_ring - rho_planet) (mm) where the ring curves around the planet (+inf
+    elsewhere); ``module`` (P,) mm when the design fixes it (else the window decides)."""
+
+    name: str
+    gears: tuple[GearShape, GearShape]
+    mu: np.ndarray
+    internal_difference: np.ndarray | None = None
+    module: np.ndarray | None = None
+
+
+@dataclass
+class PairVerdict:
+    """Arrays over P designs for one pair; ``limits`` name each bound's binding gear and
+    place."""
+
+    name: str
+    module_low: np.ndarray
+    module_high: np.ndarray
+    module: np.ndarray  # chosen (or fixed) module, mm; nan where none fits
+    teeth: dict = field(default_factory=dict)  # gear -> (P,) tooth count at the module
+    working_pressure_angle_deg: np.ndarray = None
+    bounds: dict = field(default_factory=dict)  # reason -> (P,) module bound, mm
+    where: dict = field(default_factory=dict)  # reason -> (gear, (P,) body angle deg)
+
+    @property
+    def module_ok(self) -> np.ndarray:
+        return self.module_high >= self.module_low
+
+    def ok(self, rules: CuttingRules) -> np.ndarray:
+        return self.module_ok & (self.working_pressure_angle_deg
+                                 <= rules.max_working_pressure_angle_deg) & np.isfinite(self.module)
+
+
+def _argmin_angle(values: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    k = np.argmin(values, axis=1)
+    ang = np.broadcast_to(angle, values.shape)
+    return np.degrees(np.mod(np.take_along_axis(ang, k[:, None], 1)[:, 0], 2 * np.pi))
+
+
+def _gear_bounds(g: GearShape, rules: CuttingRules) -> tuple[dict, dict]:
+    """Upper module bounds (mm, (P,)) of one gear and where each binds (body angle, deg)."""
+    rho = np.asarray(g.curvature_radius, dtype=float)
+    mask = np.ones_like(rho, dtype=bool) if g.toothed is None else g.toothed
+    big = np.inf
+    convex = np.where(mask & (rho > 0), rho, big)
+    concave = np.where(mask & (rho < 0), -rho, big)
+    bounds, where = {}, {}
+    bounds[f"undercut/pointed {g.name}"] = 2.0 * convex.min(axis=1) / rules.min_equivalent_teeth
+    where[f"undercut/pointed {g.name}"] = (g.name, _argmin_angle(convex, g.angle))
+    # an internal gear is cut by a shaper everywhere: its concave (material) spans too
+    bounds[f"concave span {g.name}"] = (2.0 * concave.min(axis=1)
+                                        / (rules.min_cutter_teeth + rules.min_internal_difference))
+    where[f"concave span {g.name}"] = (g.name, _argmin_angle(concave, g.angle))
+    if not g.internal:  # a ring's material (its rim) lies outside: no hub question
+        r = np.where(mask, g.radius, big)
+        bounds[f"hub {g.name}"] = ((r.min(axis=1) - rules.min_bore_mm / 2.0)
+                                   / (rules.dedendum + rules.hub_modules))
+        where[f"hub {g.name}"] = (g.name, _argmin_angle(r, g.angle))
+    bounds[f"teeth {g.name}"] = np.asarray(g.perimeter) / (np.pi * rules.min_teeth)
+    where[f"teeth {g.name}"] = (g.name, np.full(rho.shape[0], np.nan))
+    return bounds, where
+
+
+def assess_pair(pair: PairShape, rules: CuttingRules) -> PairVerdict:
+    """Module window, chosen module and working pressure angle of P designs of one pair."""
+    bounds, where = {}, {}
+    for g in pair.gears:
+        b, w = _gear_bounds(g, rules)
+        bounds.update(b)
+        where.update(w)
+    if pair.internal_difference is not None:
+        d = np.asarray(pair.internal_difference, dtype=float)
+        bounds[f"internal difference {pair.name}"] = d.min(axis=1) / rules.min_internal_difference
+        where[f"internal difference {pair.name}"] = (pair.gears[0].name,
+                                                     _argmin_angle(d, pair.gears[0].angle))
+    P = np.asarray(pair.mu).shape[0]
+    high = np.full(P, np.inf)
+    for b in bounds.values():
+        high = np.minimum(high, np.where(np.isfinite(b), b, np.inf))
+    perim = np.max([np.asarray(g.perimeter, dtype=float) for g in pair.gears], axis=0)
+    low = np.maximum(rules.min_module_mm, perim / (np.pi * rules.max_teeth))
+    if pair.module is not None:
+        module = np.broadcast_to(np.asarray(pair.module, dtype=float), (P,)).copy()
+        low = np.maximum(low, module)  # the fixed module must fit: window [m, m]
+        high = np.where(high >= module, np.minimum(high, module), high)
+    else:
+        module = choose_module(pair.gears[0].perimeter, low, high)
+    teeth = {g.name: np.where(np.isfinite(module), np.round(np.asarray(g.perimeter)
+                                                            / (np.pi * np.where(
+                                                                np.isfinite(module), module,
+                                                                1.0))), np.nan)
+             for g in pair.gears}
+    mu = np.asarray(pair.mu, dtype=float)
+    work = rules.pressure_angle_deg + np.degrees(np.abs(mu).max(axis=1))
+    where["working pressure angle"] = (pair.gears[0].name,
+                                       _argmin_angle(-np.abs(mu), pair.gears[0].angle))
+    return PairVerdict(pair.name, low, high, module, teeth, work, bounds, where)
+
+
+def shape_from_polar(name: str, t, rho, drho, ddrho, dphi=None, ddphi=None,
+                     internal: bool = False, toothed=None) -> GearShape:
+    """GearShape of P polar pitch curves (rho(t), phi(t)) sampled at N uniform parameters t
+    (rad, (N,)) with their t-derivatives ((P, N) each; phi = t when ``dphi`` is None): the
+    signed radius of curvature on the material side, the body angle phi (running integral of
+    phi'), the perimeter (integral of the arc speed over one period of t: for a mate, t must
+    span one turn of the mate, as it does for the closed pairs of both papers' trains)."""
+    from plantmech.geometry.periodic import polar_curvature_radius
+
+    rho, drho, ddrho = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (rho, drho, ddrho))
+    t = np.asarray(t, dtype=float)
+    h = 2 * np.pi / t.size
+    if dphi is None:
+        dphi, ddphi, phi = np.ones_like(rho), np.zeros_like(rho), np.broadcast_to(t, rho.shape)
+    else:
+        dphi, ddphi = np.atleast_2d(dphi), np.atleast_2d(ddphi)
+        phi = t[0] + np.cumsum(dphi, axis=1) * h - dphi * h
+    rc = polar_curvature_radius(rho, drho, ddrho, dphi, ddphi)
+    perimeter = np.sqrt(drho**2 + (rho * dphi) ** 2).sum(axis=1) * h
+    return GearShape(name, -rc if internal else rc, rho, phi, perimeter, internal, toothed)
+
+
+def choose_module(perimeter, low, high) -> np.ndarray:
+    """The largest standard module in [low, high] (ISO 54 first choice) turned into a whole
+    tooth count on ``perimeter`` (m = P / (pi z), z = ceil(P / (pi m_std)), so m <= m_std);
+    where no standard module fits, the window's largest whole-tooth module; nan if none."""
+    P = np.atleast_1d(np.asarray(perimeter, dtype=float))
+    low, high = np.broadcast_to(low, P.shape), np.broadcast_to(high, P.shape)
+    std = np.asarray(STANDARD_MODULES)
+    out = np.full(P.shape, np.nan)
+    for k in range(P.size):
+        lo, hi = low[k], high[k]
+        if not hi >= lo:
+            continue
+        cands = std[(std <= hi) & (std >= lo)]
+        m0 = cands.max() if cands.size else min(hi, P[k] / np.pi)
+        z = np.ceil(P[k] / (np.pi * m0) - 1e-9)
+        m = P[k] / (np.pi * z)
+        if m < lo:  # the whole tooth count pushed m below the window: take the largest fit
+            z = np.floor(P[k] / (np.pi * lo) + 1e-9)
+            m = P[k] / (np.pi * z) if z >= 1 else np.nan
+            if not (lo <= m <= hi):
+                m = np.nan
+        out[k] = m
+    return out
+
+
+def violation(v: PairVerdict, rules: CuttingRules, margin: float = 0.0) -> np.ndarray:
+    """(P, 2) relative violations for optimizers: module window (1 - m_hi / (m_lo (1 +
+    margin))) and working pressure angle (relative to its limit); 0 where met."""
+    need = v.module_low * (1.0 + margin)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mod = np.where(np.isfinite(v.module_high), np.maximum(0.0, 1.0 - v.module_high / need),
+                       0.0)
+    lim = rules.max_working_pressure_angle_deg * (1.0 - margin)
+    pa = np.maximum(0.0, (v.working_pressure_angle_deg - lim) / lim)
+    return np.stack([np.nan_to_num(mod, nan=1.0), pa], axis=1)
+
+
+def binding(v: PairVerdict, k: int = 0) -> tuple[str, str, float]:
+    """(reason, gear, body angle deg) of the tightest upper module bound of design k."""
+    name = min(v.bounds, key=lambda n: v.bounds[n][k] if np.isfinite(v.bounds[n][k]) else np.inf)
+    gear, ang = v.where[name]
+    return name, gear, float(ang[k])
+
+
+def findings(v: PairVerdict, rules: CuttingRules, k: int = 0) -> list[dict]:
+    """What cannot be cut in design k of this pair: [{gear, check, value, limit, unit, where,
+    why}] (empty when the pair can be cut)."""
+    out = []
+    lo, hi = float(v.module_low[k]), float(v.module_high[k])
+    if not hi >= lo:
+        reason, gear, ang = binding(v, k)
+        where = f"body angle {ang:.1f} deg" if np.isfinite(ang) else ""
+        out.append({"gear": gear, "pair": v.name, "check": "module window",
+                    "value": round(hi, 4), "limit": round(lo, 4), "unit": "mm", "where": where,
+                    "why": f"{reason} allows a module of at most {hi:.3f} mm, the pair needs "
+                           f"at least {lo:.3f} mm (strength or tooth count)"})
+    w = float(v.working_pressure_angle_deg[k])
+    if w > rules.max_working_pressure_angle_deg:
+        gear, ang = v.where["working pressure angle"]
+        out.append({"gear": gear, "pair": v.name, "check": "working pressure angle",
+                    "value": round(w, 2), "limit": rules.max_working_pressure_angle_deg,
+                    "unit": "deg", "where": f"body angle {float(ang[k]):.1f} deg",
+                    "why": f"tool {rules.pressure_angle_deg:g} deg + pitch tangent "
+                           f"{w - rules.pressure_angle_deg:.1f} deg off the normal to the "
+                           "radius: the teeth push almost along the radius"})
+    return out
+
+
+def pair_record(v: PairVerdict, rules: CuttingRules, k: int = 0) -> dict:
+    """JSON-ready summary of design k of one pair."""
+    reason, gear, ang = binding(v, k)
+    m = float(v.module[k])
+    return {"pair": v.name, "module_window_mm": [round(float(v.module_low[k]), 4),
+                                                 round(float(v.module_high[k]), 4)],
+            "module_mm": round(m, 4) if np.isfinite(m) else None,
+            "teeth": {g: int(z[k]) for g, z in v.teeth.items() if np.isfinite(z[k])},
+            "tightest_bound": {"reason": reason, "gear": gear,
+                               "body_angle_deg": round(ang, 2) if np.isfinite(ang) else None},
+            "working_pressure_angle_deg": round(float(v.working_pressure_angle_deg[k]), 3),
+            "ok": bool(v.ok(rules)[k]), "findings": findings(v, rules, k)}
