@@ -17,7 +17,7 @@ N = 4096
 T = np.linspace(0.0, 2 * np.pi, N, endpoint=False)
 
 
-def _circle_pair(radius, mate_radius, module=None, rules=CuttingRules()):
+def _circle_pair(radius, mate_radius, module=None, rules=None):
     a = radius + mate_radius
     r = np.full((1, N), radius)
     z = np.zeros((1, N))
@@ -25,7 +25,8 @@ def _circle_pair(radius, mate_radius, module=None, rules=CuttingRules()):
     mate = np.full((1, N), a - radius)
     g2 = shape_from_polar("g2", T, mate, z, z, np.full((1, N), radius / mate_radius), z)
     return assess_pair(PairShape("g1_g2", (g1, g2), np.zeros((1, N)),
-                                 module=None if module is None else np.array([module])), rules)
+                                 module=None if module is None else np.array([module])),
+                       rules or CuttingRules())
 
 
 def test_involute_circle_undercut_limit_is_the_textbook_17():

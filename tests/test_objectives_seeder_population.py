@@ -21,7 +21,10 @@ def test_population_evaluation_matches_the_single_design_job():
             continue
         # pressure angle: 720 body angles here, 3600 in the job
         tol = 2e-3 if "speed" in name else 0.05 if "pressure" in name else 1e-3
-        assert value == pytest.approx(ref.value, abs=tol), name
+        if name.startswith("cuttable_module"):  # smallest radius of curvature, 720 vs 3600
+            assert value == pytest.approx(ref.value, rel=0.02), name
+        else:
+            assert value == pytest.approx(ref.value, abs=tol), name
         assert ok == ref.ok
 
 

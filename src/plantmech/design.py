@@ -226,6 +226,40 @@ class GearChecks(_Strict):
     max_working_pressure_angle_deg: float = Field(45.0, gt=0, lt=90, allow_inf_nan=False)
 
 
+class Manufacturing(_Strict):
+    """What the workshop can cut (docs/manufacturing.md; Litvin & Fuentes ch. 9). The tool's
+    pressure angle and the working-pressure-angle limit are those of [gear_checks] (seeder) or
+    [limits] (transplanters, (xiv)); the transplanter's smallest module is its (xi)."""
+
+    addendum: float = Field(1.0, gt=0, le=2, allow_inf_nan=False,
+                            description="tooth addendum ha, x module (standard 1.0; stub 0.8)")
+    dedendum: float = Field(1.25, gt=0, le=3, allow_inf_nan=False,
+                            description="tooth dedendum hf, x module (above the addendum)")
+    min_cutter_teeth: int = Field(12, ge=6, le=100, description="smallest shaper cutter (teeth) "
+                                  "for concave spans and internal gears")
+    min_internal_difference: float = Field(
+        8.0, gt=0, le=50, allow_inf_nan=False,
+        description="smallest equivalent tooth-number difference of an internal mesh (ring - "
+                    "planet, or a concave span - its shaper cutter)")
+    min_top_land: float = Field(0.25, gt=0, le=1, allow_inf_nan=False,
+                                description="thinnest tooth tip, x module (pointed below)")
+    hub_modules: float = Field(1.5, ge=0, le=10, allow_inf_nan=False,
+                               description="material between the tooth roots and the bore, "
+                                           "x module")
+    min_bore_mm: float = Field(3.0, ge=0, le=200, allow_inf_nan=False,
+                               description="smallest bore diameter (mm)")
+    min_module_mm: float = Field(1.0, gt=0, le=50, allow_inf_nan=False,
+                                 description="smallest module the gears may have (strength), mm "
+                                             "(seeder; the transplanters use limits.min_module_mm)")
+
+    @model_validator(mode="after")
+    def _root_clearance(self):
+        if not self.dedendum > self.addendum:
+            raise ValueError(f"dedendum {self.dedendum:g} must exceed addendum "
+                             f"{self.addendum:g} (root clearance)")
+        return self
+
+
 class SeederDesign(_Strict):
     mechanism: Literal["sugarcane_seeder"]
     name: str = "unnamed design"
@@ -238,6 +272,7 @@ class SeederDesign(_Strict):
     operation: Operation = Operation()
     speed: SpeedLimits = SpeedLimits()
     gear_checks: GearChecks = GearChecks()
+    manufacturing: Manufacturing = Manufacturing()
 
     @model_validator(mode="after")
     def _something_to_do(self):
@@ -389,6 +424,7 @@ class _TransplanterBase(_Strict):
     seedling_box: SeedlingBox
     field: FieldSpec = FieldSpec()
     limits: TransplanterLimitsSpec = TransplanterLimitsSpec()
+    manufacturing: Manufacturing = Manufacturing()
 
 
 class TransplanterDesign(_TransplanterBase):

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from plantmech.design import SeederDesign
+from plantmech.gears.manufacturability import rules_for
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.seeder_inverse import (
     DwellSpec,
@@ -194,8 +195,7 @@ def _evaluate_forward(job: SeederForwardJob) -> None:
     job.travel_m_s = zero["zero_speed_travel_m_s"] if travel is None else float(travel)
     speeds = speed_by_section(res.carrier_angle, vel, job.travel_m_s, job.section_psi)
     checks += speed_checks(speeds, d.speed)
-    gear_metrics, g_checks = gear_checks(job.train, d.gear_checks.tool_pressure_angle_deg,
-                                         d.gear_checks.max_working_pressure_angle_deg)
+    gear_metrics, g_checks = gear_checks(job.train, rules_for(d))
     checks += g_checks
     job.metrics = {"attitude_deg": att, "speeds": speeds, "zero_speed": zero,
                    "ratio_range": ratio_ranges(res), **gear_metrics}
@@ -334,8 +334,7 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
         motion, section_psi, design.operation.carrier_speed_deg_s,
         design.operation.travel_speed_m_s, design.attitude, design.speed,
         gear2={**g, "radii": R2, "contact0": c2}, gear3={**g, "radii": R3, "contact0": c3},
-        tool_pressure_angle_deg=design.gear_checks.tool_pressure_angle_deg,
-        max_working_pressure_angle_deg=design.gear_checks.max_working_pressure_angle_deg)
+        rules=rules_for(design))
     return SeederPopulation(motion, ev, section_psi)
 
 

@@ -23,8 +23,8 @@ angle is within its limit.
   2 (rho_ring - rho_planet) / m >= dz_min.
 - **Hub**: below the root (dedendum hf m) at least ``hub_modules`` modules of material and a
   bore of ``min_bore_mm``: r_min - (hf + hub) m >= bore / 2.
-- **Tooth count**: between ``min_teeth`` and ``max_teeth`` on the perimeter P: P / (pi max) <=
-  m <= P / (pi min). And the design's own minimum module (strength), ``min_module_mm``.
+- **Tooth count**: at least ``min_teeth`` on the perimeter P: m <= P / (pi min). And the
+  design's own minimum module (strength), ``min_module_mm``: the window's lower end.
 - **Working pressure angle** alpha + max atan(|dr/dtheta| / r) <= limit: two rolling pitch
   curves share their tangent at the contact on the line of centres, so the angle between the
   contact normal and the line of motion of the driven point grows by atan(|r'| / r) (the
@@ -61,7 +61,6 @@ class CuttingRules:
     hub_modules: float = 1.5  # material below the root, x m
     min_bore_mm: float = 3.0
     min_teeth: int = 8
-    max_teeth: int = 400
     min_module_mm: float = 1.0  # strength: the design's smallest acceptable module
 
     @property
@@ -99,8 +98,8 @@ class CuttingRules:
         return max(self.undercut_teeth, self.pointed_teeth)
 
     def record(self) -> dict:
-        return {**asdict(self), "undercut_teeth": round(self.undercut_teeth, 3),
-                "pointed_teeth": round(self.pointed_teeth, 3)}
+        return {**asdict(self), "undercut_teeth": round(float(self.undercut_teeth), 3),
+                "pointed_teeth": round(float(self.pointed_teeth), 3)}
 
 
 @dataclass
@@ -158,6 +157,28 @@ class PairVerdict:
                                  <= rules.max_working_pressure_angle_deg) & np.isfinite(self.module)
 
 
+def rules_for(design, tool: dict | None = None) -> CuttingRules:
+    """The cutting rules of a design file: its [manufacturing] table, the tool pressure angle
+    and working-pressure-angle limit of [gear_checks] (seeder) or [limits] (transplanters:
+    (xiv), and (xi) as the smallest module, (xv) as the internal difference); ``tool``
+    (pressure_angle_deg, addendum, dedendum) overrides the tooth proportions (CLI options)."""
+    m = design.manufacturing
+    kw = {"addendum": m.addendum, "dedendum": m.dedendum, "min_cutter_teeth": m.min_cutter_teeth,
+          "min_internal_difference": m.min_internal_difference, "min_top_land": m.min_top_land,
+          "hub_modules": m.hub_modules, "min_bore_mm": m.min_bore_mm,
+          "min_module_mm": m.min_module_mm}
+    if design.mechanism == "sugarcane_seeder":
+        kw["pressure_angle_deg"] = design.gear_checks.tool_pressure_angle_deg
+        kw["max_working_pressure_angle_deg"] = design.gear_checks.max_working_pressure_angle_deg
+    else:
+        lim = design.limits
+        kw["max_working_pressure_angle_deg"] = lim.max_working_pressure_angle_deg
+        kw["min_module_mm"] = lim.min_module_mm
+        kw["min_internal_difference"] = lim.min_internal_teeth_difference
+    kw.update({k: v for k, v in (tool or {}).items() if v is not None})
+    return CuttingRules(**kw)
+
+
 def _argmin_angle(values: np.ndarray, angle: np.ndarray) -> np.ndarray:
     k = np.argmin(values, axis=1)
     ang = np.broadcast_to(angle, values.shape)
@@ -204,8 +225,7 @@ def assess_pair(pair: PairShape, rules: CuttingRules) -> PairVerdict:
     high = np.full(P, np.inf)
     for b in bounds.values():
         high = np.minimum(high, np.where(np.isfinite(b), b, np.inf))
-    perim = np.max([np.asarray(g.perimeter, dtype=float) for g in pair.gears], axis=0)
-    low = np.maximum(rules.min_module_mm, perim / (np.pi * rules.max_teeth))
+    low = np.full(P, rules.min_module_mm)
     if pair.module is not None:
         module = np.broadcast_to(np.asarray(pair.module, dtype=float), (P,)).copy()
         low = np.maximum(low, module)  # the fixed module must fit: window [m, m]
@@ -244,6 +264,18 @@ def shape_from_polar(name: str, t, rho, drho, ddrho, dphi=None, ddphi=None,
     rc = polar_curvature_radius(rho, drho, ddrho, dphi, ddphi)
     perimeter = np.sqrt(drho**2 + (rho * dphi) ** 2).sum(axis=1) * h
     return GearShape(name, -rc if internal else rc, rho, phi, perimeter, internal, toothed)
+
+
+def shape_pair(t, r, r1, r2, a, names=("gear", "mate")) -> tuple[tuple[GearShape, GearShape],
+                                                                 np.ndarray]:
+    """(gear, mate) shapes and the contact angle mu (P, N) (rad) of P external pairs from the
+    gear's radius r(t) and its t-derivatives ((P, N) each) at centre distance a ((P,) or
+    scalar, mm): the mate is rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2."""
+    r, r1, r2 = (np.atleast_2d(x) for x in (r, r1, r2))
+    a = np.reshape(np.asarray(a, dtype=float), (-1, 1))
+    gear = shape_from_polar(names[0], t, r, r1, r2)
+    mate = shape_from_polar(names[1], t, a - r, -r1, -r2, r / (a - r), a * r1 / (a - r) ** 2)
+    return (gear, mate), np.arctan(np.abs(r1) / r)
 
 
 def choose_module(perimeter, low, high) -> np.ndarray:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from plantmech.geometry.trajectory import ClosedTrajectory
-from plantmech.objectives import Check, range_check
+from plantmech.objectives import Check, limit_text, range_check
 
 
 def planning_checks(traj: ClosedTrajectory, sections: dict[str, int], limits) -> list[Check]:
@@ -162,46 +162,44 @@ def mate_curves(train, dense: int = 4096) -> dict:
     return out
 
 
-def gear_checks(train, tool_pressure_angle_deg: float, max_working_deg: float) -> tuple[dict, list]:
-    """Convexity of all four pitch curves, working-pressure-angle proxy of both pairs,
-    ratio extremes. Returns (metrics, checks)."""
-    from plantmech.geometry.periodic import RadiusCurve, convexity, pressure_angle_proxy
+def gear_checks(train, rules, samples: int = 3600) -> tuple[dict, list]:
+    """Can the train's four pitch curves be cut (``gears.manufacturability`` with ``rules``)?
+    For each pair (sun-gear 2, gear 3-planet): the largest module its curves allow
+    (``cuttable_module_<pair>``, at least the smallest module) and the working pressure angle.
+    The sun and planet are the mates of gears 2 and 3 (rho = a - r, phi' = r / (a - r)), as
+    in the population path (``seeder_population.pitch_curve_metrics``). Also reports the
+    convexity of gears 2 and 3. Returns (metrics, checks)."""
+    from plantmech.gears.manufacturability import (
+        PairShape,
+        assess_pair,
+        binding,
+        pair_record,
+        shape_pair,
+    )
+    from plantmech.geometry.periodic import convexity
 
-    conv = {"gear2": convexity(train.gear2), "gear3": convexity(train.gear3)}
-    for name, (ang, r) in mate_curves(train).items():
-        span = float(ang[-1])
-        closed = not (name == "sun" and train.dwell_start is not None and train.dwell_theta1 > 0)
-        if closed:  # closure was checked when the train was built; remove the residual
-            ang = ang * (2 * np.pi / span)
-            span = 2 * np.pi
-        curve = RadiusCurve.from_samples(ang[:-1] if closed else ang,
-                                         r[:-1] if closed else r, periodic=closed,
-                                         theta0=0.0, name=name)
-        c = convexity(curve, span=min(span, 2 * np.pi))
-        if not closed:
-            c["note"] = (f"meshing arc of {np.degrees(span):.2f} deg only; the rest is the "
-                         "toothless sector")
-        conv[name] = c
-    pressure = {}
+    metrics = {"convexity": {"gear2": convexity(train.gear2), "gear3": convexity(train.gear3)},
+               "manufacturing": {"rules": rules.record()}}
     checks = []
-    for pair, curve in (("sun_gear2", train.gear2), ("gear3_planet", train.gear3)):
-        mu, where = pressure_angle_proxy(curve)
-        work = tool_pressure_angle_deg + np.degrees(mu)
-        pressure[pair] = {"pitch_tangent_deviation_deg": float(np.degrees(mu)),
-                          "at_body_angle_deg": float(np.degrees(where)),
-                          "max_working_pressure_angle_deg": float(work)}
-        checks.append(range_check(f"working_pressure_angle_{pair}", work, None, max_working_deg,
-                                  "deg", f"tool {tool_pressure_angle_deg:g} deg + max "
-                                  "atan(|r'|/r) of the pitch curves"))
-    for name in ("gear2", "gear3", "sun", "planet"):
-        c = conv[name]
-        checks.append(Check(f"convex_{name}", len(c["concave_spans_deg"]), "0 concave spans",
-                            bool(c["convex"]), "spans",
-                            "" if c["convex"] else
-                            "smallest concave radius of curvature "
-                            f"{c['min_concave_radius_mm']:.2f} mm (needs a shaper cutter "
-                            "smaller than that)"))
-    return {"convexity": conv, "pressure_angle": pressure}, checks
+    for pair, curve, a, names in (("sun_gear2", train.gear2, train.a1, ("gear2", "sun")),
+                                  ("gear3_planet", train.gear3, train.a2, ("gear3", "planet"))):
+        t = curve.theta0 + np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+        shapes, mu = shape_pair(t, curve(t)[None], curve(t, 1)[None], curve(t, 2)[None], a, names)
+        v = assess_pair(PairShape(pair, shapes, mu), rules)
+        rec = pair_record(v, rules)
+        metrics["manufacturing"][pair] = rec
+        reason, gear, ang = binding(v)
+        checks.append(Check(f"cuttable_module_{pair}", float(v.module_high[0]),
+                            limit_text(rules.min_module_mm, None, "mm"), bool(v.module_ok[0]),
+                            "mm", f"largest module the pitch curves can be cut with: {reason}"
+                            + (f" at body angle {ang:.1f} deg" if np.isfinite(ang) else "")))
+        w = float(v.working_pressure_angle_deg[0])
+        checks.append(Check(f"working_pressure_angle_{pair}", w,
+                            limit_text(None, rules.max_working_pressure_angle_deg, "deg"),
+                            bool(w <= rules.max_working_pressure_angle_deg), "deg",
+                            f"tool {rules.pressure_angle_deg:g} deg + max atan(|r'|/r) of the "
+                            "pitch curves"))
+    return metrics, checks
 
 
 def ratio_ranges(result) -> dict:

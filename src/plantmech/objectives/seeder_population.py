@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from plantmech.geometry.periodic import polar_curvature_radius
 from plantmech.mechanisms.seeder_batch import PopulationMotion, periodic_spline_matrix
 from plantmech.objectives import relative_violation
 
@@ -93,31 +92,49 @@ def section_extreme(psi, values, start, end, largest: bool) -> np.ndarray:
 
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
                         dense: int = 2048, turn_scale=None) -> dict:
-    """Convexity and pressure-angle proxy of a gear (P, N radii) and of its mate at
-    centre distance a (P,), vectorized.
+    """Shape of a gear (P, N radii) and of its mate at centre distance a (P,), vectorized:
+    ``shapes`` (gear, mate) as ``manufacturability.GearShape`` (signed radius of curvature
+    on the material, radius, body angle, perimeter), ``mu`` (P, dense) the angle (rad)
+    between the pitch tangent and the normal to the radius vector at the contact, and per
+    curve ``min_kappa_r`` (min curvature x radius: 1 for a circle, negative where concave),
+    ``concave_spans`` and ``min_radius_mm``.
 
-    Signed curvature numerator of a polar curve (rho(t), phi(t)):
-    rho^2 phi'^3 + 2 rho'^2 phi' - rho rho'' phi' + rho rho' phi''; for the gear
-    phi = t; for the mate rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2.
-    ``min_kappa_r`` is min(curvature x radius) over the curve: 1 for a circle,
-    negative where the curve is concave; its check "convex_<gear>" passes at >= 0.
+    The mate is the polar curve rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2
+    in the gear's body angle t (one gear turn is one mate turn in both papers' closed pairs).
     """
+    from plantmech.gears.manufacturability import shape_pair
+
     t = contact0 + np.linspace(0.0, TWO_PI, dense, endpoint=False)
     R = np.atleast_2d(radii)
     r, r1, r2 = (R @ periodic_spline_matrix(nodes, t, nu, kind).T for nu in (0, 1, 2))
-    a = np.asarray(a, dtype=float).reshape(-1, 1)
-    out = {}
-    for name, rho, drho, ddrho, dphi, ddphi in (
-            ("gear", r, r1, r2, np.ones_like(r), np.zeros_like(r)),
-            ("mate", a - r, -r1, -r2, r / (a - r), a * r1 / (a - r) ** 2)):
-        kappa = 1.0 / polar_curvature_radius(rho, drho, ddrho, dphi, ddphi)
+    shapes, mu = shape_pair(t, r, r1, r2, a)
+    out = {"shapes": list(shapes), "mu": mu}
+    for shape in shapes:
+        kappa = 1.0 / shape.curvature_radius
         concave = kappa < 0
         starts = concave & ~np.roll(concave, 1, axis=1)
-        out[name] = {"min_kappa_r": (kappa * rho).min(axis=1),
-                     "concave_spans": starts.sum(axis=1) + (concave.all(axis=1)),
-                     "min_radius_mm": rho.min(axis=1)}
-    out["pressure_proxy_deg"] = np.degrees(np.arctan(np.abs(r1) / r)).max(axis=1)
+        out[shape.name] = {"min_kappa_r": (kappa * shape.radius).min(axis=1),
+                           "concave_spans": starts.sum(axis=1) + (concave.all(axis=1)),
+                           "min_radius_mm": shape.radius.min(axis=1)}
+    out["pressure_proxy_deg"] = np.degrees(mu).max(axis=1)
     return out
+
+
+def add_manufacturability(add, pair: str, pm: dict, names: tuple[str, str], rules) -> object:
+    """Add the manufacturability checks of one pair (from ``pitch_curve_metrics``) through
+    ``add(name, value, limit, upper, unit)``: the largest module its pitch curves can be cut
+    with (``cuttable_module_<pair>``, at least the smallest module) and the working pressure
+    angle. Returns the ``PairVerdict``."""
+    from plantmech.gears.manufacturability import CuttingRules, PairShape, assess_pair
+
+    rules = rules or CuttingRules()
+    for shape, name in zip(pm["shapes"], names, strict=True):
+        shape.name = name
+    v = assess_pair(PairShape(pair, tuple(pm["shapes"]), pm["mu"]), rules)
+    add(f"cuttable_module_{pair}", v.module_high, rules.min_module_mm, False, "mm")
+    add(f"working_pressure_angle_{pair}", v.working_pressure_angle_deg,
+        rules.max_working_pressure_angle_deg, True, "deg")
+    return v
 
 
 @dataclass
@@ -141,16 +158,15 @@ class PopulationEvaluation:
 def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
                         carrier_speed_deg_s: float = 360.0, travel_m_s=None,
                         attitude=None, speed=None, gear2: dict | None = None,
-                        gear3: dict | None = None, tool_pressure_angle_deg: float = 20.0,
-                        max_working_pressure_angle_deg: float = 45.0,
+                        gear3: dict | None = None, rules=None,
                         curve_samples: int = 720) -> PopulationEvaluation:
     """Every section-4.1 objective for all designs.
 
     section_psi: (6,) or (P, 6) carrier angles (rad) of a-f. travel_m_s: None =
     zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e).
     gear2/gear3: optional dicts(nodes, radii, contact0, kind) to add the pitch-curve
-    checks (convexity of gear and mate, working pressure angle), evaluated at
-    ``curve_samples`` body angles per curve.
+    manufacturability checks of each pair (``add_manufacturability`` with ``rules``, a
+    ``manufacturability.CuttingRules``), evaluated at ``curve_samples`` body angles per curve.
     """
     from plantmech.design import Attitude, SpeedLimits
 
@@ -199,13 +215,9 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
             continue
         pm = pitch_curve_metrics(g["nodes"], g["radii"], a, g.get("contact0", 0.0),
                                  g.get("kind", "spline"), dense=curve_samples)
-        metrics[label] = pm
-        add(f"working_pressure_angle_{pair}", tool_pressure_angle_deg + pm["pressure_proxy_deg"],
-            max_working_pressure_angle_deg, True, "deg")
         mate = "sun" if label == "gear2" else "planet"
-        for who, key in ((label, "gear"), (mate, "mate")):
-            # convexity as a continuous margin: min curvature x radius must stay >= 0
-            add(f"convex_{who}", pm[key]["min_kappa_r"], 0.0, False, "", note_scale=1.0)
+        add_manufacturability(add, pair, pm, (label, mate), rules)
+        metrics[label] = {k: v for k, v in pm.items() if k not in ("shapes", "mu")}
     values = np.stack(vals, axis=1)
     violation = np.stack(viol, axis=1)
     ok = violation <= 0.0

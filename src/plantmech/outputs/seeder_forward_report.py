@@ -32,7 +32,7 @@ def forward_summary(job) -> dict:
         "closure_error_rad": res.closure_error,
         "closure_restoration": [f.as_dict() for f in job.closure_fixes],
         "convexity": m["convexity"],
-        "pressure_angle": m["pressure_angle"],
+        "manufacturing": m["manufacturing"],
         "ratio_range": m["ratio_range"],
         "attitude_deg": m["attitude_deg"],
         "train": {
