@@ -8,7 +8,13 @@ def test_feasible_example_writes_everything(tmp_path, capsys):
     out = tmp_path / "o"
     rc = main(["inverse", str(EXAMPLES / "sugarcane_seeder.toml"), "--out", str(out),
                "--verify"])
-    assert rc == 0
+    # feasible, but a Table 1 check fails and the pitch curves cannot be cut
+    assert rc == 4
+    s_ = json.loads((out / "summary.json").read_text())
+    every = s_["trajectory_checks"] + s_["objectives"] + s_["manufacturing_checks"]
+    assert s_["verdict"]["failed"] == [c["name"] for c in every if not c["ok"]]
+    assert "cuttable_module_gear3_planet" in s_["verdict"]["failed"]
+    assert "verdict: NOT MET" in capsys.readouterr().out.strip().splitlines()[-1]
     s = json.loads((out / "summary.json").read_text())
     assert s["feasible"] is True
     for key in ("L1_mm", "L2_mm", "a1_mm", "a2_mm", "closure_error_rad", "trajectory_checks",

@@ -42,7 +42,7 @@ def write(tmp_path, closure="check", r2="[63.5, 63.5, 63.5, 63.5]", angles="", m
 def test_table4_example_writes_everything(tmp_path, capsys):
     out = tmp_path / "o"
     rc = main(["forward", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out)])
-    assert rc == 0
+    assert rc == 4  # Table 4's gears fail the manufacturability checks
     s = json.loads((out / "summary.json").read_text())
     for key in ("max_speed_seeding_m_s", "min_speed_return_static_m_s",
                 "min_speed_return_dynamic_m_s", "zero_speed_travel_m_s", "closure_error_rad",
@@ -76,7 +76,7 @@ def test_table4_example_writes_everything(tmp_path, capsys):
 def test_forward_of_a_trajectory_simulates_its_inverse_design(tmp_path):
     out = tmp_path / "o"
     assert main(["forward", str(EXAMPLES / "sugarcane_seeder.toml"), "--out", str(out),
-                 "--no-plots"]) == 0
+                 "--no-plots"]) == 4
     s = json.loads((out / "summary.json").read_text())
     assert s["source"] == "inverse design of the trajectory"
     assert s["deviation_from_trajectory_mm"]["max_tip_to_plan"] < 0.01
@@ -84,12 +84,18 @@ def test_forward_of_a_trajectory_simulates_its_inverse_design(tmp_path):
 
 def test_circular_train_file_runs(tmp_path):
     out = tmp_path / "o"
-    assert main(["forward", str(write(tmp_path)), "--out", str(out), "--no-plots"]) == 0
+    assert main(["forward", str(write(tmp_path)), "--out", str(out), "--no-plots"]) == 4
     s = json.loads((out / "summary.json").read_text())
     # equal circles: the arm keeps its orientation, the tip speed is L1 omega everywhere
     assert s["speeds_m_s"]["max_speed_static_m_s"] == pytest.approx(0.254 * 2 * np.pi, rel=1e-6)
     assert s["speeds_m_s"]["min_speed_static_m_s"] == pytest.approx(0.254 * 2 * np.pi, rel=1e-6)
     assert s["convexity"]["gear2"]["convex"] is True
+    # circles of 63.5 mm can be cut (module up to 2 r / 17.1 = 7.43 mm), the constant
+    # 1.596 m/s tip speed breaks the seeding peak limit (1.5 m/s): exit 4 names it
+    assert "seeding_peak_speed" in s["verdict"]["failed"]
+    assert not any(n.startswith(("cuttable", "working_pressure")) for n in s["verdict"]["failed"])
+    cut = {c["name"]: c["value"] for c in s["objectives"]}
+    assert cut["cuttable_module_sun_gear2"] == pytest.approx(2 * 63.5 / 17.097, rel=1e-3)
 
 
 @pytest.mark.parametrize("kwargs, expected", [

@@ -9,13 +9,13 @@ from tests.conftest import EXAMPLES
 
 def test_rice_example_writes_everything(tmp_path, capsys):
     out = tmp_path / "o"
-    assert main(["forward", str(EXAMPLES / "rice_transplanter.toml"), "--out", str(out)]) == 0
+    assert main(["forward", str(EXAMPLES / "rice_transplanter.toml"), "--out", str(out)]) == 4
     s = json.loads((out / "summary.json").read_text())
     for key in ("objectives", "trajectory_height_mm", "picking_angle_deg", "pushing_angle_deg",
                 "angle_difference_deg", "forward_inclination_deg", "hole_width_mm",
                 "module_mm", "stages_deg"):
         assert key in s, key
-    assert len(s["objectives"]) == 15  # (i)-(xii) and the tooth fit (xiii)-(xv)
+    assert len(s["objectives"]) == 16  # (i)-(xii), the tooth fit (xiii)-(xv), cuttable module
     assert set(s["stages_deg"]) == {"arm_I", "arm_II", "arm_III"}
     assert s["closure_error_rad"] < 1e-9
     assert max(s["arm_phase_deviation_mm"]) < 1e-6
@@ -30,7 +30,7 @@ def test_rice_example_writes_everything(tmp_path, capsys):
 def test_khv_example_runs(tmp_path):
     out = tmp_path / "o"
     assert main(["forward", str(EXAMPLES / "rice_transplanter_khv.toml"), "--out", str(out),
-                 "--no-plots"]) == 0
+                 "--no-plots"]) == 4
     s = json.loads((out / "summary.json").read_text())
     assert s["mechanism"] == "rice_transplanter_khv" and len(s["objectives"]) == 12
     na = [o for o in s["objectives"] if o["value"] is None]

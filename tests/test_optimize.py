@@ -155,7 +155,7 @@ def test_transplanter_tooth_fit_is_reported_and_only_required_on_request():
         cols = [b.names.index(n) for n in Transplanter.TOOTH_FIT]
         # the published lobe: spur-equivalent ~2 teeth, pressure angle 85 deg (test_internal)
         assert b.values[0, cols[0]] < 3 and b.values[0, cols[2]] > 80
-        assert b.G.shape[1] == p.n_ieq_constr == 15
+        assert b.G.shape[1] == p.n_ieq_constr == 16
         assert not b.ok[0, cols].any()  # reported as failing either way
         if required:
             assert (b.G[0, cols] > 0).all() and b.required[cols].all()

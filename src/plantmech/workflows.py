@@ -59,6 +59,13 @@ def run_seeder_inverse(design: SeederDesign) -> SeederInverseJob:
                                   res.point_carrier_angle, sections)
         checks = attitude_checks(att, design.attitude)
     summ = summary(res, design, planning, att, checks or [])
+    if res.feasible:  # can the designed pitch curves be cut?
+        from plantmech.objectives.seeder import gear_checks
+        from plantmech.verification import train_from_inverse
+
+        metrics, g_checks = gear_checks(train_from_inverse(res), rules_for(design))
+        summ["manufacturing"] = metrics["manufacturing"]
+        summ["manufacturing_checks"] = [c.as_dict() for c in g_checks]
     return SeederInverseJob(design, traj, res, summ)
 
 
@@ -476,7 +483,7 @@ def _gear_fit(design, pair, perimeter, teeth):
 
     if design.mechanism != "rice_transplanter" or not teeth:
         return None
-    return tooth_fit(pair, np.asarray(perimeter) / (np.pi * teeth))
+    return tooth_fit(pair, np.asarray(perimeter) / (np.pi * teeth), rules_for(design))
 
 
 # --- helpers for the optimizer ----------------------------------------------------------

@@ -155,18 +155,29 @@ def internal_perimeter(pair: LobedInternalPair) -> np.ndarray:
     return n * np.sum(0.5 * (integrand[:, 1:] + integrand[:, :-1]), axis=1) * h
 
 
-def tooth_fit(pair: LobedInternalPair, module) -> dict:
+def tooth_fit(pair: LobedInternalPair, module, rules=None) -> dict:
     """Can the pair carry teeth of ``module`` (mm, (P,) or scalar)? Vectorised over designs.
 
     - ``min_equivalent_teeth``: smallest z_eq = 2 |rho_c| / m over both pitch curves, rho_c
-      the radius of curvature (the equivalent spur gear of each span; below 8 no shaper
-      cutter fits a concave span and convex spans are undercut to pointed teeth);
-    - ``max_working_pressure_angle_deg``: 20 deg tool + max atan(|dr/dtheta| / r), shared
-      by both curves at the contact (internal: theta = p / n, so dr/dtheta = n dR/dp).
+      the radius of curvature (the equivalent spur gear of each span);
+    - ``max_working_pressure_angle_deg``: the tool's pressure angle + max atan(|dr/dtheta| / r),
+      shared by both curves at the contact (internal: theta = p / n, so dr/dtheta = n dR/dp);
+    - ``min_internal_teeth_difference``: z_int_eq - z_planet_eq where the ring curves around
+      the planet;
+    - ``cuttable_module_mm``: the largest module ``gears.manufacturability`` allows (undercut,
+      pointed teeth, shaper for the ring's spans, internal difference) with ``rules``
+      (a ``CuttingRules``; default: the standard 20 deg tooth system).
     Internal gear: polar curve (R, p / n); planet: (R - a, Q) with dQ/dp = R / (n (R - a)).
     """
+    from plantmech.gears.manufacturability import (
+        CuttingRules,
+        PairShape,
+        assess_pair,
+        shape_from_polar,
+    )
     from plantmech.geometry.periodic import polar_curvature_radius
 
+    rules = rules or CuttingRules()
     n = pair.lobes
     h = pair.p[1] - pair.p[0]
     ddR = np.gradient(pair.dR, h, axis=1)
@@ -175,18 +186,29 @@ def tooth_fit(pair: LobedInternalPair, module) -> dict:
     dQ = pair.R / (n * rp)
     ddQ = np.gradient(dQ, h, axis=1)
     rho_pl = polar_curvature_radius(rp, pair.dR, ddR, dQ, ddQ)
-    m = np.broadcast_to(np.asarray(module, dtype=float), (pair.R.shape[0],))[:, None]
-    z_int = (2 * np.abs(rho_int) / m).min(axis=1)
-    z_pl = (2 * np.abs(rho_pl) / m).min(axis=1)
-    mu = np.degrees(np.arctan(n * np.abs(pair.dR) / pair.R)).max(axis=1)
+    m = np.broadcast_to(np.asarray(module, dtype=float), (pair.R.shape[0],))
+    z_int = (2 * np.abs(rho_int) / m[:, None]).min(axis=1)
+    z_pl = (2 * np.abs(rho_pl) / m[:, None]).min(axis=1)
+    mu = np.arctan(n * np.abs(pair.dR) / pair.R)
     # internal engagement: where the ring curves around the planet (rho_int > 0) the local
     # pair is an internal spur pair z_int_eq / z_pl_eq; their difference must be large
     # enough against tip and trochoid interference (-inf where the planet curves less)
     k_int, k_pl = 1.0 / rho_int, 1.0 / rho_pl
     with np.errstate(divide="ignore", invalid="ignore"):
-        dz = np.where(k_pl > k_int, 2.0 / m * (1.0 / k_int - 1.0 / k_pl), -np.inf)
-    dz = np.where(k_int > 0, dz, np.inf).min(axis=1)
+        gap = np.where(k_pl > k_int, 2.0 * (1.0 / k_int - 1.0 / k_pl), -np.inf)  # mm
+    gap = np.where(k_int > 0, gap, np.inf)
+    p = pair.p[:-1]  # one lobe period, uniform, without its repeated end
+    one = np.ones_like(pair.R[:, :-1])
+    ring = shape_from_polar("internal", p, pair.R[:, :-1], pair.dR[:, :-1], ddR[:, :-1],
+                            one / n, 0 * one, internal=True)
+    ring.perimeter = n * ring.perimeter  # the lobe period is 1/n of the ring
+    planet = shape_from_polar("planet", p, rp[:, :-1], pair.dR[:, :-1], ddR[:, :-1],
+                              dQ[:, :-1], ddQ[:, :-1])
+    v = assess_pair(PairShape("internal_planet", (ring, planet), mu[:, :-1], gap[:, :-1],
+                              module=m), rules)
     return {"min_equivalent_teeth": np.minimum(z_int, z_pl),
             "internal_min_equivalent_teeth": z_int, "planet_min_equivalent_teeth": z_pl,
-            "min_internal_teeth_difference": dz,
-            "max_working_pressure_angle_deg": 20.0 + mu}
+            "min_internal_teeth_difference": gap.min(axis=1) / m,
+            "max_working_pressure_angle_deg": rules.pressure_angle_deg
+            + np.degrees(mu.max(axis=1)),
+            "cuttable_module_mm": v.module_high, "verdict": v}

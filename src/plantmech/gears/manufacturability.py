@@ -224,12 +224,11 @@ def assess_pair(pair: PairShape, rules: CuttingRules) -> PairVerdict:
     P = np.asarray(pair.mu).shape[0]
     high = np.full(P, np.inf)
     for b in bounds.values():
-        high = np.minimum(high, np.where(np.isfinite(b), b, np.inf))
+        high = np.minimum(high, np.where(np.isnan(b), np.inf, b))
     low = np.full(P, rules.min_module_mm)
     if pair.module is not None:
         module = np.broadcast_to(np.asarray(pair.module, dtype=float), (P,)).copy()
-        low = np.maximum(low, module)  # the fixed module must fit: window [m, m]
-        high = np.where(high >= module, np.minimum(high, module), high)
+        low = np.maximum(low, module)  # the fixed module must fit: m <= m_hi
     else:
         module = choose_module(pair.gears[0].perimeter, low, high)
     teeth = {g.name: np.where(np.isfinite(module), np.round(np.asarray(g.perimeter)

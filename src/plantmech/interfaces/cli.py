@@ -5,10 +5,9 @@
 ``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
 ``plantmech gears DESIGN.toml --out DIR``: teeth, checks and manufacturing files.
 
-Exit status: 0 done (forward: objectives are reported, met or not; optimize: a design
-meeting every objective was found), 2 invalid input (names the field, gear or angle),
-3 infeasible design, 4 optimize found no design meeting every objective (the closest
-one is written) / gears: a pair does not mesh without interference.
+Exit status (every command): 0 everything asked of the design is met (objectives, checks,
+manufacturability), 2 invalid input (names the field, gear or angle), 3 infeasible design,
+4 it ran but something is not met (printed last as the verdict, and in the JSON record).
 """
 
 from __future__ import annotations
@@ -19,8 +18,14 @@ import time
 from pathlib import Path
 
 from plantmech import __version__
-
-EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
+from plantmech.outputs.verdict import (
+    EXIT_INFEASIBLE,
+    EXIT_INPUT,
+    EXIT_NOT_MET,
+    EXIT_OK,
+    verdict,
+    verdict_line,
+)
 
 
 def _load(args, require_trajectory: bool = False):
@@ -73,13 +78,17 @@ def _inverse(args) -> int:
             sp.plot_ratios(out / "ratios.png", res)
             sp.plot_pitch_curves(out / "pitch_curves.png", res)
             written += [out / "attitude.png", out / "ratios.png", out / "pitch_curves.png"]
-    write_json(out / "summary.json", job.summary)
-    _print_summary(job.summary)
+    s = job.summary
+    v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
+                               s.get("manufacturing_checks", []), infeasible=not res.feasible)
+    write_json(out / "summary.json", s)
+    _print_summary(s)
     print("wrote: " + ", ".join(str(p) for p in written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
-        return EXIT_INFEASIBLE
-    return EXIT_OK
+    print(verdict_line(v, "feasible, every planning check and attitude objective met, "
+                          "pitch curves cuttable"))
+    return v["exit_code"]
 
 
 def _forward(args) -> int:
@@ -106,12 +115,15 @@ def _forward(args) -> int:
         print(f"error: {args.design}: [train]: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except InfeasibleDesign as exc:
+        v = exc.job.summary["verdict"] = verdict(infeasible=True)
         write_json(out / "summary.json", exc.job.summary)
         _print_summary(exc.job.summary)
         print("INFEASIBLE: the trajectory's inverse design has no gear train to simulate",
               file=sys.stderr)
+        print(verdict_line(v, ""))
         return EXIT_INFEASIBLE
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
+    v = job.summary["verdict"] = verdict(job.summary["objectives"])
     written = write_forward_outputs(out, job)
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
@@ -124,7 +136,8 @@ def _forward(args) -> int:
             written.append(out / name)
     _print_forward(job.summary)
     print("wrote: " + ", ".join(str(p) for p in written))
-    return EXIT_OK
+    print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
+    return v["exit_code"]
 
 
 def _forward_transplanter(args, design, out) -> int:
@@ -140,6 +153,7 @@ def _forward_transplanter(args, design, out) -> int:
         print(f"error: {args.design}: [{gear}]: {exc}", file=sys.stderr)
         return EXIT_INPUT
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
+    v = job.summary["verdict"] = verdict(job.summary["objectives"])
     written = write_transplanter_outputs(out, job)
     if not args.no_plots:
         from plantmech.outputs import transplanter_plots as tp
@@ -164,7 +178,8 @@ def _forward_transplanter(args, design, out) -> int:
           f"{max(dev):.1e} mm" if max(dev) < 1e-6 else
           f"  arms differ after the carrier phase shift by up to {max(dev):.2f} mm")
     print("wrote: " + ", ".join(str(p) for p in written))
-    return EXIT_OK
+    print(verdict_line(v, "every objective met, pitch curves cuttable"))
+    return v["exit_code"]
 
 
 def _optimize(args) -> int:
@@ -270,7 +285,8 @@ def _print_summary(s: dict) -> None:
         print(f"  {d['severity'].upper()} [{d['kind']}]{where}: {d['message']}")
     from plantmech.outputs.files import check_line
 
-    for c in s["trajectory_checks"] + s.get("objectives", []):
+    for c in s["trajectory_checks"] + s.get("objectives", []) + s.get("manufacturing_checks",
+                                                                        []):
         print(check_line(c))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "

@@ -272,7 +272,11 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
             "(circular internal pairs at 20 deg foul below 8, tests/test_teeth.py)")
         add("working_pressure_angle", gear_fit["max_working_pressure_angle_deg"], None,
             limits.max_working_pressure_angle_deg, "deg",
-            "(xiv) 20 deg tool + largest atan(|dr/dtheta| / r) of the pair")
+            "(xiv) tool pressure angle + largest atan(|dr/dtheta| / r) of the pair")
+        add("cuttable_module_margin", gear_fit["cuttable_module_mm"] - module, 0.0, None, "mm",
+            "largest module the pitch curves can be cut with (no undercut or pointed tooth, "
+            "a shaper for the ring, internal difference; docs/manufacturing.md) minus the "
+            "design's module (xi)")
     values = np.stack(vals, axis=1)
     violation = np.stack(viol, axis=1)
     stage_deg = {}

@@ -500,7 +500,8 @@ class Transplanter(DesignProblem):
     name = "transplanter"
     objective_names = ["seedling_block_skew", "hole_width", "angle_difference_offcentre"]
 
-    TOOTH_FIT = ("equivalent_teeth", "internal_teeth_difference", "working_pressure_angle")
+    TOOTH_FIT = ("equivalent_teeth", "internal_teeth_difference", "working_pressure_angle",
+                 "cuttable_module_margin")
 
     def __init__(self, design, radius_bound_mm: float = 6.0, samples: int = 360,
                  interference: bool = True, tooth_fit: bool = False):
@@ -536,7 +537,8 @@ class Transplanter(DesignProblem):
                                       "deg" if name.endswith("deg") else "mm", setters[name]))
         self.n_r = len(g.radii_mm)
         # (i)-(xii), plus (xiii)-(xv) where the train's tooth fit is computed
-        n_constr = 15 if design.mechanism == "rice_transplanter" and g.teeth else 12
+        n_constr = 12 + len(self.TOOTH_FIT) if (design.mechanism == "rice_transplanter"
+                                                and g.teeth) else 12
         super().__init__(design, variables, n_constr=n_constr)
 
     def evaluate_batch(self, X):
