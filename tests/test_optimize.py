@@ -69,11 +69,16 @@ def test_cli_transplanter_run_writes_a_record_and_never_touches_the_input(tmp_pa
     src.write_text(text)
     out = tmp_path / "opt"
     rc = main(["optimize", str(src), "--problem", "transplanter", "--out", str(out),
-               "--seed", "1", "--generations", "12", "--quiet"])
+               "--seed", "1", "--generations", "12", "--quiet", "--no-manufacturability"])
     assert src.read_text() == text
     rec = json.loads((out / "run.json").read_text())
     assert rc == (0 if rec["feasible"] else 4)
     assert rec["feasible"], "the published design is one step from feasible; 12 generations do"
+    assert rec["manufacturability_required"] is False
+    # the header of best.toml states the re-checked verdict, written after the re-check
+    head = (out / "best.toml").read_text().splitlines()[:4]
+    assert any("verdict: every objective met, re-checked at full resolution" in h for h in head)
+    assert rec["verdict"]["exit_code"] == rc == 0
     for key in ("problem", "algorithm", "seed", "evaluations", "wall_s", "feasible",
                 "objectives", "machine", "settings"):
         assert key in rec

@@ -231,6 +231,10 @@ class Manufacturing(_Strict):
     pressure angle and the working-pressure-angle limit are those of [gear_checks] (seeder) or
     [limits] (transplanters, (xiv)); the transplanter's smallest module is its (xi)."""
 
+    pressure_angle_deg: float | None = Field(
+        None, ge=14.5, le=30, allow_inf_nan=False,
+        description="tool pressure angle alpha, deg (standard 20, also 25; default: the "
+                    "seeder's gear_checks.tool_pressure_angle_deg, 20 for the transplanters)")
     addendum: float = Field(1.0, gt=0, le=2, allow_inf_nan=False,
                             description="tooth addendum ha, x module (standard 1.0; stub 0.8)")
     dedendum: float = Field(1.25, gt=0, le=3, allow_inf_nan=False,

@@ -175,6 +175,8 @@ def rules_for(design, tool: dict | None = None) -> CuttingRules:
         kw["max_working_pressure_angle_deg"] = lim.max_working_pressure_angle_deg
         kw["min_module_mm"] = lim.min_module_mm
         kw["min_internal_difference"] = lim.min_internal_teeth_difference
+    if m.pressure_angle_deg is not None:
+        kw["pressure_angle_deg"] = m.pressure_angle_deg
     kw.update({k: v for k, v in (tool or {}).items() if v is not None})
     return CuttingRules(**kw)
 

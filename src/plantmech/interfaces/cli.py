@@ -193,7 +193,8 @@ def _optimize(args) -> int:
         outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
                            generations=args.generations, pop=args.pop,
                            algorithm=args.algorithm, progress=not args.quiet,
-                           layer2_points=args.points, tooth_fit=args.tooth_fit,
+                           layer2_points=args.points,
+                           manufacturability=not args.no_manufacturability,
                            seeding_shifts=args.seeding_shifts,
                            seeding_point=args.seeding_point)
     except ValueError as exc:
@@ -202,7 +203,12 @@ def _optimize(args) -> int:
     for line in summary_lines(outcome.record):
         print(line)
     print("wrote: " + ", ".join(str(p) for p in outcome.written))
-    return EXIT_OK if outcome.feasible else EXIT_NOT_MET
+    v = outcome.record["verdict"]
+    print(verdict_line(v, "best.toml meets every objective"
+                       + (" and manufacturability check" if outcome.record.get(
+                           "manufacturability_required") else "")
+                       + ", re-checked at full resolution"))
+    return v["exit_code"]
 
 
 def _gears(args) -> int:
@@ -369,12 +375,15 @@ def build_parser() -> argparse.ArgumentParser:
                      "seeding point e (and f) on when, at e, a return speed above its "
                      "minimum needs a seeding speed above its limit (the three-bar bound, "
                      "docs/optimization.md); 'keep' never moves it")
-    opt.add_argument("--tooth-fit", action="store_true",
-                     help="also require the pitch-curve shape checks (transplanter: tooth "
-                     "fit (xiii)-(xv); seeder layer 2: convexity and working pressure "
-                     "angle); without it they are reported")
+    opt.add_argument("--no-manufacturability", action="store_true",
+                     help="only report the pitch-curve manufacturability checks (cuttable "
+                     "module, working pressure angle, tooth fit) instead of requiring them; "
+                     "recorded in run.json. By default every problem requires them")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
+    from plantmech.interfaces import design_cli
+
+    design_cli.register(sub)
     return p
 
 

@@ -31,7 +31,7 @@ class JobOutcome:
     written: list[Path]
 
 
-def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = False):
+def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = True):
     from plantmech.optimize import problems as P
 
     if name == "transplanter":
@@ -88,10 +88,14 @@ def with_train(design, points: int = 16):
 def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
              generations: int | None = None, pop: int | None = None,
              algorithm: str | None = None, progress: bool = True,
-             layer2_points: int = 16, tooth_fit: bool = False,
+             layer2_points: int = 16, manufacturability: bool = True,
              seeding_shifts: int = 0, seeding_point: str = "auto") -> JobOutcome:
+    """Run one problem; ``manufacturability`` (default) makes the pitch-curve manufacturability
+    checks constraints (``--no-manufacturability`` only reports them; recorded in run.json).
+    best.toml is written after its full-resolution re-check (``outputs.optimization_report.
+    write_run``)."""
     from plantmech.optimize.runner import run
-    from plantmech.outputs.optimization_report import write_run
+    from plantmech.outputs.optimization_report import run_verdict, write_run
 
     placement = None
     if (name in ("seeder-layer1", "seeder-layered", "seeder-joint") and seeding_point == "auto"
@@ -101,55 +105,60 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         if progress:
             print(placement["reason"])
 
+    def recheck(path):
+        from plantmech.design import load_design
+
+        return verify(load_design(path), manufacturability)
+
     algo0, gen0, pop0 = DEFAULTS.get(name, ("nsga2", 30, 40))
     user_gen, user_pop = generations, pop
     algorithm, generations, pop = algorithm or algo0, generations or gen0, pop or pop0
+    extra = {"manufacturability_required": manufacturability}
+    if placement is not None:
+        extra["seeding_point"] = placement
     if name != "seeder-layered":
-        extra = {}
         if name == "seeder-layer1":
             _needs_trajectory(design, name)
             problem, res, extra["stages"] = layer1_staged(
                 design, algorithm, seed, generations, pop, progress, shifts=seeding_shifts)
-        elif name == "transplanter" and tooth_fit:
+        elif name == "transplanter" and manufacturability:
             problem, res, extra["stages"] = transplanter_tooth_fit_staged(
                 design, algorithm, seed, generations, pop, progress)
         else:
-            problem = make_problem(design, name, layer2_points, tooth_fit)
+            problem = make_problem(design, name, layer2_points, manufacturability)
             res = run(problem, algorithm, seed, generations, pop, progress,
                       stop_when_feasible=algorithm != "nsga2")
-        if placement is not None:
-            extra["seeding_point"] = placement
-        written = write_run(out, res, problem, design_input)
-        rec = _verified(out, dict(res.record(), **extra), tooth_fit)
+        written, rec = write_run(out, res, problem, design_input, recheck, extra)
         return JobOutcome(rec["feasible"], rec, written)
     # layered: layer 1, then layer 2 on the resampled gears of layer 1's best trajectory
     _needs_trajectory(design, name)
     from plantmech.optimize import problems as P
+    from plantmech.outputs.files import write_json
 
     l1_dir, l2_dir = out / "layer1", out / "layer2"
     l1_dir.mkdir(exist_ok=True)
     l2_dir.mkdir(exist_ok=True)
-    handoff = Layer2Handoff(seed, layer2_points, tooth_fit)
+    handoff = Layer2Handoff(seed, layer2_points, manufacturability)
     p1, r1, stages = layer1_staged(design, algorithm, seed, generations, pop, progress,
                                    shifts=seeding_shifts, hook=handoff)
-    written = write_run(l1_dir, r1, p1, design_input)
-    d1 = p1.decode(r1.best_x)
+    written, rec1 = write_run(l1_dir, r1, p1, design_input, recheck, dict(stages=stages))
+    d1 = p1.decode(np.asarray(rec1["best_x"]))
     try:
         d2 = with_train(d1.model_copy(update={"train": None}), layer2_points)
     except ValueError:  # layer 1's best fails its full-resolution inverse design
-        rec = _verified(l1_dir, dict(r1.record(), stages=stages), tooth_fit)
+        rec = dict(rec1, **extra)
         rec["note"] = ("layer 2 not run: layer 1's best trajectory has no feasible inverse "
                        "design at full resolution (layer1/run.json, verified_full_resolution)")
         rec["feasible"] = False
+        rec["verdict"] = run_verdict(rec)
         (out / "best.toml").write_text((l1_dir / "best.toml").read_text(), encoding="utf-8")
-        from plantmech.outputs.files import write_json
-
         write_json(out / "run.json", rec)
         return JobOutcome(False, rec, written + [out / "best.toml", out / "run.json"])
-    p2 = P.SeederLayer2(d2, gear_shape=tooth_fit)
+    p2 = P.SeederLayer2(d2, gear_shape=manufacturability)
     r2 = run(p2, "nsga2", seed, user_gen or DEFAULTS["seeder-layer2"][1],
              user_pop or DEFAULTS["seeder-layer2"][2], progress)
-    written += write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)")
+    w2, rec2 = write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)", recheck)
+    written += w2
     (out / "best.toml").write_text((l2_dir / "best.toml").read_text(), encoding="utf-8")
     rec = {
         "problem": "seeder-layered",
@@ -163,14 +172,17 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         "handoff": handoff.record(),
         # the final design: layer 2 holds every section-4.1 objective (and the deviation
         # bound) as constraints; Table 1 bounds the planned path, i.e. layer 1's design
-        "feasible": bool(r2.feasible and _table1_met(r1)),
-        "objectives": r2.record()["objectives"],
-        "layer1": dict(r1.record(), stages=stages),
-        "layer2": r2.record(),
+        "feasible": bool(rec2["feasible"] and _table1_met(r1)),
+        "objectives": rec2["objectives"],
+        "verified_full_resolution": rec2.get("verified_full_resolution"),
+        "layer1": rec1,
+        "layer2": rec2,
+        **extra,
     }
-    if placement is not None:
-        rec["seeding_point"] = placement
-    rec = _verified(out, rec, tooth_fit)
+    if "tradeoff" in rec2:
+        rec["tradeoff"] = rec2["tradeoff"]
+    rec["verdict"] = run_verdict(rec)
+    write_json(out / "run.json", rec)
     for f in ("history.csv", "pareto.csv"):
         (out / f).write_text((l2_dir / f).read_text(), encoding="utf-8")
     written += [out / "best.toml", out / "run.json", out / "history.csv", out / "pareto.csv"]
@@ -398,17 +410,6 @@ def verify(design, tooth_fit: bool = True) -> dict:
             "objectives": objs}
 
 
-def _verified(out: Path, record: dict, tooth_fit: bool = True) -> dict:
-    from plantmech.design import load_design
-    from plantmech.outputs.files import write_json
-
-    v = verify(load_design(out / "best.toml"), tooth_fit)
-    record["verified_full_resolution"] = v
-    record["feasible"] = bool(record["feasible"] and v["all_met"])
-    write_json(out / "run.json", record)
-    return record
-
-
 def summary_lines(record: dict) -> list[str]:
     lines = [f"{record['problem']}: {record['algorithm']}, seed {record['seed']}, "
              f"{record['evaluations']} evaluations, {record['wall_s']:.1f} s"
@@ -424,7 +425,9 @@ def summary_lines(record: dict) -> list[str]:
         lines.append("full-resolution re-check of best.toml: " + (
             "every objective met" if v["all_met"] else "FAILS " + ", ".join(
                 o["name"] for o in v["objectives"] if not o["ok"] and o.get("required", True))))
-    lines.append("every objective met" if record["feasible"]
-                 else "NOT every objective met: the closest design is written")
+    t = record.get("tradeoff")
+    if t is not None and not record["feasible"]:
+        lines.append("trade-off (tradeoff.csv): " + t["conflict"])
+    return lines
     return lines
 

@@ -94,7 +94,9 @@ class DesignProblem(Problem):
 
     def remember(self, X, b: Batch):
         """Keep the best design ever evaluated (population-based algorithms such as
-        CMA-ES do not keep an archive): feasible first, then least violation."""
+        CMA-ES do not keep an archive): feasible first, then least violation; and the
+        trade-off between the agronomic objectives and manufacturability (``tradeoff``)."""
+        self._remember_tradeoff(X, b)
         viol = b.violation
         score = np.where(b.feasible, -1.0 + 1e-3 * np.tanh(
             np.where(np.isfinite(b.F), b.F, 1e6).sum(axis=1) / 100.0), viol)
@@ -103,6 +105,40 @@ class DesignProblem(Problem):
             self.best_score = float(score[k])
             self.best_x = np.array(X[k], dtype=float)
             self.best_ok = dict(zip(b.names, b.ok[k].tolist(), strict=True))
+
+
+    def _remember_tradeoff(self, X, b: Batch, keep: int = 400):
+        """Archive of the non-dominated (agronomic violation, manufacturability violation)
+        pairs over every evaluated design: the summed relative violations of the
+        objectives and of the gear-shape checks (``is_gear_shape_check``), whether the
+        latter are required or only reported."""
+        n = min(b.G.shape[1], len(b.names))
+        gear = np.array([is_gear_shape_check(nm) for nm in b.names[:n]])
+        if not gear.any():
+            return
+        raw = np.where(b.ok[:, :n], 0.0, 1.0)  # reported-only columns carry no violation
+        G = np.where(np.isfinite(b.G[:, :n]), np.maximum(b.G[:, :n], 0.0), 10.0)
+        req = b.required[:n] if b.required is not None else np.ones(n, bool)
+        G = np.where(gear & ~req, raw, G)
+        agro = G[:, ~gear].sum(axis=1) + np.maximum(b.G[:, n:], 0).sum(axis=1)
+        manuf = G[:, gear].sum(axis=1)
+        old = getattr(self, "tradeoff", None)
+        if old is not None:
+            X = np.vstack([old["X"], X])
+            agro, manuf = np.r_[old["agronomic"], agro], np.r_[old["manufacturing"], manuf]
+        front = _non_dominated(agro, manuf)[:keep]
+        self.tradeoff = {"X": np.asarray(X)[front], "agronomic": agro[front],
+                         "manufacturing": manuf[front],
+                         "manufacturing_checks": [nm for nm, g in zip(b.names[:n], gear,
+                                                                       strict=True) if g]}
+
+
+def _non_dominated(f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
+    """Indices of the non-dominated points of two minimized values, by f1 ascending."""
+    order = np.lexsort((f2, f1))
+    best = np.minimum.accumulate(f2[order])
+    keep = np.r_[True, f2[order][1:] < best[:-1]]
+    return order[keep]
 
 
 def _reported_only(viol, limits, cols):
@@ -312,9 +348,9 @@ class SeederLayer1(DesignProblem):
 
 
 def is_gear_shape_check(name: str) -> bool:
-    """Pitch-curve shape checks (convexity, working pressure angle, tooth fit): required by
-    the optimizers only on request (``--tooth-fit``), always reported."""
-    return (name.startswith(("convex_", "working_pressure_angle"))
+    """Pitch-curve manufacturability checks (cuttable module, working pressure angle, tooth
+    fit): required by the optimizers unless ``--no-manufacturability``, always reported."""
+    return (name.startswith(("convex_", "working_pressure_angle", "cuttable_module"))
             or name in Transplanter.TOOTH_FIT)
 
 
@@ -348,7 +384,8 @@ class SeederLayer2(DesignProblem):
                 variables.append(Variable(f"r_{gear[-1]}_{k + 1}", float(r), max(r - bound_mm, 1.0),
                                           r + bound_mm, "mm", apply))
         self.n2 = len(d.train.gear2.radii_mm)
-        super().__init__(d, variables, n_constr=12 + 1 + 1)
+        # 6 objectives + 2 x 2 manufacturability rows, deviation, closure
+        super().__init__(d, variables, n_constr=10 + 1 + 1)
         self._reference = None  # where the base train passes the section points
 
     def evaluate_batch(self, X):
@@ -413,7 +450,8 @@ class SeederJoint(DesignProblem):
             for k in range(points):
                 variables.append(Variable(f"dr_{gear}_{k + 1}", 0.0, -radius_bound_mm,
                                           radius_bound_mm, "mm", lambda d, v: None))
-        super().__init__(design, variables, n_constr=1 + 7 + 12 + 1)  # noqa: E501
+        # Table 1 gate, 7 layer-1 rows, 6 objectives + 2 x 2 manufacturability rows, deviation
+        super().__init__(design, variables, n_constr=1 + 7 + 10 + 1)
 
     def decode(self, x):
         """Trajectory from the offsets; [train] resampled from its inverse design with the

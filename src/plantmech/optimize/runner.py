@@ -55,6 +55,7 @@ class RunResult:
     first_feasible_s: float | None
     first_feasible_evaluations: int | None
     settings: dict = field(default_factory=dict)
+    tradeoff: dict | None = None  # DesignProblem.tradeoff: agronomic vs manufacturability
 
     @property
     def feasible(self) -> bool:
@@ -163,6 +164,7 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
     t0 = time.perf_counter()
     problem.evaluations = 0
     problem.best_score, problem.best_x = np.inf, None
+    problem.tradeoff = None
     rec = _Recorder(problem, bar, t0, hook)
     termination = get_termination("n_gen", generations)
     if stop_when_feasible or hook is not None:
@@ -198,7 +200,8 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
                                      "upper": v.upper, "unit": v.unit}
                                     for v in problem.variables],
                       "objectives_minimized": problem.objective_names,
-                      "stop_when_feasible": stop_when_feasible})
+                      "stop_when_feasible": stop_when_feasible},
+                     getattr(problem, "tradeoff", None))
 
 
 def _pick_best(b: Batch) -> int:

@@ -20,16 +20,43 @@ def design_toml(design, header: str = "") -> str:
     return ("\n".join(lines) + "\n\n" if lines else "") + text
 
 
-def write_run(out: Path, result, problem, design_input: str) -> list[Path]:
-    """Write every file of one run into ``out`` (created by the caller)."""
-    best_design = problem.decode(result.best_x)
-    rec = result.record()
+def write_run(out: Path, result, problem, design_input: str, recheck=None,
+              extra: dict | None = None) -> tuple[list[Path], dict]:
+    """Write every file of one run into ``out`` (created by the caller); returns (files,
+    run record). ``recheck(path) -> {all_met, objectives}`` re-checks a written design file
+    at full resolution: the best design and, if it fails, the next candidates of the final
+    Pareto set, in order, until one passes (at most 5); ``best.toml`` is written after it,
+    its header stating the re-checked verdict, and the record's ``feasible`` is the
+    re-checked one."""
+    rec = dict(result.record(), **(extra or {}))
+    best_x, verified, tried = result.best_x, None, 0
+    if recheck is not None:
+        partial = out / "best.toml.partial"
+        for x in _candidates(result):
+            tried += 1
+            partial.write_text(design_toml(problem.decode(x)), encoding="utf-8")
+            v = recheck(partial)
+            if verified is None or v["all_met"]:
+                best_x, verified = x, v
+            if v["all_met"]:
+                break
+        partial.unlink()
+        rec["verified_full_resolution"] = dict(verified, candidates_rechecked=tried)
+        rec["feasible"] = bool(result.feasible and verified["all_met"])
+    rec["best_x"] = [float(v) for v in best_x]
+    status = ("every objective met, re-checked at full resolution" if rec["feasible"]
+              else "NOT every objective met" + (
+                  ": the full-resolution re-check fails " + ", ".join(
+                      o["name"] for o in verified["objectives"]
+                      if not o["ok"] and o.get("required", True))
+                  if verified is not None and not verified["all_met"] else
+                  " (the closest design found)"))
     header = (f"Best design of `plantmech optimize --problem {result.problem}` "
               f"(algorithm {result.algorithm}, seed {result.seed}, {result.evaluations} "
-              f"evaluations, {result.wall_s:.1f} s)\nfrom {design_input}; every objective "
-              f"met: {result.feasible}; see run.json")
-    (out / "best.toml").write_text(design_toml(best_design, header), encoding="utf-8")
-    write_json(out / "run.json", rec)
+              f"evaluations, {result.wall_s:.1f} s)\nfrom {design_input}\nverdict: {status}; "
+              "see run.json")
+    (out / "best.toml").write_text(design_toml(problem.decode(best_x), header),
+                                   encoding="utf-8")
     hist = result.history
     write_csv(out / "history.csv", {k: np.array([h[k] for h in hist], dtype=float)
                                     for k in ("generation", "evaluations", "best_violation",
@@ -41,8 +68,85 @@ def write_run(out: Path, result, problem, design_input: str) -> list[Path]:
         cols[n] = result.pareto_f[:, i]
     write_csv(out / "pareto.csv", cols)
     written = [out / "best.toml", out / "run.json", out / "history.csv", out / "pareto.csv"]
+    if result.tradeoff is not None:
+        rec["tradeoff"] = tradeoff_record(result.tradeoff, problem)
+        written += write_tradeoff(out, result.tradeoff, problem)
+    rec["verdict"] = run_verdict(rec)
+    write_json(out / "run.json", rec)
     written += plot_run(out, result, problem)
-    return written
+    return written, rec
+
+
+def run_verdict(rec: dict) -> dict:
+    """The run's verdict from its full-resolution re-check (else the optimizer's own rows):
+    the required checks that fail."""
+    from plantmech.outputs.verdict import verdict
+
+    v = rec.get("verified_full_resolution")
+    rows = v["objectives"] if v is not None else rec["objectives"]
+    failed = [o["name"] for o in rows if not o["ok"] and o.get("required", True)]
+    if not rec["feasible"] and not failed:
+        failed = ["optimizer: no design met every objective"]
+    return verdict(problems=failed)
+
+
+def _candidates(result, most: int = 5):
+    """The best design, then the final Pareto set's other members (nearest first)."""
+    out = [result.best_x]
+    px = np.atleast_2d(result.pareto_x)
+    order = np.argsort(np.linalg.norm(px - result.best_x, axis=1))
+    for k in order:
+        if len(out) >= most:
+            break
+        if not np.allclose(px[k], result.best_x):
+            out.append(px[k])
+    return out
+
+
+def tradeoff_record(t: dict, problem) -> dict:
+    """What conflicts: the front of (agronomic, manufacturability) violation and, at its two
+    ends, which checks fail (the design closest to the agronomic objectives: its failing
+    manufacturability checks; the most manufacturable design: its failing objectives)."""
+    from plantmech.optimize.problems import is_gear_shape_check
+
+    rec = {"front": [{"agronomic_violation": round(float(a), 6),
+                      "manufacturing_violation": round(float(m), 6)}
+                     for a, m in zip(t["agronomic"], t["manufacturing"], strict=True)]}
+    ends = {"best_agronomic": int(np.argmin(t["agronomic"])),
+            "best_manufacturing": int(np.argmin(t["manufacturing"]))}
+    b = problem.evaluate_batch(t["X"][list(ends.values())])
+    for row, (key, _) in enumerate(ends.items()):
+        rec[key] = {
+            "agronomic_violation": float(t["agronomic"][ends[key]]),
+            "manufacturing_violation": float(t["manufacturing"][ends[key]]),
+            "fails": [n for n, ok in zip(b.names, b.ok[row], strict=True) if not ok]}
+    both = [n for n in rec["best_agronomic"]["fails"] if is_gear_shape_check(n)]
+    rec["conflict"] = (
+        "none: one design meets both" if t["agronomic"].min() == 0 and
+        t["manufacturing"][np.argmin(t["agronomic"])] == 0 else
+        f"the designs closest to every objective fail {', '.join(both) or 'no gear check'}; "
+        "the most manufacturable fail " + (", ".join(
+            n for n in rec["best_manufacturing"]["fails"] if not is_gear_shape_check(n))
+            or "no objective"))
+    return rec
+
+
+def write_tradeoff(out: Path, t: dict, problem) -> list[Path]:
+    """tradeoff.csv (the front) and tradeoff.png."""
+    import matplotlib.pyplot as plt
+
+    write_csv(out / "tradeoff.csv", {"agronomic_violation": t["agronomic"],
+                                     "manufacturing_violation": t["manufacturing"]})
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    ax.plot(t["agronomic"], t["manufacturing"], "o-", ms=4, color="tab:red")
+    ax.set_xlabel("agronomic objectives: summed relative violation (0 = all met)")
+    ax.set_ylabel("manufacturability: summed relative violation (0 = cuttable)")
+    ax.set_title(f"Trade-off over every evaluated design: {problem.name}", fontsize=10)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "tradeoff.png", dpi=120)
+    plt.close(fig)
+    return [out / "tradeoff.csv", out / "tradeoff.png"]
 
 
 def plot_run(out: Path, result, problem) -> list[Path]:

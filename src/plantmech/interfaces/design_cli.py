@@ -1,0 +1,53 @@
+"""``plantmech design DESIGN.toml --out DIR``: the main job, trajectory (or parameter set) to
+workshop files with one verdict (``plantmech.pipeline``)."""
+
+from __future__ import annotations
+
+import sys
+
+
+def register(sub) -> None:
+    from plantmech.interfaces.cli import _number
+
+    p = sub.add_parser(
+        "design", help="the whole job: check, optimize every objective and manufacturability, "
+        "cut the teeth, write the workshop files, one verdict")
+    p.add_argument("design", help="design file (TOML): a seeder trajectory or [train], or a "
+                   "transplanter parameter set; never overwritten")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the optimizer "
+                   "(same seed, same result)")
+    p.add_argument("--generations", type=_number(int, 1, strict=False), default=None,
+                   help="optimizer generations (default per problem, docs/optimization.md)")
+    p.add_argument("--module", type=_number(float, 0.0), default=None,
+                   help="tooth module, mm (default: the largest the pitch curves allow)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from plantmech.interfaces.cli import _load
+    from plantmech.outputs.verdict import EXIT_INPUT, verdict_line
+    from plantmech.pipeline import run_design
+
+    loaded = _load(args)
+    if loaded is None:
+        return EXIT_INPUT
+    design, out = loaded
+    try:
+        outcome = run_design(design, out, str(args.design), seed=args.seed,
+                             progress=not args.quiet, generations=args.generations,
+                             module=args.module)
+    except ValueError as exc:
+        print(f"error: {args.design}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    rec = outcome.record
+    print(f"{rec['name']}: {rec['wall_s']:.1f} s; wrote {len(outcome.written)} files to {out}")
+    for c in rec["final_checks"]:
+        if not c["ok"] and c.get("required", True):
+            print(f"  FAIL {c['name']}: {c.get('value')} {c.get('unit', '')} "
+                  f"(limit {c.get('limit')})")
+    v = outcome.verdict
+    print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
+                          "the workshop files are written (design.toml, gears/)"))
+    return v["exit_code"]

@@ -1,0 +1,124 @@
+"""The main job, ``plantmech design``: from a planned trajectory (or a published parameter set)
+to gears a workshop can cut, with one verdict.
+
+Job wiring only (no physics): check the design with the full-resolution model; if anything is
+not met, optimize it with every objective and the manufacturability checks required
+(``optimize.jobs.optimize``: the seeder's layered problem from a trajectory, its layer 2 from a
+[train], the transplanter's problem); cut the teeth of the final design when its pitch curves
+pass the manufacturability checks (``workflows.run_gears``), never for curves that fail them;
+write ``design.toml`` (the final design), ``summary.json`` and the subdirectories ``optimize/``
+and ``gears/``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from plantmech.outputs.verdict import verdict
+
+
+@dataclass
+class DesignOutcome:
+    record: dict
+    written: list[Path] = field(default_factory=list)
+
+    @property
+    def verdict(self) -> dict:
+        return self.record["verdict"]
+
+
+def problem_for(design) -> str:
+    """The optimization problem that designs this file's mechanism."""
+    if design.mechanism != "sugarcane_seeder":
+        return "transplanter"
+    return "seeder-layered" if design.train is None else "seeder-layer2"
+
+
+def _failed(check: dict) -> list[str]:
+    return [o["name"] for o in check["objectives"] if not o["ok"] and o.get("required", True)]
+
+
+def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bool = True,
+               generations: int | None = None, module: float | None = None,
+               say=print) -> DesignOutcome:
+    """Run the whole job into ``out`` (an existing, empty directory)."""
+    from plantmech.optimize.jobs import optimize, verify
+    from plantmech.outputs.files import write_json
+    from plantmech.outputs.optimization_report import design_toml
+
+    t0 = time.perf_counter()
+    stages, written = [], []
+    rec = {"name": design.name, "mechanism": design.mechanism, "input": design_input,
+           "seed": seed, "stages": stages}
+
+    def stage(name: str, **info):
+        info = {"stage": name, "elapsed_s": round(time.perf_counter() - t0, 2), **info}
+        stages.append(info)
+        return info
+
+    say("[1/3] checking the design at full resolution (objectives and manufacturability)")
+    start = design if design.mechanism != "sugarcane_seeder" or design.train is not None \
+        else None  # a trajectory alone is no gear train yet: optimize it
+    final, check = design, None
+    if start is not None:
+        check = verify(design, True)
+        stage("check", all_met=check["all_met"], failed=_failed(check))
+    if check is not None and check["all_met"]:
+        say("      every objective and manufacturability check met: no optimization needed")
+    else:
+        name = problem_for(design)
+        if check is not None:
+            say(f"      not met: {', '.join(_failed(check))}")
+        say(f"[2/3] optimizing ({name}, seed {seed}; every objective and manufacturability "
+            "required)")
+        opt_dir = out / "optimize"
+        opt_dir.mkdir()
+        outcome = optimize(design, name, opt_dir, design_input, seed=seed,
+                           generations=generations, progress=progress,
+                           manufacturability=True)
+        written += outcome.written
+        from plantmech.design import load_design
+
+        final = load_design(opt_dir / "best.toml")
+        check = outcome.record.get("verified_full_resolution") or verify(final, True)
+        stage("optimize", problem=name, feasible=outcome.feasible,
+              evaluations=outcome.record.get("evaluations"),
+              failed=_failed(check), tradeoff=outcome.record.get("tradeoff", {}).get(
+                  "conflict"))
+        say(f"      {'met' if outcome.feasible else 'NOT met'} after "
+            f"{outcome.record.get('evaluations')} evaluations"
+            + ("" if outcome.feasible else f": {', '.join(_failed(check)) or 'see run.json'}"))
+    header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
+              "see summary.json")
+    (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")
+    written.append(out / "design.toml")
+    failed = _failed(check)
+    cuttable = not any(n.startswith(("cuttable_module", "working_pressure_angle",
+                                     "equivalent_teeth", "internal_teeth_difference"))
+                       for n in failed)
+    gears = None
+    if cuttable:
+        say("[3/3] cutting the teeth, checking the mesh, writing the workshop files")
+        from plantmech.workflows import run_gears
+
+        gdir = out / "gears"
+        gdir.mkdir()
+        gears = run_gears(final, gdir, module=module)
+        written += [gdir / f for f in gears["files"]] + [gdir / "verification.json"]
+        gv = gears.get("verdict")
+        gears_ok = gv["ok"] if isinstance(gv, dict) else gears.get("all_pairs_mesh", False)
+        stage("gears", ok=gears_ok, files=len(gears["files"]))
+        if not gears_ok:
+            failed.append("gears: see gears/verification.json")
+    else:
+        say("[3/3] teeth not cut: the pitch curves fail the manufacturability checks")
+        stage("gears", ok=False, skipped="the pitch curves fail the manufacturability checks")
+        rec["gears_skipped"] = True
+    rec["final_checks"] = check["objectives"]
+    rec["wall_s"] = round(time.perf_counter() - t0, 2)
+    rec["verdict"] = verdict(problems=failed)
+    write_json(out / "summary.json", rec)
+    written.append(out / "summary.json")
+    return DesignOutcome(rec, written)
