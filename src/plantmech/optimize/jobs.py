@@ -138,7 +138,9 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     l1_dir, l2_dir = out / "layer1", out / "layer2"
     l1_dir.mkdir(exist_ok=True)
     l2_dir.mkdir(exist_ok=True)
-    handoff = Layer2Handoff(seed, layer2_points, manufacturability)
+    # the hand-offs stop layer 1 at the first path whose gears meet every agronomic
+    # objective (manufacturability reported); the final layer 2 below requires it
+    handoff = Layer2Handoff(seed, layer2_points, False)
     p1, r1, stages = layer1_staged(design, algorithm, seed, generations, pop, progress,
                                    shifts=seeding_shifts, hook=handoff)
     written, rec1 = write_run(l1_dir, r1, p1, design_input, recheck, dict(stages=stages))
