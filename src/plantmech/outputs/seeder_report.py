@@ -140,7 +140,8 @@ def write_inverse_outputs(out: Path, res: InverseResult, summ: dict, traj,
     write_csv(written[1], trajectory_table(traj, samples))
     if res.feasible:
         write_csv(out / "motion.csv", motion_table(res))
-        write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f")
+        write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f",
+                  gaps=("r1_mm",))
         written += [out / "motion.csv", out / "pitch_curves.csv"]
     else:
         for stale in ("motion.csv", "pitch_curves.csv", "pitch_curves.png", "ratios.png"):
