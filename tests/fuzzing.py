@@ -19,6 +19,8 @@ The oracle: a case FAILS, and is tallied under its kind, when
   length, section indices equal or out of order, duplicate or collinear type-value
   points, a zero-length dwell, a mechanism that is not a known name, nesting too deep,
   too many points) and the command did not exit 2;
+  a value refused at writing (exit 3, "not computable") counts here too, as a value
+  the engine should have computed or refused earlier;
 - ``bad_exit``: exit 2 without an ``error:`` line on stderr, or an exit status other
   than 0, 2, 3, 4;
 - ``left_behind``: exit 2 with the output directory (or a temporary directory beside
@@ -446,10 +448,11 @@ def _non_finite_in(path: Path) -> str | None:
 
 
 def _empty_allowed(path: Path, header: list[str]) -> set[int]:
-    """Columns where an empty cell is documented: the sun's toothless sector."""
-    if path.name == "pitch_curves.csv":
-        return {i for i, h in enumerate(header) if h == "r1_mm"}
-    return set()
+    """Columns where an empty cell is documented: the sun's toothless sector in
+    pitch_curves.csv, the speed ratios while the gears stand still in motion.csv."""
+    names = {"pitch_curves.csv": ("r1_mm",),
+             "motion.csv": ("ratio", "stage1_ratio", "stage2_ratio")}.get(path.name, ())
+    return {i for i, h in enumerate(header) if h in names}
 
 
 def run_case(case: Case, work: Path, timeout: float) -> dict:
@@ -499,6 +502,8 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
             kind, detail = "silently_accepted", f"exit {rc} for {case.mutations}"
         elif rc == 2 and (out.exists() or leftovers):
             kind, detail = "left_behind", f"exit 2 left {out.name} {leftovers}"
+        elif rc == 3 and "not computable" in err:
+            kind, detail = "non_finite", "refused at writing: " + err.strip()[-300:]
         elif rc in (0, 3, 4) and not out.is_dir():
             kind, detail = "left_behind", f"exit {rc} but no {out.name}"
         elif leftovers:
@@ -550,6 +555,24 @@ def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: boo
                 f"{v['kind'] or 'ok'} {v['detail'][:160]}")
     tally["wall_s"] = round(time.perf_counter() - t0, 1)
     return tally
+
+
+def corpus(seed: int = 0, size: int = 120) -> list[Case]:
+    """The CI corpus: the first cases of ``seed`` that are cheap to run (every invalid
+    design, valid inverse/forward cases, at most 3 valid optimize cases and no valid
+    gears case: cutting teeth takes a minute a design on a loaded machine)."""
+    out, optimize, i = [], 0, 0
+    while len(out) < size:
+        c = make_case(i, seed)
+        i += 1
+        if not c.invalid and c.command == "gears":
+            continue
+        if not c.invalid and c.command == "optimize":
+            if optimize >= 3:
+                continue
+            optimize += 1
+        out.append(c)
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:

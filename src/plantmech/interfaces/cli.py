@@ -110,7 +110,10 @@ def _inverse_body(args, design, run) -> int:
     if args.verify and res.feasible:
         from plantmech.verification import round_trip
 
-        job.summary.update(round_trip(job))
+        try:
+            job.summary.update(round_trip(job))
+        except ValueError as exc:  # e.g. a dwell the forward simulator cannot place
+            job.summary["round_trip_not_computable"] = str(exc)
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     written = write_inverse_outputs(out, res, job.summary, job.trajectory,
                                     design.trajectory.samples)
@@ -130,6 +133,10 @@ def _inverse_body(args, design, run) -> int:
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
         return EXIT_INFEASIBLE
+    if "round_trip_not_computable" in job.summary:
+        print("NOT MET: --verify: the round trip is not computable: "
+              f"{job.summary['round_trip_not_computable']}", file=sys.stderr)
+        return EXIT_NOT_MET
     return EXIT_OK
 
 
@@ -226,6 +233,8 @@ def _optimize(args) -> int:
 
 def _optimize_body(args, design, run) -> int:
     from plantmech.optimize.jobs import optimize, summary_lines
+    from plantmech.optimize.problems import InfeasiblePopulation
+    from plantmech.outputs.files import write_json
 
     out = run.path
     try:
@@ -238,6 +247,12 @@ def _optimize_body(args, design, run) -> int:
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except InfeasiblePopulation as exc:
+        write_json(out / "run.json", {"problem": args.problem, "feasible": False,
+                                      "infeasible": str(exc)})
+        print(f"INFEASIBLE: {exc}", file=sys.stderr)
+        print(_wrote(run, [out / "run.json"]))
+        return EXIT_INFEASIBLE
     for line in summary_lines(outcome.record):
         print(line)
     print(_wrote(run, outcome.written))
@@ -339,9 +354,9 @@ def _print_summary(s: dict) -> None:
               f"{s['round_trip_max_deviation_mm']:.2e} mm")
 
 
-def _number(kind, minimum, strict: bool = True, maximum=None):
-    """argparse type: a finite number above (or, strict=False, at least) ``minimum`` and,
-    if given, at most ``maximum``."""
+def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
+    """argparse type: a finite number above (or, strict=False, at least) ``minimum``,
+    and, if given, at least ``least`` and at most ``maximum``."""
     import math
 
     def parse(text: str):
@@ -349,10 +364,12 @@ def _number(kind, minimum, strict: bool = True, maximum=None):
             v = kind(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-        high = maximum is not None and v > maximum
-        if not math.isfinite(v) or (v <= minimum if strict else v < minimum) or high:
+        bad = (not math.isfinite(v) or (v <= minimum if strict else v < minimum)
+               or (least is not None and v < least) or (maximum is not None and v > maximum))
+        if bad:
             raise argparse.ArgumentTypeError(
                 f"{text} must be {'above' if strict else 'at least'} {minimum:g}"
+                + (f", at least {least:g}" if least is not None else "")
                 + (f" and at most {maximum:g}" if maximum is not None else ""))
         return v
 
@@ -379,14 +396,14 @@ def build_parser() -> argparse.ArgumentParser:
     gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
     add_output_options(gears)
-    gears.add_argument("--module", type=_number(float, 0.5, strict=False, maximum=50.0),
+    gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
                        default=None, help="target module (mm, 0.5-50); default: the largest "
                        "standard module leaving 20 teeth (transplanter: from internal_gear.teeth)")
     gears.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0),
                        default=12.0, help="mm (up to 1000), for STL/STEP")
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),
                        default=0.1, help="circumferential backlash per pair, mm (0-5)")
-    gears.add_argument("--pressure-angle", type=_number(float, 5.0, strict=False, maximum=35.0),
+    gears.add_argument("--pressure-angle", type=_number(float, 0.0, maximum=35.0, least=5.0),
                        default=20.0, help="tool pressure angle, deg (5-35)")
     gears.add_argument("--addendum", type=_number(float, 0.0, maximum=2.0),
                        default=1.0, help="addendum, x module (up to 2)")

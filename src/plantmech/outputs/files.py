@@ -54,9 +54,9 @@ def _probe(path: Path, what: str) -> os.stat_result | None:
 def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
     """Validate ``--out``; return the directory the results will be moved to (symlinks of
     ``out`` itself resolved, so a link to a directory keeps pointing at the results)."""
-    if str(out).strip() == "":
-        raise OutputError("--out is empty: give a directory name (use '.' explicitly for the "
-                          "current directory is not allowed either: pick a new directory)")
+    if str(out).strip() in ("", "."):
+        raise OutputError(f"--out {str(out)!r}: give the name of a new directory (a run "
+                          "needs a directory of its own)")
     for part in out.parts:
         if len(part.encode("utf-8", "surrogateescape")) > 255:
             raise OutputError(f"--out {out}: a name is longer than 255 bytes")
@@ -133,6 +133,8 @@ class OutputRun:
     """
 
     def __init__(self, out: str | Path, inputs: list[Path], force: bool = False):
+        if str(out).strip() == "":
+            raise OutputError("--out is empty: give the name of a new directory")
         self.requested = Path(out)
         self.out = _check_out(self.requested, [Path(p) for p in inputs], force)
         self.force = force
@@ -205,7 +207,23 @@ def prepare_out_dir(out: str | Path, inputs: list[Path], force: bool = True) -> 
     return out
 
 
+NOT_COMPUTABLE = ("not computable for this design (the geometry or motion it measures does "
+                  "not exist, e.g. the inverse design is infeasible: see the diagnostics)")
+
+
+def _objective_without_value(obj: dict) -> bool:
+    """An objective/check dict (name, value, limit) whose value is missing or not finite."""
+    if not ("name" in obj and "value" in obj and "limit" in obj):
+        return False
+    v = obj["value"]
+    return v is None or (isinstance(v, float | np.floating) and not math.isfinite(v))
+
+
 def _clean(obj, where: str = ""):
+    if isinstance(obj, dict) and _objective_without_value(obj):
+        # reported as not computable, with the reason, and never ok
+        obj = {**obj, "value": None, "ok": False,
+               "not_computable": obj.get("not_computable") or NOT_COMPUTABLE}
     if isinstance(obj, dict):
         return {k: _clean(v, f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
@@ -221,8 +239,9 @@ def _clean(obj, where: str = ""):
 
 
 def write_json(path: Path, data: dict) -> None:
-    """JSON with every float finite; raises NonFiniteOutput naming the field otherwise
-    (callers report a value that cannot be computed as null with a reason, never NaN)."""
+    """JSON with every float finite; raises NonFiniteOutput naming the field otherwise.
+    An objective or check (a dict with name, value, limit) whose value is missing or not
+    finite is written with value null, ok false and a ``not_computable`` reason."""
     path.write_text(json.dumps(_clean(data), indent=2, allow_nan=False) + "\n",
                     encoding="utf-8")
 
