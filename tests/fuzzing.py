@@ -529,8 +529,9 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
 
 
 def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: bool = False,
-             start: int = 0, log=None) -> dict:
-    """Run ``cases`` cases; return the tally (counts by command and kind, failures)."""
+             start: int = 0, log=None, checkpoint=None) -> dict:
+    """Run ``cases`` cases; return the tally (counts by command and kind, failures).
+    ``checkpoint(tally)`` is called every 25 cases (the tally so far)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -550,6 +551,9 @@ def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: boo
         if v["kind"]:
             c[v["kind"]] += 1
             tally["failures"].append(v)
+        if checkpoint is not None and tally["cases"] % 25 == 0:
+            tally["wall_s"] = round(time.perf_counter() - t0, 1)
+            checkpoint(tally)
         if log is not None:
             log(f"{i} {v['command']} {v['example']} exit {v['exit']} {v['wall_s']:.2f}s "
                 f"{v['kind'] or 'ok'} {v['detail'][:160]}")
@@ -592,9 +596,15 @@ def main(argv: list[str] | None = None) -> int:
         logf.write(line + "\n")
         logf.flush()
 
+    def save(tally):
+        tmp = out / "tally.json.tmp"
+        tmp.write_text(json.dumps(tally, indent=2) + "\n", encoding="utf-8")
+        tmp.replace(out / "tally.json")
+
     tally = run_fuzz(args.cases, args.seed, out / "work", args.timeout, args.full,
-                     args.start, log)
-    (out / "tally.json").write_text(json.dumps(tally, indent=2) + "\n", encoding="utf-8")
+                     args.start, log, checkpoint=save)
+    tally["finished"] = True
+    save(tally)
     failed = len(tally["failures"])
     print(json.dumps({k: tally[k] for k in ("cases", "by_command", "exit_codes",
                                             "max_wall_s", "wall_s")}, indent=2))
