@@ -11,9 +11,9 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(VENV)/bin/plantmech inverse examples/sugarcane_seeder.toml --out out/sugarcane_seeder --verify
-	$(VENV)/bin/plantmech forward examples/sugarcane_table4.toml --out out/sugarcane_table4
-	$(VENV)/bin/plantmech forward examples/rice_transplanter.toml --out out/rice_transplanter
+	$(VENV)/bin/plantmech inverse examples/sugarcane_seeder.toml --out out/sugarcane_seeder --verify --force
+	$(VENV)/bin/plantmech forward examples/sugarcane_table4.toml --out out/sugarcane_table4 --force
+	$(VENV)/bin/plantmech forward examples/rice_transplanter.toml --out out/rice_transplanter --force
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
