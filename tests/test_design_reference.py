@@ -22,7 +22,7 @@ def test_committed_reference_is_up_to_date():
 def test_reference_names_every_field_with_limits_and_defaults():
     md = markdown_reference()
     assert "| `points` | array of [number, number] | **required** |" in md
-    assert "| `samples` | integer | `3600` | >= 90, <= 36000 |" in md
+    assert "| `samples` | integer | `3600` | >= 90, <= 20000 |" in md
     assert "L1: carrier length" in md and "sigma: lobe phase" in md
     for mech in MECHANISMS:
         assert f'## `mechanism = "{mech}"`' in md

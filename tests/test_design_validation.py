@@ -243,3 +243,19 @@ def test_transplanter_design_round_trips_through_dump():
     assert isinstance(d, TransplanterDesign)
     again = load_design(d.model_dump(mode="json", exclude_none=True))
     assert again == d
+
+
+@pytest.mark.parametrize("table,key,value", [
+    ("seedling_box", "x_mm", 10000.0), ("seedling_box", "inclination_deg", -720.0),
+    ("field", "planting_depth_mm", 1000.0), ("field", "spacing_range_mm", [2000.0, 2000.0]),
+])
+def test_transplanter_extreme_valid_box_and_field_run(tmp_path, capsys, table, key, value):
+    # were: IndexError / GEOSException in objectives/transplanter.py (values now bounded;
+    # the extremes inside the bounds run to a result)
+    doc = _doc("rice_transplanter.toml")
+    doc["samples"] = 360
+    doc[table][key] = value
+    rc = main(["forward", str(_write(tmp_path, doc)), "--out", str(tmp_path / "o"),
+               "--no-plots"])
+    assert rc in (0, 3, 4)
+    assert "Traceback" not in capsys.readouterr().err

@@ -157,3 +157,39 @@ def test_objectives_without_a_value_are_reported_not_computable(tmp_path):
     assert objs[1]["not_computable"] == "no return section"
     assert objs[2] == {"name": "swing", "value": 3.0, "unit": "deg", "limit": "< 30 deg",
                        "ok": True}
+
+
+def test_run_command_ctrl_c_and_not_computable_leave_nothing(tmp_path, capsys):
+    """The helper every command goes through: Ctrl-C returns 130, a value refused at
+    writing returns 3; in both cases nothing is left and an old --out is untouched."""
+    from argparse import Namespace
+
+    from plantmech.interfaces.cli import run_command
+
+    d = _design(tmp_path)
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "old.json").write_text("{}")
+
+    def interrupted(args, design, run):
+        (run.path / "half.csv").write_text("1,")
+        raise KeyboardInterrupt
+
+    def nan_result(args, design, run):
+        write_json(run.path / "summary.json", {"L1_mm": math.nan})
+        return 0
+
+    def ok(args, design, run):
+        write_json(run.path / "summary.json", {"L1_mm": design.trajectory.samples})
+        return 4
+
+    args = Namespace(design=str(d), out=str(out), force=True)
+    assert run_command(args, interrupted) == 130
+    assert "interrupted" in capsys.readouterr().err
+    assert run_command(args, nan_result) == 3
+    assert "L1_mm = nan: not computable" in capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["old.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml", "o"]
+    assert run_command(args, ok) == 4
+    assert json.loads((out / "summary.json").read_text()) == {"L1_mm": 360}
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]

@@ -36,8 +36,8 @@ SECTION_LETTERS = ("a", "b", "c", "d", "e", "f")
 MAX_SIZE_MM = 10_000.0
 #: most type-value points / interpolation radii in one curve.
 MAX_POINTS = 1000
-#: most samples per carrier turn (0.01 deg steps).
-MAX_SAMPLES = 36_000
+#: most samples per carrier turn (0.018 deg steps; a transplanter run at this takes ~20 s).
+MAX_SAMPLES = 20_000
 #: largest design file (bytes).
 MAX_FILE_BYTES = 1_000_000
 #: deepest nesting of tables/arrays in a design file.
