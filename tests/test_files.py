@@ -193,3 +193,14 @@ def test_run_command_ctrl_c_and_not_computable_leave_nothing(tmp_path, capsys):
     assert run_command(args, ok) == 4
     assert json.loads((out / "summary.json").read_text()) == {"L1_mm": 360}
     assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+
+
+def test_failed_run_removes_the_parents_it_created(tmp_path):
+    d = _design(tmp_path)
+    with OutputRun(tmp_path / "a" / "b" / "o", [d]) as run:
+        assert (tmp_path / "a" / "b").is_dir()
+        run.exit_code = 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml"]
+    with OutputRun(tmp_path / "a" / "b" / "o", [d]) as run:
+        run.exit_code = 0
+    assert (tmp_path / "a" / "b" / "o").is_dir()

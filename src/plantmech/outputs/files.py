@@ -140,9 +140,12 @@ class OutputRun:
         self.force = force
         self.exit_code: int | None = None
         self.path: Path | None = None
+        self._created: Path | None = None
 
     def __enter__(self) -> OutputRun:
         parent = self.out.parent
+        missing = [d for d in [parent, *parent.parents] if not d.exists()]
+        self._created = missing[-1] if missing else None  # removed again if the run fails
         try:
             parent.mkdir(parents=True, exist_ok=True)
             self.path = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=parent))
@@ -163,9 +166,24 @@ class OutputRun:
         ok = exc_type is None and self.exit_code in RESULT_EXIT_CODES
         if not ok:
             shutil.rmtree(self.path, ignore_errors=True)
+            self._remove_created_parents()
             return False
         self._commit()
         return False
+
+    def _remove_created_parents(self) -> None:
+        """Remove the (empty) parent directories this run created for --out."""
+        if self._created is None:
+            return
+        d = self.out.parent
+        while True:
+            try:
+                d.rmdir()
+            except OSError:
+                return
+            if d == self._created:
+                return
+            d = d.parent
 
     def _commit(self) -> None:
         out = self.out
