@@ -2,7 +2,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench bench-layered lint clean
+.PHONY: run test bench bench-layered lint clean fuzz docs
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -11,9 +11,9 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(VENV)/bin/plantmech inverse examples/sugarcane_seeder.toml --out out/sugarcane_seeder --verify
-	$(VENV)/bin/plantmech forward examples/sugarcane_table4.toml --out out/sugarcane_table4
-	$(VENV)/bin/plantmech forward examples/rice_transplanter.toml --out out/rice_transplanter
+	$(VENV)/bin/plantmech inverse examples/sugarcane_seeder.toml --out out/sugarcane_seeder --verify --force
+	$(VENV)/bin/plantmech forward examples/sugarcane_table4.toml --out out/sugarcane_table4 --force
+	$(VENV)/bin/plantmech forward examples/rice_transplanter.toml --out out/rice_transplanter --force
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
@@ -30,3 +30,13 @@ lint: $(STAMP)
 
 clean:
 	rm -rf out .pytest_cache
+
+# Seeded fuzzer (tests/fuzzing.py): N mutated examples through inverse/forward/gears/optimize;
+# writes out/fuzz/tally.json. CI runs its fixed-seed corpus in `make test`.
+FUZZ_CASES ?= 10000
+FUZZ_SEED ?= 0
+fuzz: $(STAMP)
+	$(PY) -m tests.fuzzing --cases $(FUZZ_CASES) --seed $(FUZZ_SEED) --out out/fuzz
+
+docs: $(STAMP)
+	$(PY) -m plantmech.design_reference > docs/design-file.md

@@ -28,32 +28,104 @@ from plantmech.outputs.verdict import (
 )
 
 
+def add_output_options(parser: argparse.ArgumentParser) -> None:
+    """``--out DIR`` and ``--force`` for a command that writes files (use with
+    :func:`run_command`)."""
+    parser.add_argument("--out", required=True,
+                        help="output directory (created; the results appear there all "
+                        "together when the command ends with a result, exit 0/3/4)")
+    parser.add_argument("--force", action="store_true",
+                        help="replace the existing contents of --out (otherwise a --out "
+                        "that holds anything is refused)")
+
+
+def run_command(args, body, require_trajectory: bool = False) -> int:
+    """Load ``args.design``, run ``body(args, design, run)`` and return its exit status.
+
+    The one way a command reads its design and writes its files (other commands adopt it
+    by registering ``add_output_options(sub)`` and returning ``run_command(args, body)``):
+
+    - the design is read with ``load_design`` (a regular file, bounded in size and
+      nesting, strictly validated); an invalid one prints the error naming the file and
+      field and returns 2 before anything is created;
+    - ``body`` writes every file into ``run.path``, a fresh temporary directory beside
+      ``--out`` (``run.final(p)`` gives a file's final place, for messages), and returns
+      the exit status: 0 done, 3 infeasible, 4 a check or objective not met (files are
+      then moved into ``--out`` at once), or 2 invalid input (nothing is kept);
+    - ``--out`` is checked first (not empty, not below a file, writable, not an input nor
+      holding one or a link to one, by file identity); existing contents are replaced only
+      with ``--force``, else 2 saying what is there;
+    - an exception or Ctrl-C deletes the temporary directory and leaves ``--out`` as it
+      was (Ctrl-C returns 130); a value that is not finite about to be written is reported
+      as not computable (exit 3, nothing written).
+    """
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.files import NonFiniteOutput, OutputError, OutputRun
+
+    try:
+        design = load_design(Path(args.design))
+        if require_trajectory:
+            if design.mechanism != "sugarcane_seeder":
+                raise DesignError(f"{args.design}: field 'mechanism': inverse design is for "
+                                  f"the sugarcane seeder; a {design.mechanism} design runs "
+                                  "with 'plantmech forward'")
+            if design.trajectory is None:
+                raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
+                                  "design (this file gives a [train]: use 'plantmech forward')")
+        run = OutputRun(args.out, [Path(args.design)], force=getattr(args, "force", False))
+        with run:
+            try:
+                run.exit_code = body(args, design, run)
+            except NonFiniteOutput as exc:
+                print(f"error: {args.design}: a result is not computable: {exc}; nothing "
+                      "written", file=sys.stderr)
+                run.exit_code = None
+                return EXIT_INFEASIBLE
+        return run.exit_code
+    except (DesignError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("interrupted: nothing written, --out left as it was", file=sys.stderr)
+        return 130
+
+
 def _load(args, require_trajectory: bool = False):
-    """(design, out dir) or None after printing the input error."""
+    """(design, out dir) or None after printing the input error.
+
+    Kept for commands written before :func:`run_command`: it writes in place (not
+    atomically; existing files are replaced only with ``--force`` when the command has
+    that option). New commands use ``run_command``."""
     from plantmech.design import DesignError, load_design
     from plantmech.outputs.files import OutputError, prepare_out_dir
 
     try:
-        design = load_design(args.design)
-        if require_trajectory and design.trajectory is None:
+        design = load_design(Path(args.design))
+        if require_trajectory and getattr(design, "trajectory", None) is None:
             raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
                               "design (this file gives a [train]: use 'plantmech forward')")
-        return design, prepare_out_dir(args.out, [Path(args.design)])
+        return design, prepare_out_dir(args.out, [Path(args.design)],
+                                       force=getattr(args, "force", True))
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return None
 
 
+def _wrote(run, paths) -> str:
+    return "wrote: " + ", ".join(str(run.final(p)) for p in paths)
+
+
 def _inverse(args) -> int:
+    return run_command(args, _inverse_body, require_trajectory=True)
+
+
+def _inverse_body(args, design, run) -> int:
     from plantmech.geometry.trajectory import TrajectoryError
     from plantmech.outputs.files import write_json
     from plantmech.outputs.seeder_report import write_inverse_outputs
     from plantmech.workflows import run_seeder_inverse
 
-    loaded = _load(args, require_trajectory=True)
-    if loaded is None:
-        return EXIT_INPUT
-    design, out = loaded
+    out = run.path
     t0 = time.perf_counter()
     try:
         job = run_seeder_inverse(design)
@@ -64,7 +136,10 @@ def _inverse(args) -> int:
     if args.verify and res.feasible:
         from plantmech.verification import round_trip
 
-        job.summary.update(round_trip(job))
+        try:
+            job.summary.update(round_trip(job))
+        except ValueError as exc:  # e.g. a dwell the forward simulator cannot place
+            job.summary["round_trip_not_computable"] = str(exc)
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     written = write_inverse_outputs(out, res, job.summary, job.trajectory,
                                     design.trajectory.samples)
@@ -79,11 +154,15 @@ def _inverse(args) -> int:
             sp.plot_pitch_curves(out / "pitch_curves.png", res)
             written += [out / "attitude.png", out / "ratios.png", out / "pitch_curves.png"]
     s = job.summary
+    problems = []
+    if "round_trip_not_computable" in s:
+        problems.append(f"round trip (--verify) not computable: {s['round_trip_not_computable']}")
     v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
-                               s.get("manufacturing_checks", []), infeasible=not res.feasible)
+                               s.get("manufacturing_checks", []), infeasible=not res.feasible,
+                               problems=problems)
     write_json(out / "summary.json", s)
     _print_summary(s)
-    print("wrote: " + ", ".join(str(p) for p in written))
+    print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
     print(verdict_line(v, "feasible, every planning check and attitude objective met, "
@@ -92,6 +171,10 @@ def _inverse(args) -> int:
 
 
 def _forward(args) -> int:
+    return run_command(args, _forward_body)
+
+
+def _forward_body(args, design, run) -> int:
     from plantmech.gears.closure import ClosureError
     from plantmech.geometry.periodic import PitchCurveError
     from plantmech.geometry.trajectory import TrajectoryError
@@ -99,12 +182,9 @@ def _forward(args) -> int:
     from plantmech.outputs.seeder_forward_report import write_forward_outputs
     from plantmech.workflows import InfeasibleDesign, run_seeder_forward
 
-    loaded = _load(args)
-    if loaded is None:
-        return EXIT_INPUT
-    design, out = loaded
+    out = run.path
     if design.mechanism != "sugarcane_seeder":
-        return _forward_transplanter(args, design, out)
+        return _forward_transplanter(args, design, run)
     t0 = time.perf_counter()
     try:
         job = run_seeder_forward(design)
@@ -135,16 +215,17 @@ def _forward(args) -> int:
             fn(out / name, job)
             written.append(out / name)
     _print_forward(job.summary)
-    print("wrote: " + ", ".join(str(p) for p in written))
+    print(_wrote(run, written))
     print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
     return v["exit_code"]
 
 
-def _forward_transplanter(args, design, out) -> int:
+def _forward_transplanter(args, design, run) -> int:
     from plantmech.gears.internal import InternalPairError
     from plantmech.outputs.transplanter_report import write_transplanter_outputs
     from plantmech.workflows import run_transplanter
 
+    out = run.path
     t0 = time.perf_counter()
     try:
         job = run_transplanter(design)
@@ -177,18 +258,21 @@ def _forward_transplanter(args, design, out) -> int:
     print("  arms repeat each other after the carrier phase shift to "
           f"{max(dev):.1e} mm" if max(dev) < 1e-6 else
           f"  arms differ after the carrier phase shift by up to {max(dev):.2f} mm")
-    print("wrote: " + ", ".join(str(p) for p in written))
+    print(_wrote(run, written))
     print(verdict_line(v, "every objective met, pitch curves cuttable"))
     return v["exit_code"]
 
 
 def _optimize(args) -> int:
-    from plantmech.optimize.jobs import optimize, summary_lines
+    return run_command(args, _optimize_body)
 
-    loaded = _load(args)
-    if loaded is None:
-        return EXIT_INPUT
-    design, out = loaded
+
+def _optimize_body(args, design, run) -> int:
+    from plantmech.optimize.jobs import optimize, summary_lines
+    from plantmech.optimize.problems import InfeasiblePopulation
+    from plantmech.outputs.files import write_json
+
+    out = run.path
     try:
         outcome = optimize(design, args.problem, out, str(args.design), seed=args.seed,
                            generations=args.generations, pop=args.pop,
@@ -200,9 +284,15 @@ def _optimize(args) -> int:
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except InfeasiblePopulation as exc:
+        write_json(out / "run.json", {"problem": args.problem, "feasible": False,
+                                      "infeasible": str(exc)})
+        print(f"INFEASIBLE: {exc}", file=sys.stderr)
+        print(_wrote(run, [out / "run.json"]))
+        return EXIT_INFEASIBLE
     for line in summary_lines(outcome.record):
         print(line)
-    print("wrote: " + ", ".join(str(p) for p in outcome.written))
+    print(_wrote(run, outcome.written))
     v = outcome.record["verdict"]
     print(verdict_line(v, "best.toml meets every objective"
                        + (" and manufacturability check" if outcome.record.get(
@@ -212,12 +302,17 @@ def _optimize(args) -> int:
 
 
 def _gears(args) -> int:
+    if args.dedendum <= args.addendum:
+        print(f"error: --dedendum {args.dedendum:g} must be above --addendum "
+              f"{args.addendum:g} (root clearance)", file=sys.stderr)
+        return EXIT_INPUT
+    return run_command(args, _gears_body)
+
+
+def _gears_body(args, design, run) -> int:
     from plantmech.workflows import run_gears
 
-    loaded = _load(args)
-    if loaded is None:
-        return EXIT_INPUT
-    design, out = loaded
+    out = run.path
     try:
         rec = run_gears(design, out, module=args.module, face_width=args.face_width,
                         backlash=args.backlash,
@@ -243,7 +338,7 @@ def _gears(args) -> int:
               + ("n/a" if bl is None else f"{bl:.4f} mm"))
     if "step" in rec:
         print(f"  STEP skipped: {rec['step']}")
-    print(f"wrote {len(rec['files'])} files and verification.json to {out}")
+    print(f"wrote {len(rec['files'])} files and verification.json to {run.final(out)}")
     return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
 
 
@@ -302,8 +397,9 @@ def _print_summary(s: dict) -> None:
               f"{s['round_trip_max_deviation_mm']:.2e} mm")
 
 
-def _number(kind, minimum, strict: bool = True):
-    """argparse type: a finite number above (or, strict=False, at least) ``minimum``."""
+def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
+    """argparse type: a finite number above (or, strict=False, at least) ``minimum``,
+    and, if given, at least ``least`` and at most ``maximum``."""
     import math
 
     def parse(text: str):
@@ -311,9 +407,13 @@ def _number(kind, minimum, strict: bool = True):
             v = kind(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-        if not math.isfinite(v) or (v <= minimum if strict else v < minimum):
+        bad = (not math.isfinite(v) or (v <= minimum if strict else v < minimum)
+               or (least is not None and v < least) or (maximum is not None and v > maximum))
+        if bad:
             raise argparse.ArgumentTypeError(
-                f"{text} must be {'above' if strict else 'at least'} {minimum:g}")
+                f"{text} must be {'above' if strict else 'at least'} {minimum:g}"
+                + (f", at least {least:g}" if least is not None else "")
+                + (f" and at most {maximum:g}" if maximum is not None else ""))
         return v
 
     return parse
@@ -325,7 +425,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     inv = sub.add_parser("inverse", help="trajectory -> gear train (seed 000 §3)")
     inv.add_argument("design", help="design file (TOML)")
-    inv.add_argument("--out", required=True, help="output directory")
+    add_output_options(inv)
     inv.add_argument("--verify", action="store_true",
                      help="simulate the generated pitch curves forward (round trip)")
     inv.add_argument("--no-plots", action="store_true", help="skip PNG plots")
@@ -333,43 +433,48 @@ def build_parser() -> argparse.ArgumentParser:
     fwd = sub.add_parser("forward", help="gear train -> motion, speed, objectives (seed 000 §4)")
     fwd.add_argument("design", help="design file (TOML) with a [train], or a [trajectory] "
                      "whose inverse design is simulated")
-    fwd.add_argument("--out", required=True, help="output directory")
+    add_output_options(fwd)
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     fwd.set_defaults(func=_forward)
     gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
-    gears.add_argument("--out", required=True, help="output directory")
-    gears.add_argument("--module", type=_number(float, 0.0), default=None,
-                       help="target module (mm); default: the largest standard module "
-                       "leaving 20 teeth (transplanter: from internal_gear.teeth)")
-    gears.add_argument("--face-width", type=_number(float, 0.0), default=12.0,
-                       help="mm, for STL/STEP")
-    gears.add_argument("--backlash", type=_number(float, 0.0, strict=False), default=0.1,
-                       help="circumferential backlash per pair, mm")
-    gears.add_argument("--pressure-angle", type=_number(float, 0.0), default=20.0,
-                       help="tool pressure angle, deg (0-45)")
-    gears.add_argument("--addendum", type=_number(float, 0.0), default=1.0,
-                       help="addendum, x module")
-    gears.add_argument("--dedendum", type=_number(float, 0.0), default=1.25,
-                       help="dedendum, x module (above the addendum: root clearance)")
+    add_output_options(gears)
+    gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
+                       default=None, help="target module (mm, 0.5-50); default: the largest "
+                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth)")
+    gears.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0),
+                       default=12.0, help="mm (up to 1000), for STL/STEP")
+    gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),
+                       default=0.1, help="circumferential backlash per pair, mm (0-5)")
+    gears.add_argument("--pressure-angle", type=_number(float, 0.0, maximum=35.0, least=5.0),
+                       default=20.0, help="tool pressure angle, deg (5-35)")
+    gears.add_argument("--addendum", type=_number(float, 0.0, maximum=2.0),
+                       default=1.0, help="addendum, x module (up to 2)")
+    gears.add_argument("--dedendum", type=_number(float, 0.0, maximum=3.0),
+                       default=1.25, help="dedendum, x module (above the addendum: root "
+                       "clearance; up to 3)")
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
     opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")
     opt.add_argument("design", help="design file (TOML); never overwritten")
     opt.add_argument("--problem", required=True, choices=PROBLEMS)
-    opt.add_argument("--out", required=True, help="output directory")
-    opt.add_argument("--seed", type=int, default=0)
-    opt.add_argument("--generations", type=_number(int, 1, strict=False), default=None)
-    opt.add_argument("--pop", type=_number(int, 4, strict=False), default=None,
-                     help="population size (at least 4)")
+    add_output_options(opt)
+    opt.add_argument("--seed", type=_number(int, 0, strict=False, maximum=2**32 - 1),
+                     default=0, help="random seed (0 to 2^32 - 1): the same seed gives the "
+                     "same run")
+    opt.add_argument("--generations", type=_number(int, 1, strict=False, maximum=10_000),
+                     default=None, help="generations (1-10000); default per problem")
+    opt.add_argument("--pop", type=_number(int, 4, strict=False, maximum=2000),
+                     default=None, help="population size (4-2000)")
     opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
                      help="default per problem (docs/optimization.md)")
-    opt.add_argument("--points", type=_number(int, 4, strict=False), default=16,
-                     help="interpolation radii per gear for the seeder's layer 2")
-    opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False), default=0,
-                     help="seeder layer 1: also scout moving the seeding point e (and f) on "
-                     "by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
+    opt.add_argument("--points", type=_number(int, 4, strict=False, maximum=128),
+                     default=16, help="interpolation radii per gear for the seeder's layer 2 "
+                     "(4-128)")
+    opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False, maximum=20),
+                     default=0, help="seeder layer 1 (0-20): also scout moving the seeding "
+                     "point e (and f) on by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
     opt.add_argument("--seeding-point", choices=("auto", "keep"), default="auto",
                      help="seeder problems that move type-value points: 'auto' moves the "
                      "seeding point e (and f) on when, at e, a return speed above its "
@@ -381,9 +486,10 @@ def build_parser() -> argparse.ArgumentParser:
                      "recorded in run.json. By default every problem requires them")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import design_cli
+    from plantmech.interfaces import design_cli, schema_cli
 
     design_cli.register(sub)
+    schema_cli.register(sub)
     return p
 
 

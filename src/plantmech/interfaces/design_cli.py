@@ -7,14 +7,14 @@ import sys
 
 
 def register(sub) -> None:
-    from plantmech.interfaces.cli import _number
+    from plantmech.interfaces.cli import _number, add_output_options
 
     p = sub.add_parser(
         "design", help="the whole job: check, optimize every objective and manufacturability, "
         "cut the teeth, write the workshop files, one verdict")
     p.add_argument("design", help="design file (TOML): a seeder trajectory or [train], or a "
                    "transplanter parameter set; never overwritten")
-    p.add_argument("--out", required=True, help="output directory")
+    add_output_options(p)
     p.add_argument("--seed", type=int, default=0, help="random seed of the optimizer "
                    "(same seed, same result)")
     p.add_argument("--generations", type=_number(int, 1, strict=False), default=None,
@@ -26,27 +26,30 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from plantmech.interfaces.cli import _load
+    from plantmech.interfaces.cli import run_command
+
+    return run_command(args, _body)
+
+
+def _body(args, design, run) -> int:
+    from plantmech.interfaces.cli import _wrote
     from plantmech.outputs.verdict import EXIT_INPUT, verdict_line
     from plantmech.pipeline import run_design
 
-    loaded = _load(args)
-    if loaded is None:
-        return EXIT_INPUT
-    design, out = loaded
     try:
-        outcome = run_design(design, out, str(args.design), seed=args.seed,
+        outcome = run_design(design, run.path, str(args.design), seed=args.seed,
                              progress=not args.quiet, generations=args.generations,
                              module=args.module)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
     rec = outcome.record
-    print(f"{rec['name']}: {rec['wall_s']:.1f} s; wrote {len(outcome.written)} files to {out}")
+    print(f"{rec['name']}: {rec['wall_s']:.1f} s")
     for c in rec["final_checks"]:
         if not c["ok"] and c.get("required", True):
             print(f"  FAIL {c['name']}: {c.get('value')} {c.get('unit', '')} "
                   f"(limit {c.get('limit')})")
+    print(_wrote(run, [p for p in outcome.written if p.parent == run.path]))
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
                           "the workshop files are written (design.toml, gears/)"))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,8 +20,16 @@ class Check:
     note: str = ""
 
     def as_dict(self) -> dict:
-        d = {"name": self.name, "value": self.value, "unit": self.unit,
-             "limit": self.limit, "ok": self.ok}
+        """The check as a dict; a value that cannot be computed (None, NaN, inf) is written
+        as null with a ``not_computable`` reason and is never ok."""
+        value = self.value
+        computable = value is not None and math.isfinite(value)
+        d = {"name": self.name, "value": value if computable else None, "unit": self.unit,
+             "limit": self.limit, "ok": bool(self.ok) and computable}
+        if not computable:
+            d["not_computable"] = self.note or (
+                "not computable for this design (the geometry it measures does not exist: "
+                "see the diagnostics)")
         if self.note:
             d["note"] = self.note
         return d

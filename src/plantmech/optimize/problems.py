@@ -19,6 +19,11 @@ from plantmech.design import SeederDesign
 from plantmech.objectives import relative_violation
 
 
+class InfeasiblePopulation(RuntimeError):
+    """No candidate of a population can be evaluated (the design space is infeasible
+    around the start)."""
+
+
 @dataclass
 class Variable:
     name: str
@@ -616,7 +621,8 @@ class Transplanter(DesignProblem):
                 parts.append(None)
         good = next(p for p in parts if p is not None) if any(parts) else None
         if good is None:
-            raise RuntimeError("no candidate in the population has a meshing planet")
+            raise InfeasiblePopulation("no candidate in the population has a meshing planet "
+                                       "(every one's planet is cut by the internal gear)")
         K = good.values.shape[1]
         rows = [p if p is not None else Batch(np.full((1, 3), 1e6), np.full((1, K), 1e6),
                                               good.names, good.units, good.limits,

@@ -1,57 +1,286 @@
-"""Safe writing of output files: nothing the user gave is overwritten."""
+"""Safe writing of output files: nothing the user gave is overwritten, and a run's files
+appear in ``--out`` all together or not at all (:class:`OutputRun`)."""
 
 from __future__ import annotations
 
 import csv
+import errno
 import json
+import math
+import os
+import shutil
+import stat
+import tempfile
 from pathlib import Path
 
 import numpy as np
 
+#: exit statuses after which a run's files are moved into ``--out`` (done, infeasible,
+#: not met); any other status, an exception or Ctrl-C discards them.
+RESULT_EXIT_CODES = (0, 3, 4)
+
 
 class OutputError(RuntimeError):
-    """An output directory cannot be used."""
+    """An output directory cannot be used (the message names it and says why)."""
 
 
-def prepare_out_dir(out: str | Path, inputs: list[Path]) -> Path:
-    """Create ``out``; refuse if it is one of the inputs or contains them."""
-    out = Path(out)
+class NonFiniteOutput(ValueError):
+    """A value about to be written is NaN or infinite (the message names the field)."""
+
+
+def _identity(path: Path) -> tuple[int, int] | None:
+    """(st_dev, st_ino) of ``path`` following symlinks, or None if it does not exist."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_dev, st.st_ino
+
+
+def _probe(path: Path, what: str) -> os.stat_result | None:
+    """lstat ``path``: None if it does not exist; OutputError for an unusable name."""
+    try:
+        return os.lstat(path)
+    except FileNotFoundError:
+        return None
+    except NotADirectoryError:
+        raise OutputError(f"{what} {path}: a parent of it is a file, not a directory") from None
+    except OSError as exc:
+        if exc.errno == errno.ENAMETOOLONG:
+            raise OutputError(f"{what} {path}: the name is too long for the file system") from None
+        raise OutputError(f"{what} {path}: cannot be used ({exc.strerror})") from None
+
+
+def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
+    """Validate ``--out``; return the directory the results will be moved to (symlinks of
+    ``out`` itself resolved, so a link to a directory keeps pointing at the results)."""
+    if str(out).strip() in ("", "."):
+        raise OutputError(f"--out {str(out)!r}: give the name of a new directory (a run "
+                          "needs a directory of its own)")
+    for part in out.parts:
+        if len(part.encode("utf-8", "surrogateescape")) > 255:
+            raise OutputError(f"--out {out}: a name is longer than 255 bytes")
+    st = _probe(out, "--out")
+    if st is not None and stat.S_ISLNK(st.st_mode):
+        target = Path(os.path.realpath(out))
+        st = _probe(target, "--out")
+        out = target
+    out = Path(os.path.abspath(out))
+    if out == Path(out.anchor) or out == Path(os.path.abspath(".")):
+        raise OutputError(f"--out {out}: a run needs a directory of its own (not the current "
+                          "directory or the file-system root)")
+    # the nearest existing ancestor must be a writable directory
+    parent = out.parent
+    while _probe(parent, "--out") is None:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise OutputError(f"--out {out}: {parent} is a file, not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"--out {out}: {parent} is not writable")
+    in_ids = {i for i in (_identity(p) for p in inputs) if i is not None}
+    out_id = _identity(out)
     for p in inputs:
-        p = Path(p).resolve()
-        if out.resolve() == p or out.resolve() in p.parents:
-            raise OutputError(f"--out {out} would hold or overwrite the input {p}; "
-                              "choose another directory")
-    if out.exists() and not out.is_dir():
+        # the input (as given, and through its links) must not live under --out
+        for d in [Path(os.path.abspath(p)).parent, Path(os.path.realpath(p)).parent]:
+            for anc in [d, *d.parents]:
+                if out_id is not None and _identity(anc) == out_id:
+                    raise OutputError(f"--out {out} would hold or overwrite the input {p}; "
+                                      "choose another directory")
+        if _identity(p) is not None and _identity(p) == out_id:
+            raise OutputError(f"--out {out} would hold or overwrite the input {p} (it is "
+                              "the input)")
+    if st is None:
+        return out
+    if not stat.S_ISDIR(st.st_mode):
         raise OutputError(f"--out {out} exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        entries = sorted(os.listdir(out))
+    except OSError as exc:
+        raise OutputError(f"--out {out}: cannot be read ({exc.strerror})") from None
+    for root, _dirs, files in os.walk(out):
+        for f in files:
+            if _identity(Path(root) / f) in in_ids:
+                raise OutputError(f"--out {out} would hold or overwrite the input: "
+                                  f"{Path(root) / f} is a link to it; choose another "
+                                  "directory")
+    if entries and not force:
+        shown = ", ".join(entries[:6]) + (f" and {len(entries) - 6} more" if len(entries) > 6
+                                          else "")
+        raise OutputError(f"--out {out} already holds {len(entries)} entries ({shown}); "
+                          "add --force to replace them, or choose another directory")
     return out
 
 
-def _clean(obj):
+class OutputRun:
+    """Atomic output directory for one command.
+
+    Usage (the CLI's ``load_for_command`` helper wraps this)::
+
+        with OutputRun(args.out, [Path(args.design)], force=args.force) as run:
+            ...write every file into run.path (a fresh temporary directory beside --out)...
+            run.exit_code = rc        # 0, 3 or 4: the files are moved into --out
+
+    On leaving the block the files move into ``--out`` only if ``exit_code`` is one of
+    :data:`RESULT_EXIT_CODES` and no exception (nor Ctrl-C) is propagating; otherwise the
+    temporary directory is deleted and an existing ``--out`` is left untouched. An existing
+    ``--out`` with entries is refused unless ``force``; with ``force`` its old contents are
+    replaced as a whole (renamed away, the new directory renamed in, the old one deleted),
+    so old and new files never mix. Inputs are compared by file identity (st_dev, st_ino,
+    following symlinks and hard links): a ``--out`` that holds an input or a link to one is
+    refused, and files are only ever created in the fresh temporary directory, so nothing
+    is written through a link. ``final(p)`` maps a path in ``run.path`` to its place in
+    ``--out`` (for messages).
+    """
+
+    def __init__(self, out: str | Path, inputs: list[Path], force: bool = False):
+        if str(out).strip() == "":
+            raise OutputError("--out is empty: give the name of a new directory")
+        self.requested = Path(out)
+        self.out = _check_out(self.requested, [Path(p) for p in inputs], force)
+        self.force = force
+        self.exit_code: int | None = None
+        self.path: Path | None = None
+        self._created: Path | None = None
+
+    def __enter__(self) -> OutputRun:
+        parent = self.out.parent
+        missing = [d for d in [parent, *parent.parents] if not d.exists()]
+        self._created = missing[-1] if missing else None  # removed again if the run fails
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            self.path = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=parent))
+        except OSError as exc:
+            raise OutputError(f"--out {self.requested}: cannot create a directory in {parent} "
+                              f"({exc.strerror})") from None
+        return self
+
+    def final(self, p: str | Path) -> Path:
+        """Where ``p`` (a path inside ``run.path``) will be once the run is committed."""
+        p = Path(p)
+        try:
+            return self.requested / p.relative_to(self.path)
+        except ValueError:
+            return p
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        ok = exc_type is None and self.exit_code in RESULT_EXIT_CODES
+        if not ok:
+            shutil.rmtree(self.path, ignore_errors=True)
+            self._remove_created_parents()
+            return False
+        self._commit()
+        return False
+
+    def _remove_created_parents(self) -> None:
+        """Remove the (empty) parent directories this run created for --out."""
+        if self._created is None:
+            return
+        d = self.out.parent
+        while True:
+            try:
+                d.rmdir()
+            except OSError:
+                return
+            if d == self._created:
+                return
+            d = d.parent
+
+    def _commit(self) -> None:
+        out = self.out
+        old = None
+        if _probe(out, "--out") is not None:
+            if os.listdir(out) and not self.force:  # appeared during the run
+                shutil.rmtree(self.path, ignore_errors=True)
+                raise OutputError(f"--out {out} was filled by something else during the run; "
+                                  "nothing written")
+            old = Path(tempfile.mkdtemp(prefix=".plantmech-old-", dir=out.parent))
+            os.rmdir(old)
+            os.rename(out, old)
+        try:
+            os.rename(self.path, out)
+        except OSError:
+            if old is not None:
+                os.rename(old, out)
+            shutil.rmtree(self.path, ignore_errors=True)
+            raise
+        os.chmod(out, 0o777 & ~_umask())
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def prepare_out_dir(out: str | Path, inputs: list[Path], force: bool = True) -> Path:
+    """Create ``out`` in place (non-atomic; for library use): refuse an ``out`` that is an
+    input, holds one or a link to one. Commands use :class:`OutputRun` instead."""
+    out = _check_out(Path(out), [Path(p) for p in inputs], force)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"--out {out}: cannot be created ({exc.strerror})") from None
+    return out
+
+
+NOT_COMPUTABLE = ("not computable for this design (the geometry or motion it measures does "
+                  "not exist, e.g. the inverse design is infeasible: see the diagnostics)")
+
+
+def _objective_without_value(obj: dict) -> bool:
+    """An objective/check dict (name, value, limit) whose value is missing or not finite."""
+    if not ("name" in obj and "value" in obj and "limit" in obj):
+        return False
+    v = obj["value"]
+    return v is None or (isinstance(v, float | np.floating) and not math.isfinite(v))
+
+
+def _clean(obj, where: str = ""):
+    if isinstance(obj, dict) and _objective_without_value(obj):
+        # reported as not computable, with the reason, and never ok
+        obj = {**obj, "value": None, "ok": False,
+               "not_computable": obj.get("not_computable") or NOT_COMPUTABLE}
     if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
+        return {k: _clean(v, f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
+        return [_clean(v, f"{where}[{i}]") for i, v in enumerate(obj)]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist(), where)
     if isinstance(obj, np.generic):
         obj = obj.item()
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise NonFiniteOutput(f"{where} = {obj}: not computable (a non-finite value is never "
+                              "written)")
     return obj
 
 
 def write_json(path: Path, data: dict) -> None:
-    path.write_text(json.dumps(_clean(data), indent=2) + "\n", encoding="utf-8")
+    """JSON with every float finite; raises NonFiniteOutput naming the field otherwise.
+    An objective or check (a dict with name, value, limit) whose value is missing or not
+    finite is written with value null, ok false and a ``not_computable`` reason."""
+    path.write_text(json.dumps(_clean(data), indent=2, allow_nan=False) + "\n",
+                    encoding="utf-8")
 
 
-def write_csv(path: Path, columns: dict[str, np.ndarray], fmt: str = "%.6f") -> None:
-    """Columns of equal length; NaN written as an empty cell."""
+def write_csv(path: Path, columns: dict[str, np.ndarray], fmt: str = "%.6f",
+              gaps: tuple[str, ...] = ()) -> None:
+    """Columns of equal length, every value finite; raises NonFiniteOutput naming the
+    column and row otherwise. In the columns named in ``gaps`` a NaN marks a documented
+    gap (e.g. the sun's toothless sector) and is written as an empty cell."""
     names = list(columns)
     data = [np.asarray(columns[k], dtype=float) for k in names]
+    for name, col in zip(names, data, strict=True):
+        bad = np.flatnonzero(np.isinf(col) if name in gaps else ~np.isfinite(col))
+        if bad.size:
+            raise NonFiniteOutput(f"{path.name}: column {name} row {bad[0] + 1} is "
+                                  f"{col[bad[0]]}: not computable ({bad.size} such rows)")
     with path.open("w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(names)
         for row in zip(*data, strict=True):
-            w.writerow(["" if not np.isfinite(v) else fmt % v for v in row])
+            w.writerow(["" if np.isnan(v) else fmt % v for v in row])
 
 
 def check_line(c: dict, name_width: int = 26, digits: int = 2, value_width: int = 14) -> str:

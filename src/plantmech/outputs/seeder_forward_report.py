@@ -8,6 +8,7 @@ import numpy as np
 
 from plantmech.mechanisms.seeder_forward import shaft_offset
 from plantmech.outputs.files import write_csv, write_json
+from plantmech.outputs.seeder_report import RATIO_GAPS, speed_ratio
 
 DEG = 180.0 / np.pi
 
@@ -75,14 +76,14 @@ def forward_motion_table(job) -> dict[str, np.ndarray]:
             "attitude_deg": (res.arm_angle - res.arm_angle[0]) * DEG,
             "gear2_angle_deg": res.gear2_angle * DEG,
             "planet_rel_deg": res.planet_rel * DEG,
-            "ratio": 1.0 / res.total_ratio,
-            "stage1_ratio": 1.0 / res.stage1_rate,
-            "stage2_ratio": 1.0 / res.stage2_rate,
+            "ratio": speed_ratio(res.total_ratio),
+            "stage1_ratio": speed_ratio(res.stage1_rate),
+            "stage2_ratio": speed_ratio(res.stage2_rate),
         }
 
 
 def write_forward_outputs(out: Path, job) -> list[Path]:
     written = [out / "summary.json", out / "motion.csv"]
     write_json(written[0], job.summary)
-    write_csv(written[1], forward_motion_table(job))
+    write_csv(written[1], forward_motion_table(job), gaps=RATIO_GAPS)
     return written

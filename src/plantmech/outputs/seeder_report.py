@@ -102,6 +102,17 @@ def summary(res: InverseResult, design, planning, attitude, attitude_checks,
     return out
 
 
+#: motion.csv columns with a gap (empty cell) where the gears stand still in the sun's
+#: toothless dwell: the speed ratio omega_carrier / omega_gear is not defined there.
+RATIO_GAPS = ("ratio", "stage1_ratio", "stage2_ratio")
+
+
+def speed_ratio(rate: np.ndarray) -> np.ndarray:
+    """1 / rate, NaN (a gap in the CSV) where the rate is 0 (gears stopped in the dwell)."""
+    rate = np.asarray(rate, dtype=float)
+    return np.divide(1.0, rate, out=np.full_like(rate, np.nan), where=rate != 0)
+
+
 def motion_table(res: InverseResult) -> dict[str, np.ndarray]:
     with np.errstate(divide="ignore"):
         return {
@@ -112,9 +123,9 @@ def motion_table(res: InverseResult) -> dict[str, np.ndarray]:
             "planned_y_mm": res.tip[:, 1],
             "arm_angle_deg": res.arm_angle_realized * DEG,
             "planet_rel_deg": res.planet_rel_realized * DEG,
-            "ratio": 1.0 / res.total_ratio,
-            "stage1_ratio": 1.0 / res.stage1_ratio,
-            "stage2_ratio": 1.0 / res.stage2_ratio,
+            "ratio": speed_ratio(res.total_ratio),
+            "stage1_ratio": speed_ratio(res.stage1_ratio),
+            "stage2_ratio": speed_ratio(res.stage2_ratio),
         }
 
 
@@ -139,8 +150,9 @@ def write_inverse_outputs(out: Path, res: InverseResult, summ: dict, traj,
     write_json(written[0], summ)
     write_csv(written[1], trajectory_table(traj, samples))
     if res.feasible:
-        write_csv(out / "motion.csv", motion_table(res))
-        write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f")
+        write_csv(out / "motion.csv", motion_table(res), gaps=RATIO_GAPS)
+        write_csv(out / "pitch_curves.csv", pitch_curve_table(res), fmt="%.5f",
+                  gaps=("r1_mm",))
         written += [out / "motion.csv", out / "pitch_curves.csv"]
     else:
         for stale in ("motion.csv", "pitch_curves.csv", "pitch_curves.png", "ratios.png"):

@@ -1,0 +1,261 @@
+"""Strict design files: every crash and silently accepted input of issue 19 answered with
+a clear error naming the file and the field (exit 2), or a correct result."""
+
+import os
+import re
+import tomllib
+
+import pytest
+import tomli_w
+
+from plantmech.design import (
+    MAX_FILE_BYTES,
+    MAX_POINTS,
+    DesignError,
+    SeederDesign,
+    TransplanterDesign,
+    load_design,
+)
+from plantmech.interfaces.cli import main
+from tests.conftest import EXAMPLES
+
+
+def _doc(name="sugarcane_seeder.toml"):
+    return tomllib.loads((EXAMPLES / name).read_text())
+
+
+def _refused(doc_or_text, *patterns):
+    """load_design refuses it; the message holds every pattern (regex)."""
+    with pytest.raises(DesignError) as exc:
+        load_design(doc_or_text, name="t.toml")
+    msg = str(exc.value)
+    assert msg.startswith("t.toml"), msg
+    for p in patterns:
+        assert re.search(p, msg), (p, msg)
+    return msg
+
+
+def test_every_example_loads_from_a_path_a_string_and_a_dict():
+    for path in sorted(EXAMPLES.glob("*.toml")):
+        a = load_design(path)
+        b = load_design(path.read_text())
+        c = load_design(tomllib.loads(path.read_text()))
+        assert a == b == c
+
+
+@pytest.mark.parametrize("path,value,field", [
+    (("trajectory", "points", 3, 0), True, r"trajectory\.points\.3\.0"),
+    (("trajectory", "points", 3, 1), "-299.36", r"trajectory\.points\.3\.1"),
+    (("trajectory", "sections", "a"), 20.0, r"trajectory\.sections\.a"),
+    (("trajectory", "samples"), 3600.0, r"trajectory\.samples"),
+    (("gear_train", "dwell", "enabled"), "yes", r"gear_train\.dwell\.enabled"),
+    (("attitude", "picking_swing_max_deg"), True, r"attitude\.picking_swing_max_deg"),
+])
+def test_no_lax_coercion(path, value, field):
+    doc = _doc()
+    node = doc
+    for p in path[:-1]:
+        node = node[p]
+    node[path[-1]] = value
+    _refused(doc, field)
+
+
+def test_transplanter_strict_numbers():
+    doc = _doc("rice_transplanter.toml")
+    doc["arm"]["S_mm"] = True
+    _refused(doc, r"arm\.S_mm", "valid number")
+    doc = _doc("rice_transplanter.toml")
+    doc["internal_gear"]["teeth"] = 80.0
+    _refused(doc, r"internal_gear\.teeth")
+
+
+@pytest.mark.parametrize("sections,pattern", [
+    ({x: 3 for x in "abcdef"}, "same point"),
+    ({"b": 8}, "sections.f = 8 is the same point as sections.b"),
+    ({"c": 20}, "same point"),
+    ({"b": 2}, "out of order"),
+    ({"e": 30}, r"sections.e = 30 but there are only 27 points"),
+])
+def test_sections_distinct_in_order_and_in_range(sections, pattern):
+    doc = _doc()
+    doc["trajectory"]["sections"].update(sections)
+    _refused(doc, pattern)
+
+
+def test_points_duplicates_spacing_collinear_and_bounds():
+    doc = _doc()
+    doc["trajectory"]["points"][9] = list(doc["trajectory"]["points"][2])
+    _refused(doc, "q2 .* and q9 .* coincide")
+    doc = _doc()
+    p = doc["trajectory"]["points"]
+    p[5] = [p[4][0] + 0.01, p[4][1]]
+    _refused(doc, r"q4 .* and q5 .* 0\.01 mm apart")
+    doc = _doc()
+    doc["trajectory"]["points"] = [[200.0 + 10 * i, 50.0 + 5 * i] for i in range(27)]
+    _refused(doc, "one line")
+    doc = _doc()
+    doc["trajectory"]["points"][7][0] = 1e300
+    _refused(doc, r"trajectory\.points\.7\.0", "less than or equal to 10000")
+    doc = _doc()
+    doc["trajectory"]["points"] = [[0.0, 0.0]] + doc["trajectory"]["points"][1:]
+    _refused(doc, "rotation centre")
+
+
+def test_too_many_points_is_refused_before_any_work():
+    doc = _doc()
+    pts = doc["trajectory"]["points"]
+    dense = [[a[0] + (b[0] - a[0]) * t / 400, a[1] + (b[1] - a[1]) * t / 400]
+             for a, b in zip(pts, pts[1:] + pts[:1], strict=True) for t in range(400)]
+    doc["trajectory"]["points"] = dense
+    _refused(doc, rf"at most {MAX_POINTS} items")
+
+
+def test_zero_length_dwell_is_refused():
+    # was: ZeroDivisionError in seeder_inverse (dwell from a point to itself)
+    doc = _doc()
+    doc["gear_train"]["dwell"].update(enabled=True, start="c", end="c")
+    _refused(doc, r"gear_train\.dwell", "zero length")
+    doc["gear_train"]["dwell"]["enabled"] = False
+    assert isinstance(load_design(doc), SeederDesign)  # switched off: not checked
+
+
+def test_train_dwell_and_radii():
+    doc = _doc("sugarcane_table4.toml")
+    doc["train"]["dwell"] = {"start_deg": 300.0, "sector_deg": 90.0}
+    _refused(doc, r"train\.dwell", "past the end of the carrier turn")
+    doc = _doc("sugarcane_table4.toml")
+    doc["train"]["gear2"]["radii_mm"][3] = 130.0
+    _refused(doc, r"gear2\.radii_mm\[3\] = 130 mm is not below the centre distance a1_mm")
+
+
+@pytest.mark.parametrize("mech", [["sugarcane_seeder"], 3, {"a": 1}, "windmill"])
+def test_mechanism_must_name_a_known_mechanism(mech):
+    # was: TypeError unhashable in design.py for a list
+    doc = _doc()
+    doc["mechanism"] = mech
+    _refused(doc, "field 'mechanism'", "sugarcane_seeder")
+
+
+def test_limits_ranges_ordered_and_box_bounds():
+    doc = _doc()
+    doc["planning_limits"]["small_ring_width_mm"] = {"min": 220, "max": 180}
+    _refused(doc, r"planning_limits\.small_ring_width_mm", "min = 220 is not below max = 180")
+    doc = _doc("rice_transplanter.toml")
+    doc["limits"]["picking_angle_deg"] = [350, 320]
+    _refused(doc, r"limits", "lower limit is above the upper")
+    for key, value in (("x_mm", 1e6), ("sample_mm", 1e-6), ("length_mm", 1e6)):
+        doc = _doc("rice_transplanter.toml")
+        doc["seedling_box"][key] = value
+        _refused(doc, rf"seedling_box\.{key}")
+    doc = _doc("rice_transplanter.toml")
+    doc["field"]["planting_depth_mm"] = 1e6
+    _refused(doc, r"field\.planting_depth_mm")
+    doc = _doc("rice_transplanter.toml")
+    doc["arm"]["needle_length_mm"] = 400.0
+    _refused(doc, "needle_length_mm = 400 exceeds S_mm = 150")
+
+
+def test_deep_nesting_size_and_odd_files(tmp_path):
+    # was: RecursionError from the TOML parser
+    deep = 'mechanism = "sugarcane_seeder"\nx = ' + "[" * 2000 + "]" * 2000 + "\n"
+    _refused(deep, "nested deeper than")
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * MAX_FILE_BYTES + "\n")
+    with pytest.raises(DesignError, match="bytes"):
+        load_design(big)
+    with pytest.raises(DesignError, match="is a directory"):
+        load_design(tmp_path)
+    fifo = tmp_path / "fifo.toml"
+    os.mkfifo(fifo)
+    with pytest.raises(DesignError, match="not a regular file"):
+        load_design(fifo)  # never blocks: opened non-blocking and checked
+    with pytest.raises(DesignError, match="no such design file"):
+        load_design(tmp_path / "missing.toml")
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes(b'name = "\xe9"\n')
+    with pytest.raises(DesignError, match="UTF-8"):
+        load_design(bad)
+
+
+def _write(tmp_path, doc, name="d.toml"):
+    p = tmp_path / name
+    p.write_text(tomli_w.dumps(doc))
+    return p
+
+
+def test_cli_inverse_on_a_transplanter_is_an_input_error(tmp_path, capsys):
+    # was: AttributeError at interfaces/cli.py:33
+    rc = main(["inverse", str(EXAMPLES / "rice_transplanter.toml"), "--out",
+               str(tmp_path / "o")])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert "field 'mechanism'" in err and "plantmech forward" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("command", ["inverse", "forward", "gears", "optimize"])
+def test_cli_answers_invalid_files_with_exit_2_and_the_field(tmp_path, capsys, command):
+    doc = _doc()
+    doc["trajectory"]["sections"].update({x: 3 for x in "abcdef"})
+    d = _write(tmp_path, doc)
+    extra = ["--problem", "seeder-layer1"] if command == "optimize" else []
+    rc = main([command, str(d), "--out", str(tmp_path / "o"), *extra])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert str(d) in err and "trajectory.sections" in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml"]
+
+
+def test_cli_directory_and_fifo_as_design(tmp_path, capsys):
+    assert main(["forward", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    assert "is a directory" in capsys.readouterr().err
+    fifo = tmp_path / "f.toml"
+    os.mkfifo(fifo)
+    assert main(["forward", str(fifo), "--out", str(tmp_path / "o")]) == 2
+    assert "not a regular file" in capsys.readouterr().err
+
+
+def test_cli_option_bounds(capsys):
+    for argv, expected in (
+            (["gears", "x.toml", "--out", "o", "--module", "200"], "at most 50"),
+            (["gears", "x.toml", "--out", "o", "--module", "0.001"], "at least 0.5"),
+            (["gears", "x.toml", "--out", "o", "--pressure-angle", "40"], "at most 35"),
+            (["gears", "x.toml", "--out", "o", "--pressure-angle", "2"], "at least 5"),
+            (["optimize", "x.toml", "--problem", "transplanter", "--out", "o", "--pop",
+              "100000"], "at most 2000"),
+            (["optimize", "x.toml", "--problem", "transplanter", "--out", "o", "--seed",
+              "-1"], "at least 0")):
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2
+        assert expected in capsys.readouterr().err
+
+
+def test_gears_dedendum_must_exceed_addendum(tmp_path, capsys):
+    rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(tmp_path / "o"),
+               "--addendum", "1.5", "--dedendum", "1.2"])
+    assert rc == 2 and "--dedendum 1.2 must be above --addendum 1.5" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_transplanter_design_round_trips_through_dump():
+    d = load_design(EXAMPLES / "rice_transplanter.toml")
+    assert isinstance(d, TransplanterDesign)
+    again = load_design(d.model_dump(mode="json", exclude_none=True))
+    assert again == d
+
+
+@pytest.mark.parametrize("table,key,value", [
+    ("seedling_box", "x_mm", 10000.0), ("seedling_box", "inclination_deg", -720.0),
+    ("field", "planting_depth_mm", 1000.0), ("field", "spacing_range_mm", [2000.0, 2000.0]),
+])
+def test_transplanter_extreme_valid_box_and_field_run(tmp_path, capsys, table, key, value):
+    # were: IndexError / GEOSException in objectives/transplanter.py (values now bounded;
+    # the extremes inside the bounds run to a result)
+    doc = _doc("rice_transplanter.toml")
+    doc["samples"] = 360
+    doc[table][key] = value
+    rc = main(["forward", str(_write(tmp_path, doc)), "--out", str(tmp_path / "o"),
+               "--no-plots"])
+    assert rc in (0, 3, 4)
+    assert "Traceback" not in capsys.readouterr().err
