@@ -155,12 +155,37 @@ def main() -> None:
 
         with tempfile.TemporaryDirectory() as tmp:
             o = optimize(design, "seeder-layered", Path(tmp), "sugarcane_seeder.toml",
-                         seed=0, progress=False)
+                         seed=0, progress=False, manufacturability=False)
         rec = o.record
-        print("optimize seeder layered from examples/sugarcane_seeder.toml (seed 0): " + (
-            f"first design meeting every objective after {rec['first_feasible_s']:.1f} s"
+        print("optimize seeder layered from examples/sugarcane_seeder.toml (seed 0, "
+              "--no-manufacturability): " + (
+            f"first design meeting every agronomic objective after {rec['first_feasible_s']:.1f} s"
             if rec["first_feasible_s"] is not None else "none")
             + f", {rec['evaluations']} evaluations in {rec['wall_s']:.1f} s")
+
+    if "--design" in sys.argv:  # minutes: plantmech design end to end (issue 13 targets)
+        design_benchmarks()
+
+
+def design_benchmarks() -> None:
+    """`plantmech design` end to end, as a user runs it (a fresh process, start-up and files
+    included): the bundled seeder (target < 120 s) and the manufacturable transplanter
+    (target < 60 s)."""
+    import subprocess
+    import tempfile
+
+    exe = Path(sys.executable).with_name("plantmech")
+    for example, target in (("sugarcane_seeder.toml", 120),
+                            ("rice_transplanter_manufacturable.toml", 60)):
+        with tempfile.TemporaryDirectory() as tmp:
+            t0 = time.perf_counter()
+            p = subprocess.run([str(exe), "design", str(ROOT / "examples" / example), "--out",
+                                str(Path(tmp) / "o"), "--quiet"], capture_output=True,
+                               text=True)
+            wall = time.perf_counter() - t0
+        last = p.stdout.strip().splitlines()[-1] if p.stdout.strip() else p.stderr[-200:]
+        print(f"plantmech design {example}: {wall:.1f} s end to end (target < {target} s), "
+              f"exit {p.returncode}: {last}")
 
 
 if __name__ == "__main__":

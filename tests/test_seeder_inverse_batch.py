@@ -101,3 +101,25 @@ def test_extreme_radii_of_an_ellipse_about_its_centre():
     for u in (u_max, u_min):  # a stationary point of rho
         p, d1, _ = tb.derivatives(u[:, None])
         assert abs(float((p * d1).sum())) < 1e-6
+
+
+def test_pitch_tangent_angle_matches_the_single_design_manufacturability_rows():
+    """The population's largest mu of each pair (on the carrier grid) against the working
+    pressure angle of the single design's pitch curves (gears.manufacturability, 3600 body
+    angles of the re-interpolated curves): two independent discretisations."""
+    from plantmech.workflows import run_seeder_inverse
+
+    for name in ("sugarcane_seeder.toml", "sugarcane_seeder_optimized.toml"):
+        d = load_design(EXAMPLES / name)
+        d.train = None
+        gt = d.gear_train
+        pts = np.asarray(d.trajectory.points)[None]
+        from plantmech.geometry.trajectory_batch import TrajectoryBatch
+
+        inv = inverse_population(TrajectoryBatch(pts), 3600, gt.a1_mm, gt.a2_mm,
+                                 gt.split_exponent, gt.min_pitch_radius_mm)
+        rows = {c["name"]: c["value"] for c in run_seeder_inverse(d).summary[
+            "manufacturing_checks"]}
+        work = d.gear_checks.tool_pressure_angle_deg + np.degrees(inv.pitch_tangent_angle[0])
+        assert work[0] == pytest.approx(rows["working_pressure_angle_sun_gear2"], abs=0.5)
+        assert work[1] == pytest.approx(rows["working_pressure_angle_gear3_planet"], abs=0.5)

@@ -47,7 +47,9 @@ def inverse_settings(design: SeederDesign) -> InverseSettings:
                            min_pitch_radius=gt.min_pitch_radius_mm, dwell=dwell)
 
 
-def run_seeder_inverse(design: SeederDesign) -> SeederInverseJob:
+def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
+    """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
+    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""
     traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
     res = inverse_design(traj, inverse_settings(design))
     sections = design.trajectory.sections.model_dump()
@@ -59,7 +61,7 @@ def run_seeder_inverse(design: SeederDesign) -> SeederInverseJob:
                                   res.point_carrier_angle, sections)
         checks = attitude_checks(att, design.attitude)
     summ = summary(res, design, planning, att, checks or [])
-    if res.feasible:  # can the designed pitch curves be cut?
+    if res.feasible and manufacturability:  # can the designed pitch curves be cut?
         from plantmech.objectives.seeder import gear_checks
         from plantmech.verification import train_from_inverse
 
@@ -155,7 +157,7 @@ def run_seeder_forward(design: SeederDesign) -> SeederForwardJob:
     if design.trajectory is not None:
         traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
     if design.train is None:
-        inv = run_seeder_inverse(design)
+        inv = run_seeder_inverse(design, manufacturability=False)
         if not inv.result.feasible:
             raise InfeasibleDesign(inv)
         train, fixes = train_from_inverse(inv.result), []
@@ -505,7 +507,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     d.gear_train.min_pitch_radius_mm += pitch_margin_mm
     names = list(LAYER1_NAMES)
     try:
-        job = run_seeder_inverse(d)
+        job = run_seeder_inverse(d, manufacturability=False)
     except Exception:  # a candidate whose curve cannot even be fitted
         job = None
     if job is None or not job.result.feasible:
@@ -569,7 +571,7 @@ def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
     ``tolerance`` of the smallest. Returns {shift, rows, reason}."""
     from plantmech.objectives.seeder import seeding_speed_need
 
-    job = run_seeder_inverse(design)
+    job = run_seeder_inverse(design, manufacturability=False)
     if not job.result.feasible:
         raise ValueError("the trajectory's inverse design is infeasible: fix it before "
                          "placing the seeding point")
@@ -801,7 +803,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         else:
             from plantmech.verification import train_from_inverse
 
-            job = run_seeder_inverse(design)
+            job = run_seeder_inverse(design, manufacturability=False)
             if not job.result.feasible:
                 raise ValueError("the trajectory's inverse design is infeasible: no gears")
             tr = train_from_inverse(job.result)

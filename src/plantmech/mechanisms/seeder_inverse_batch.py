@@ -46,6 +46,7 @@ class InversePopulation:
     point_carrier_angle: np.ndarray  # (P, N) carrier angle at each type-value point
     pitch_radius_min: np.ndarray  # (P, 4) smallest r1..r4 (mm)
     closure_error: np.ndarray  # (P, 2) stage 1, stage 2 (rad)
+    pitch_tangent_angle: np.ndarray | None = None  # (P, 2) largest mu of each pair (rad)
 
 
 def _unwrap_rows(phase: np.ndarray) -> np.ndarray:
@@ -186,6 +187,21 @@ def _split_and_close(g, split_exponent, a1, a2, step):
     return radii, planet_train, closure
 
 
+def pitch_tangent_angle(radii: np.ndarray, a1: np.ndarray, step: float) -> np.ndarray:
+    """Largest angle mu (rad) between the pitch tangent and the normal to the radius vector
+    of each pair, (P, 2), from the pitch radii r1..r4 (P, 4, n) on the uniform carrier grid:
+    gears 2 and 3 share a shaft turning d theta / d psi = h = a1 / r2 - 1 relative to the
+    carrier, so tan mu = abs(dr / d psi) / (h r) along gear 2 (sun pair) and gear 3 (planet
+    pair); the working pressure angle is the tool's plus mu (``gears.manufacturability``)."""
+    r2, r3 = radii[:, 1], radii[:, 2]
+    h = a1[:, None] / r2 - 1.0
+    out = []
+    for r in (r2, r3):
+        dr = _node_slopes(r, step)
+        out.append(np.arctan(np.abs(dr) / (np.abs(h) * r)).max(axis=1))
+    return np.stack(out, axis=1)
+
+
 def inverse_population(points, samples: int = 360, a1: float | None = None,
                        a2: float | None = None, split_exponent: float = 0.5,
                        min_pitch_radius: float = 5.0) -> InversePopulation:
@@ -281,6 +297,7 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     score = np.where(unclosed, score + 1.0, score)
     alive &= ~pitch & ~unclosed
     return InversePopulation(
+        pitch_tangent_angle=pitch_tangent_angle(radii, A1, step),
         feasible=alive, error_score=np.where(alive, 0.0, np.maximum(score, 1.0)), psi=psi,
         L1=L1, L2=L2, carrier_abs=phi, arm_angle_realized=arm_real, tip_realized=tip_real,
         point_carrier_angle=point_psi, pitch_radius_min=radii.min(axis=2),

@@ -77,7 +77,7 @@ def with_train(design, points: int = 16):
         return design
     from plantmech.workflows import run_seeder_inverse, train_from_inverse_job
 
-    job = run_seeder_inverse(design)
+    job = run_seeder_inverse(design, manufacturability=False)
     if not job.result.feasible:
         raise ValueError("the trajectory's inverse design is infeasible: run layer 1 first")
     d = design.model_copy(deep=True)
