@@ -243,7 +243,7 @@ def test_stopped_study_resumes_without_recomputing(seeder, tmp_path):
 
     spec = _spec()
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster:
+                      dashboard_address=":0") as cluster:
         first = run_study(seeder, spec, tmp_path / "a", "fp", scheduler=cluster.scheduler_address,
                           progress=False, max_chunks=1)
         assert first.stats.stopped_early and first.stats.evaluations == 30

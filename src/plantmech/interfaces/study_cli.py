@@ -103,8 +103,10 @@ def _report(args, spec, design, out: Path, outcome) -> int:
     run = outcome.summary["run"]
     print(f"chunks: {st.computed_chunks} computed, {st.skipped_chunks} already done "
           f"(resumed), {len(st.failed)} failed, of {st.total_chunks}; {st.evaluations} "
-          f"evaluations in {st.wall_s:.1f} s on {st.workers} workers"
-          + (f" ({run['designs_per_s']:.0f} designs/s)" if run["designs_per_s"] else ""))
+          f"{'starts' if spec.kind == 'multi-start' else 'designs'} in {st.wall_s:.1f} s on "
+          f"{st.workers} workers (cluster start {st.cluster_start_s:.1f} s)"
+          + (f", {run['designs_per_s']:.1f} designs/s" if spec.kind != "multi-start"
+             and run["designs_per_s"] else ""))
     if not st.complete:
         write_json(out / "run_incomplete.json", outcome.summary)
         for c, msg in st.failed:

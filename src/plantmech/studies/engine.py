@@ -126,14 +126,18 @@ def dask_client(scheduler: str | None = None, workers: int = 2):
     from distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler, timeout="30s")
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise StudyStateError(f"--scheduler {scheduler}: cannot connect to a Dask "
+                                  f"scheduler there ({type(exc).__name__}: {exc})") from None
         try:
             yield client
         finally:
             client.close()
         return
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield client
 
