@@ -83,7 +83,10 @@ def plot_sensitivity(path: Path, summary: dict) -> None:
         for y, r in enumerate(rank):
             ax.text(vals[y], y, f" SRC {r['src']:+.2f}", va="center", fontsize=6)
         r2 = sens.get("r2")
-        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if r2 == r2 else name, fontsize=8)
+        still = r2 != r2 and not any(vals)
+        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if r2 == r2 else
+                     f"{name}{' (unaffected by these parameters)' if still else ''}",
+                     fontsize=8)
         ax.set_xlabel(f"first-order |d/dx| x std ({unit or '-'})", fontsize=7)
         ax.tick_params(labelsize=6)
         ax.margins(x=0.3)

@@ -120,8 +120,8 @@ def standardized_regression(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, f
     ok = np.isfinite(y) & np.isfinite(X).all(axis=1)
     X, y = X[ok], y[ok]
     sx, sy = X.std(axis=0), y.std()
-    if len(y) < X.shape[1] + 2 or sy == 0:
-        return np.zeros(X.shape[1]), float("nan")
+    if len(y) < X.shape[1] + 2 or sy <= 1e-9 * max(1.0, abs(float(y.mean()))):
+        return np.zeros(X.shape[1]), float("nan")  # constant up to round-off
     A = np.c_[np.ones(len(y)), X]
     coef, *_ = np.linalg.lstsq(A, y, rcond=None)
     resid = y - A @ coef
