@@ -117,13 +117,19 @@ def plot_band(path: Path, summary: dict, plan: np.ndarray | None = None) -> None
     lo, hi = np.asarray(b["mc_min_mm"]), np.asarray(b["mc_max_mm"])
     width = float(np.max(hi - lo)) if len(hi) else 0.0
     span = float(np.ptp(tip, axis=0).max())
-    mag = 1.0 if width <= 0 else max(1.0, 10 ** np.floor(np.log10(0.04 * span / width)))
+    mag = 1.0
+    if width > 0:  # the largest 1-2-5 factor that keeps the band under ~6 % of the path
+        target = 0.06 * span / width
+        steps = [m * 10.0**e for e in range(0, 6) for m in (1, 2, 5)]
+        mag = max([1.0] + [m for m in steps if m <= target])
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5.5))
     if plan is not None:
         a1.plot(plan[:, 0], plan[:, 1], color="0.6", lw=1, label="planned trajectory")
-    a1.plot(tip[:, 0], tip[:, 1], "k-", lw=0.8, label="nominal tip path")
+    a1.plot(np.r_[tip[:, 0], tip[:1, 0]], np.r_[tip[:, 1], tip[:1, 1]], "k-", lw=0.8,
+            label="nominal tip path")
     for v, lab in ((lo, "envelope (min)"), (hi, "envelope (max)")):
         p = tip + nrm * (mag * v)[:, None]
+        p = np.r_[p, p[:1]]  # closed cycle
         a1.plot(p[:, 0], p[:, 1], color="tab:red", lw=0.8,
                 label=f"{lab}, deviation x {mag:g}" if lab.endswith("(max)") else None)
     a1.fill(np.r_[tip[:, 0] + mag * lo * nrm[:, 0], (tip[:, 0] + mag * hi * nrm[:, 0])[::-1]],

@@ -187,6 +187,10 @@ def run_chunks(out: Path, work, shared, chunks: list[tuple[int, object, int]],
                     for f in futures:
                         f.cancel()
                     break
+        except KeyboardInterrupt:  # Ctrl-C: the written chunks stay; rerun to resume
+            stats.stopped_early = True
+            for f in futures:
+                f.cancel()
         finally:
             bar.close()
         stats.wall_s = time.perf_counter() - t1
