@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -12,6 +13,13 @@ from plantmech.design import load_design
 from plantmech.workflows import run_seeder_inverse
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _flag(name: str, default: int) -> int:
+    """Integer value of a ``--name N`` command-line flag."""
+    if name in sys.argv:
+        return int(sys.argv[sys.argv.index(name) + 1])
+    return default
 
 
 def timeit(fn, repeat=5):
@@ -148,6 +156,8 @@ def main() -> None:
         f"first design meeting them after {r.first_feasible_s:.1f} s / "
         f"{r.first_feasible_evaluations} evaluations" if r.first_feasible_s is not None
         else f"none in {r.wall_s:.1f} s"))
+    # Dask: one and two local workers (--study-samples N, --study-repeat R)
+    study_scaling(_flag("--study-samples", 1200), repeat=_flag("--study-repeat", 1))
     if "--layered" in sys.argv:  # minutes: the whole layered job from the bundled example
         import tempfile
 
@@ -188,5 +198,36 @@ def design_benchmarks() -> None:
               f"exit {p.returncode}: {last}")
 
 
+def study_scaling(samples: int = 1200, chunk: int = 200, repeat: int = 1) -> None:
+    """Tolerance study of the bundled optimized seeder on a local Dask cluster of one and
+    of two worker processes: designs/s from the first task sent to the last chunk written
+    (cluster start-up excluded, printed apart), and the scaling two / one."""
+    import tempfile
+
+    from plantmech.studies.runner import run_study
+    from plantmech.studies.spec import load_spec
+
+    design = load_design(ROOT / "examples" / "sugarcane_seeder_optimized.toml")
+    spec = load_spec(ROOT / "examples" / "studies" / "seeder_tolerance.toml")
+    spec = spec.model_copy(update={"samples": samples, "chunk": chunk})
+    rates = {}
+    for workers in (1, 2):
+        runs = []
+        for _ in range(repeat):
+            with tempfile.TemporaryDirectory() as tmp:
+                out = run_study(design, spec, Path(tmp), "bench", workers=workers,
+                                progress=False)
+            runs.append((out.stats.evaluations / out.stats.wall_s, out.stats.cluster_start_s))
+        rate = float(np.median([r[0] for r in runs]))
+        rates[workers] = rate
+        print(f"tolerance study (seeder, 11 tolerances, {samples} samples in chunks of {chunk}, "
+              f"{spec.cycle_samples} cycle samples), local cluster of {workers} worker(s): "
+              f"{rate:.1f} samples/s (median of {repeat}; cluster start "
+              f"{np.median([r[1] for r in runs]):.1f} s)")
+    print(f"study scaling, two workers / one: {rates[2] / rates[1]:.2f}x "
+          f"({os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f})")
+
+
 if __name__ == "__main__":
     main()
+

@@ -66,3 +66,21 @@ def test_uniform_periodic_spline_slopes_and_integral_match_scipy():
     # and exact on a trigonometric law it can represent to 4th order: d/dx sin x = cos x
     assert np.allclose(periodic_spline_node_slopes(np.sin(x[:-1]), h), np.cos(x[:-1]),
                        atol=1e-6)
+
+
+def test_interpolant_rows_equal_the_shared_matrix():
+    """Per-design evaluation angles (a per-design phase) give the same interpolant as the
+    shared matrix, value and slope, for both kinds and uneven nodes."""
+    from plantmech.geometry.periodic import periodic_interpolant_rows, periodic_spline_matrix
+
+    rng = np.random.default_rng(1)
+    for nodes in (np.radians(np.arange(16) * 22.5), np.sort(rng.uniform(0, 2 * np.pi, 9))):
+        R = 60 + rng.uniform(-5, 5, (3, len(nodes)))
+        shift = np.array([0.0, 0.3, -1.1])
+        at = 0.7 + shift[:, None] + np.linspace(0, 2 * np.pi, 101)[None, :]
+        for kind in ("spline", "hermite"):
+            value, slope = periodic_interpolant_rows(nodes, R, at, kind)
+            for p in range(3):
+                for nu, got in ((0, value), (1, slope)):
+                    ref = R[p] @ periodic_spline_matrix(nodes, at[p], nu, kind).T
+                    assert np.abs(got[p] - ref).max() < 1e-10

@@ -295,10 +295,18 @@ def section_reference_psi(design: SeederDesign) -> np.ndarray:
     return np.array([base.section_psi[k] for k in "abcdef"])
 
 
+# per-design overrides of [train] / [operation] scalars for populations (name -> (P,));
+# the names are the design file's fields, "backlash_deg" the train's angular play
+SEEDER_PARAMS = ("L1_mm", "L2_mm", "initial_carrier_angle_deg", "initial_arm_angle_deg",
+                 "gear2_contact_angle_deg", "gear3_contact_angle_deg", "travel_speed_m_s",
+                 "backlash_deg")
+
+
 def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
                                samples: int = 720, dense: int = 2048,
                                window_deg: float = 40.0,
-                               reference_psi: np.ndarray | None = None) -> SeederPopulation:
+                               reference_psi: np.ndarray | None = None,
+                               params: dict | None = None) -> SeederPopulation:
     """Simulate and evaluate P variants of ``design``'s train at once.
 
     radii2, radii3: (P, N) interpolation radii (mm) at the design's angles (default:
@@ -308,6 +316,10 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     ``metrics['closure_error_rad']``). Section points: the design's ``sections_deg``,
     or located on each variant's path within +-window of where the base design passes
     them (``reference_psi``: ``section_reference_psi(design)`` if already known).
+    ``params``: per-design values (name -> (P,)) of the scalars in ``SEEDER_PARAMS`` (the
+    [train] fields L1_mm, L2_mm, initial angles and contact angles of gears 2 and 3 in deg,
+    [operation] travel_speed_m_s; backlash_deg: the train's angular play, see
+    ``mechanisms.seeder_batch.backlash_offset``), the design's own value otherwise.
     """
     from plantmech.mechanisms.seeder_batch import simulate_population
     from plantmech.objectives.seeder_population import evaluate_population, locate_sections
@@ -321,14 +333,28 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     R2 = np.atleast_2d(t.gear2.radii_mm if radii2 is None else radii2).astype(float)
     R3 = np.atleast_2d(t.gear3.radii_mm if radii3 is None else radii3).astype(float)
     solve = t.closure in ("centre_distance", "scale")
+    params = params or {}
+    unknown = sorted(set(params) - set(SEEDER_PARAMS))
+    if unknown:
+        raise ValueError(f"unknown population parameter(s) {', '.join(unknown)} (expected "
+                         f"{', '.join(SEEDER_PARAMS)})")
+    own = {"L1_mm": t.L1_mm, "L2_mm": t.L2_mm,
+           "initial_carrier_angle_deg": t.initial_carrier_angle_deg,
+           "initial_arm_angle_deg": t.initial_arm_angle_deg,
+           "gear2_contact_angle_deg": t.gear2.contact_angle_deg,
+           "gear3_contact_angle_deg": t.gear3.contact_angle_deg}
+    v = {k: np.asarray(params.get(k, x), dtype=float) for k, x in own.items()}
     c2, c3 = np.radians(t.gear2.contact_angle_deg), np.radians(t.gear3.contact_angle_deg)
     dwell = t.dwell
     motion = simulate_population(
-        nodes, R2, R3, t.L1_mm, t.L2_mm, None if solve else t.a1_mm, None if solve else t.a2_mm,
-        np.radians(t.initial_carrier_angle_deg), np.radians(t.initial_arm_angle_deg),
-        contact2_0=c2, contact3_0=c3, samples=samples, dense=dense, kind=t.interpolation,
-        dwell_start=np.radians(dwell.start_deg) if dwell else None,
-        dwell_sector=np.radians(dwell.sector_deg) if dwell else 0.0)
+        nodes, R2, R3, v["L1_mm"], v["L2_mm"], None if solve else t.a1_mm,
+        None if solve else t.a2_mm, np.radians(v["initial_carrier_angle_deg"]),
+        np.radians(v["initial_arm_angle_deg"]),
+        contact2_0=np.radians(v["gear2_contact_angle_deg"]),
+        contact3_0=np.radians(v["gear3_contact_angle_deg"]), samples=samples, dense=dense,
+        kind=t.interpolation, dwell_start=np.radians(dwell.start_deg) if dwell else None,
+        dwell_sector=np.radians(dwell.sector_deg) if dwell else 0.0,
+        backlash=(np.radians(params["backlash_deg"]) if "backlash_deg" in params else None))
     if t.sections_deg is not None:
         sec = np.radians([getattr(t.sections_deg, k) for k in "abcdef"])
         section_psi = np.broadcast_to(sec, (R2.shape[0], 6))
@@ -341,7 +367,8 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     g = dict(nodes=nodes, kind=t.interpolation)
     ev = evaluate_population(
         motion, section_psi, design.operation.carrier_speed_deg_s,
-        design.operation.travel_speed_m_s, design.attitude, design.speed,
+        params.get("travel_speed_m_s", design.operation.travel_speed_m_s), design.attitude,
+        design.speed,
         gear2={**g, "radii": R2, "contact0": c2}, gear3={**g, "radii": R3, "contact0": c3},
         rules=rules_for(design))
     return SeederPopulation(motion, ev, section_psi)

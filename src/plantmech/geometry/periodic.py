@@ -164,6 +164,35 @@ def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
 _MATRICES: dict = {}  # population evaluations ask for the same few matrices every call
 
 
+def periodic_interpolant_rows(nodes: np.ndarray, radii: np.ndarray,
+                              at: np.ndarray, kind: str = "spline") -> tuple:
+    """Values (mm) and slopes (mm/rad) of each row's periodic interpolant through
+    (nodes, radii[p]) at its own angles ``at[p]`` (rad): radii (P, N), at (P, M) -> two
+    (P, M). The same interpolants as ``periodic_spline_matrix`` (both are piecewise cubic
+    Hermite with node slopes linear in the radii), for angles that differ per design (a
+    per-design phase), where one shared matrix cannot serve."""
+    nodes = np.asarray(nodes, dtype=float)
+    R = np.atleast_2d(np.asarray(radii, dtype=float))
+    at = np.asarray(at, dtype=float)
+    n = len(nodes)
+    slopes = R @ periodic_spline_matrix(nodes, nodes, 1, kind).T  # (P, N) mm/rad
+    x = np.r_[nodes, nodes[0] + TWO_PI]
+    u = nodes[0] + np.mod(at - nodes[0], TWO_PI)
+    k = np.clip(np.searchsorted(x, u, side="right") - 1, 0, n - 1)
+    h = x[k + 1] - x[k]
+    s = (u - x[k]) / h
+    flat = k + (np.arange(R.shape[0]) * n)[:, None]
+    k1 = flat - k + (k + 1) % n
+    Rf, Df = R.ravel(), slopes.ravel()
+    y0, y1, d0, d1 = Rf[flat], Rf[k1], Df[flat] * h, Df[k1] * h
+    s2 = s * s
+    s3 = s2 * s
+    dy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
 def _spline_matrix(nodes, at, nu, kind):
     n = len(nodes)
     eye = np.eye(n)

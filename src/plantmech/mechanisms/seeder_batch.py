@@ -18,7 +18,10 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from plantmech.gears.closure import solve_centre_distances
-from plantmech.geometry.periodic import periodic_spline_matrix  # noqa: F401 (re-export)
+from plantmech.geometry.periodic import (  # noqa: F401 (re-export)
+    periodic_interpolant_rows,
+    periodic_spline_matrix,
+)
 from plantmech.mechanisms.three_bar import tip_position, tip_rate
 
 TWO_PI = 2.0 * np.pi
@@ -53,25 +56,50 @@ def _hermite_slope(y0, y1, d0, d1, h, s):
             + (3 * s**2 - 2 * s) * h * d1)
 
 
+def _radii_along(nodes, radii, contact0, t, kind):
+    """Radii (P, D) mm and slopes (mm/rad) of each design's gear at body angles
+    contact0 + t: one shared matrix for a shared contact angle, per-row evaluation of
+    the same interpolant for per-design contact angles (P,)."""
+    c = np.asarray(contact0, dtype=float)
+    if c.ndim == 0:
+        return tuple(radii @ periodic_spline_matrix(nodes, float(c) + t, nu, kind).T
+                     for nu in (0, 1))
+    at = c.reshape(-1, 1) + t[None, :]
+    return periodic_interpolant_rows(nodes, radii, at, kind)
+
+
+def backlash_offset(ratio: np.ndarray, play) -> np.ndarray:
+    """Arm angle offset (rad) from an angular play ``play`` (rad, (P, 1) or scalar) in the
+    train: inertia-loaded, the arm lags the driving flank by half the play while its
+    relative rotation speeds up (d ratio / d psi > 0) and runs ahead on the other flank by
+    half the play while it slows down: -play / 2 * sign(d ratio / d psi), the derivative a
+    periodic centred difference over the cycle samples of ``ratio`` (P, S) (planet turn
+    per carrier turn). The flank change is taken as instantaneous; its impact on the tip
+    speed is not modelled."""
+    slope = np.roll(ratio, -1, axis=1) - np.roll(ratio, 1, axis=1)
+    return -0.5 * np.asarray(play, dtype=float) * np.sign(slope)
+
+
 def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
                         contact2_0=np.pi, contact3_0=0.0, samples: int = 3600,
                         dense: int = 4096, kind: str = "spline",
                         dwell_start: float | None = None, dwell_sector: float = 0.0,
-                        ) -> PopulationMotion:
+                        backlash=None) -> PopulationMotion:
     """Simulate P trains. radii2, radii3: (P, N) mm at ``nodes`` (N,) rad; L1, L2,
     carrier0, arm0 scalars or (P,); a1, a2 likewise, or None to solve the centre
     distance that closes each pair (Eq. 8; a1 for a sun turn of 2 pi - dwell_sector).
-    ``dwell_start``/``dwell_sector`` (rad, shared): the toothless dwell."""
+    contact2_0, contact3_0: body angles (rad) of gears 2 and 3 at their contacts at
+    psi = 0, shared or (P,) (a per-design phase). ``dwell_start``/``dwell_sector`` (rad,
+    shared): the toothless dwell. ``backlash``: None or the angular play (rad, scalar or
+    (P,)) of the arm against the carrier (``backlash_offset``)."""
     r2n = np.atleast_2d(np.asarray(radii2, dtype=float))
     r3n = np.atleast_2d(np.asarray(radii3, dtype=float))
     P = r2n.shape[0]
     col = lambda v: np.broadcast_to(np.asarray(v, dtype=float), (P,))[:, None]  # noqa: E731
     t = np.linspace(0.0, TWO_PI, dense + 1)
     nodes = np.asarray(nodes, dtype=float)
-    m2 = periodic_spline_matrix(nodes, contact2_0 + t, 0, kind)
-    m3 = periodic_spline_matrix(nodes, contact3_0 + t, 0, kind)
-    r2 = r2n @ m2.T  # (P, D+1)
-    r3 = r3n @ m3.T
+    r2, dr2 = _radii_along(nodes, r2n, contact2_0, t, kind)  # (P, D+1)
+    r3, dr3 = _radii_along(nodes, r3n, contact3_0, t, kind)
     theta1 = float(dwell_sector) if dwell_start is not None else 0.0
     if a1 is None:
         a1 = solve_centre_distances(r2[:, :-1], TWO_PI - theta1)
@@ -80,8 +108,6 @@ def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
     a1_flat, a2_flat = np.broadcast_to(a1, (P,)).copy(), np.broadcast_to(a2, (P,)).copy()
     L1, L2, a1, a2 = col(L1), col(L2), col(a1), col(a2)
     carrier0, arm0 = col(carrier0), col(arm0)
-    dr2 = r2n @ periodic_spline_matrix(nodes, contact2_0 + t, 1, kind).T
-    dr3 = r3n @ periodic_spline_matrix(nodes, contact3_0 + t, 1, kind).T
     f_sun = r2 / (a1 - r2)  # d psi / d psi_2 while meshing
     f_pl = r3 / (a2 - r3)  # d psi_4 / d psi_2
     sun = CubicSpline(t, f_sun, axis=1).antiderivative()(t)
@@ -121,6 +147,8 @@ def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,
     ratio = np.where(in_dwell[None, :], 0.0, (a1 - r2s) / r2s * r3s / (a2 - r3s))
     carrier_abs = carrier0 - psi[None, :]
     arm = carrier_abs + planet_rel + (arm0 - carrier0)
+    if backlash is not None:
+        arm = arm + backlash_offset(ratio, col(backlash))
     tip = tip_position(L1, L2, carrier_abs, arm)
     rate = tip_rate(L1, L2, carrier_abs, arm, ratio)
     return PopulationMotion(psi, tip, arm, ratio, rate, closure, a1_flat, a2_flat, gear2,

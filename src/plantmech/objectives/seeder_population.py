@@ -163,7 +163,8 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
     """Every section-4.1 objective for all designs.
 
     section_psi: (6,) or (P, 6) carrier angles (rad) of a-f. travel_m_s: None =
-    zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e).
+    zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e), else the
+    machine's travel speed (m/s), shared or (P,).
     gear2/gear3: optional dicts(nodes, radii, contact0, kind) to add the pitch-curve
     manufacturability checks of each pair (``add_manufacturability`` with ``rules``, a
     ``manufacturability.CuttingRules``), evaluated at ``curve_samples`` body angles per curve.
@@ -197,7 +198,7 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
     add("sowing_angle", np.abs(sowing), attitude.sowing_angle_max_deg, True, "deg")
     v = motion.tip_rate * (np.radians(carrier_speed_deg_s) / 1000.0)  # (P, S, 2) m/s
     vx_e = _at(psi, v[..., 0], A["e"])
-    travel = vx_e if travel_m_s is None else np.broadcast_to(float(travel_m_s), (P,))
+    travel = vx_e if travel_m_s is None else np.broadcast_to(np.asarray(travel_m_s, float), (P,))
     static = np.hypot(v[..., 0], v[..., 1])
     dynamic = np.hypot(v[..., 0] - travel[:, None], v[..., 1])
     add("seeding_peak_speed", section_extreme(psi, static, A["d"], A["e"], True),

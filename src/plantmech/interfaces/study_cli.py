@@ -1,0 +1,207 @@
+"""``plantmech study DESIGN.toml --spec STUDY.toml --out DIR [--scheduler ADDRESS]
+[--workers N]``: tolerance Monte Carlo, parameter sweeps and multi-start optimization on
+Dask (docs/studies.md). No physics here: the engine is ``plantmech.studies``.
+
+Exit status: 0 the study ran to the end (every chunk written; with ``required_probability``
+in a tolerance spec: and the probability that every objective holds reaches it;
+multi-start: at least one start met every objective), 2 invalid input (names the file and
+field or option), 3 the design itself is infeasible, 4 the study stopped before the end
+(a chunk failed, or --max-chunks: rerun the same command to resume) or its requirement
+was not met.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
+
+
+def _positive_int(text: str) -> int:
+    import argparse
+
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
+    return v
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
+                              "optimization on Dask")
+    p.add_argument("design", help="design file (TOML); never overwritten")
+    p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
+                   "'sweep' or 'multi-start' (examples/studies/)")
+    p.add_argument("--out", required=True, help="output directory; rerun with the same "
+                   "inputs and --out to resume a stopped study")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
+                   "default: a local cluster on this machine")
+    p.add_argument("--workers", type=_positive_int, default=2,
+                   help="worker processes of the local cluster (default 2)")
+    p.add_argument("--max-chunks", type=_positive_int, default=None,
+                   help="stop after this many new chunks (resume later)")
+    p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.files import OutputError, prepare_out_dir
+    from plantmech.studies.engine import StudyStateError
+    from plantmech.studies.parameters import StudyInputError
+    from plantmech.studies.spec import StudySpecError, fingerprint, load_spec
+    from plantmech.workflows import InfeasibleDesign
+
+    try:
+        design = load_design(args.design)
+        spec = load_spec(args.spec)
+        out = prepare_out_dir(args.out, [Path(args.design), Path(args.spec)])
+    except (DesignError, StudySpecError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    if args.scheduler and args.workers != 2:
+        print("note: --workers is ignored with --scheduler (the cluster has its own)",
+              file=sys.stderr)
+    fp = fingerprint(design.model_dump_json(), spec.model_dump_json())
+    try:
+        if spec.kind == "multi-start":
+            from plantmech.studies.multistart import run_multistart
+
+            outcome = run_multistart(design, spec, out, fp, str(args.design), args.scheduler,
+                                     args.workers, not args.quiet, args.max_chunks)
+        else:
+            from plantmech.studies.runner import run_study
+
+            outcome = run_study(design, spec, out, fp, args.scheduler, args.workers,
+                                not args.quiet, args.max_chunks)
+    except StudyInputError as exc:
+        print(f"error: {args.spec}: field 'parameters': {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except StudyStateError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except InfeasibleDesign:
+        print(f"INFEASIBLE: {args.design}: the trajectory's inverse design has no gear train",
+              file=sys.stderr)
+        return EXIT_INFEASIBLE
+    except (ValueError, OSError) as exc:  # a design the population model cannot take
+        print(f"error: {args.design}: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    return _report(args, spec, design, out, outcome)
+
+
+def _report(args, spec, design, out: Path, outcome) -> int:
+    from plantmech.outputs.files import write_json
+
+    st = outcome.stats
+    run = outcome.summary["run"]
+    print(f"chunks: {st.computed_chunks} computed, {st.skipped_chunks} already done "
+          f"(resumed), {len(st.failed)} failed, of {st.total_chunks}; {st.evaluations} "
+          f"{'starts' if spec.kind == 'multi-start' else 'designs'} in {st.wall_s:.1f} s on "
+          f"{st.workers} workers (cluster start {st.cluster_start_s:.1f} s)"
+          + (f", {run['designs_per_s']:.1f} designs/s" if spec.kind != "multi-start"
+             and run["designs_per_s"] else ""))
+    if not st.complete:
+        write_json(out / "run_incomplete.json", outcome.summary)
+        for c, msg in st.failed:
+            print(f"chunk {c} failed: {msg}", file=sys.stderr)
+        print(f"INCOMPLETE: rerun the same command to resume ({out / 'chunks'})",
+              file=sys.stderr)
+        return EXIT_NOT_MET
+    (out / "run_incomplete.json").unlink(missing_ok=True)
+    written = [out / "summary.json"]
+    s = outcome.summary
+    if spec.kind == "tolerance":
+        written += _tolerance_files(args, design, out, s)
+        code = EXIT_OK
+        req = spec.required_probability
+        if req is not None:
+            s["required_probability"] = req
+            s["requirement_met"] = bool(s["probability_all_ok"] >= req)
+            code = EXIT_OK if s["requirement_met"] else EXIT_NOT_MET
+    elif spec.kind == "sweep":
+        if not args.no_plots:
+            from plantmech.outputs.study_plots import plot_sweep
+            from plantmech.studies.engine import read_results
+
+            plot_sweep(out / "sweep.png", read_results(out), s)
+            written.append(out / "sweep.png")
+        print(f"sweep: {s['samples']} designs, every objective met by "
+              f"{100 * s['fraction_all_ok']:.1f} %")
+        code = EXIT_OK
+    else:
+        if not args.no_plots:
+            from plantmech.outputs.study_plots import plot_multistart
+            from plantmech.studies.engine import read_results
+
+            plot_multistart(out / "multistart.png", read_results(out))
+            written.append(out / "multistart.png")
+        print(f"multi-start {s['problem']}: {s['successes']} of {s['starts']} starts met "
+              f"every objective (seeds {s['seeds_succeeded']})")
+        for b in s["best"]:
+            print(f"  #{b['rank']} seed {b['seed']}: total violation {b['total_violation']:.4g}"
+                  f" -> {b['file']}")
+        written += [out / b["file"] for b in s["best"]]
+        code = EXIT_OK if s["successes"] else EXIT_NOT_MET
+    write_json(out / "summary.json", s)
+    print("wrote: " + ", ".join(str(p) for p in written) + f", {out / 'chunks'}/ (Parquet)")
+    return code
+
+
+def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:
+    import numpy as np
+
+    from plantmech.outputs.files import write_csv
+
+    band = s.pop("band")
+    write_csv(out / "band.csv", {
+        "carrier_angle_deg": band["carrier_angle_deg"],
+        "nominal_x_mm": band["nominal_tip_mm"][:, 0], "nominal_y_mm": band["nominal_tip_mm"][:, 1],
+        "normal_x": band["normal"][:, 0], "normal_y": band["normal"][:, 1],
+        "mc_mean_mm": band["mc_mean_mm"], "mc_std_mm": band["mc_std_mm"],
+        "mc_min_mm": band["mc_min_mm"], "mc_max_mm": band["mc_max_mm"],
+        "first_order_mean_mm": band["first_order_mean_mm"],
+        "first_order_std_mm": band["first_order_std_mm"]})
+    s["band_summary"] = {
+        "largest_mc_std_mm": float(np.max(band["mc_std_mm"])),
+        "largest_first_order_std_mm": float(np.max(band["first_order_std_mm"])),
+        "largest_envelope_width_mm": float(np.max(band["mc_max_mm"] - band["mc_min_mm"])),
+        "largest_std_difference_mm": float(np.max(np.abs(band["mc_std_mm"]
+                                                         - band["first_order_std_mm"]))),
+        "file": "band.csv"}
+    written = [out / "band.csv"]
+    if not args.no_plots:
+        from plantmech.outputs import study_plots as sp
+        from plantmech.studies.engine import read_results
+
+        data = read_results(out)
+        sp.plot_histograms(out / "histograms.png", data, s)
+        sp.plot_sensitivity(out / "sensitivity.png", s)
+        plan = None
+        if getattr(design, "trajectory", None) is not None:
+            from plantmech.geometry.trajectory import ClosedTrajectory
+
+            traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, float))
+            _, u = traj.arc_length_samples(2000)
+            plan = traj(u)
+        sp.plot_band(out / "band.png", {**s, "band": band}, plan)
+        written += [out / "histograms.png", out / "sensitivity.png", out / "band.png"]
+    print(f"tolerance study: {s['samples']} samples; P(every objective met) = "
+          f"{s['probability_all_ok']:.4f}; P(the {len(s['nominal_met'])} objectives the "
+          f"nominal design meets all still met) = {s['probability_nominal_met_kept']:.4f}")
+    for o in s["objectives"]:
+        top = o["sensitivity"]["ranking"][0]
+        print(f"  {o['name']:<36} nominal {o['nominal']:>10.4f} {o['unit']:<4} "
+              f"P(ok {o['limit']}) = {o['probability_ok']:.4f}   std {o.get('std', 0):.4g}"
+              f" (first order {o['first_order_std']:.4g}); most: {top['parameter']}")
+    bs = s["band_summary"]
+    print(f"  tip-path band: largest std {bs['largest_mc_std_mm']:.4f} mm (first order "
+          f"{bs['largest_first_order_std_mm']:.4f} mm), envelope up to "
+          f"{bs['largest_envelope_width_mm']:.3f} mm wide")
+    return written

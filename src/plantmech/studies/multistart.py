@@ -1,0 +1,83 @@
+"""Multi-start optimization: the same ``plantmech optimize`` problem from N seeds, one Dask
+task per start (each start evaluates its populations through the population API), so the
+spread of the optimizer's outcome over seeds, and the best designs, are seen at once."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from plantmech.studies.engine import RunStats, claim_out_dir, read_results, run_chunks
+from plantmech.studies.spec import MultiStartSpec
+
+
+def start_task(shared, payload):
+    """Worker task: one optimization run -> (one-row columns, its best design file)."""
+    from plantmech.optimize.jobs import optimize
+
+    design, spec, design_input = shared
+    index, seed = payload
+    with tempfile.TemporaryDirectory() as tmp:
+        res = optimize(design, spec.problem, Path(tmp), design_input, seed=seed,
+                       generations=spec.generations, pop=spec.pop, algorithm=spec.algorithm,
+                       progress=False)
+        best = (Path(tmp) / "best.toml").read_text(encoding="utf-8")
+    rec = res.record
+    cols = {"start": np.array([index]), "seed": np.array([seed]),
+            "feasible": np.array([bool(res.feasible)]),
+            "total_violation": np.array([float(rec.get("total_violation", np.nan))]),
+            "evaluations": np.array([int(rec.get("evaluations", 0))]),
+            "wall_s": np.array([float(rec.get("wall_s", np.nan))]),
+            "first_feasible_s": np.array([np.nan if rec.get("first_feasible_s") is None
+                                          else float(rec["first_feasible_s"])])}
+    for o in rec.get("objectives", []):
+        cols[o["name"]] = np.array([np.nan if o["value"] is None else float(o["value"])])
+        cols[f"{o['name']}__ok"] = np.array([bool(o["ok"])])
+    return cols, {"_files": {f"starts/best_seed{seed}.toml": best}}
+
+
+def run_multistart(design, spec: MultiStartSpec, out: Path, fingerprint: str,
+                   design_input: str, scheduler: str | None = None, workers: int = 2,
+                   progress: bool = True, max_chunks: int | None = None):
+    from plantmech.optimize.jobs import PROBLEMS
+    from plantmech.studies.runner import StudyOutcome, wilson
+
+    if spec.problem not in PROBLEMS:
+        raise ValueError(f"field 'problem': unknown problem {spec.problem!r} (expected one of "
+                         f"{', '.join(PROBLEMS)})")
+    claim_out_dir(out, fingerprint, {"kind": spec.kind, "design": design.name,
+                                     "problem": spec.problem})
+    (out / "starts").mkdir(exist_ok=True)
+    chunks = [(k, (k, spec.seed + k), 1) for k in range(spec.starts)]
+    stats: RunStats = run_chunks(out, start_task, (design, spec, design_input), chunks,
+                                 scheduler, workers, progress, max_chunks, label="starts")
+    summary = {}
+    if stats.complete:
+        data = read_results(out)
+        n = len(data["seed"])
+        ok = data["feasible"].astype(bool)
+        order = np.lexsort((data["total_violation"], ~ok))
+        best = []
+        for rank, k in enumerate(order[:spec.best], start=1):
+            seed = int(data["seed"][k])
+            src = out / "starts" / f"best_seed{seed}.toml"
+            dst = out / f"best_{rank}.toml"
+            dst.write_text(src.read_text(encoding="utf-8"), encoding="utf-8")
+            best.append({"rank": rank, "seed": seed, "file": dst.name,
+                         "feasible": bool(ok[k]),
+                         "total_violation": float(data["total_violation"][k]),
+                         "evaluations": int(data["evaluations"][k]),
+                         "wall_s": float(data["wall_s"][k])})
+        ffs = data["first_feasible_s"][np.isfinite(data["first_feasible_s"])]
+        summary = {"kind": "multi-start", "problem": spec.problem, "starts": n,
+                   "generations": spec.generations, "pop": spec.pop,
+                   "successes": int(ok.sum()), "success_rate": float(ok.mean()),
+                   "success_rate_95": wilson(int(ok.sum()), n),
+                   "seeds_succeeded": [int(s) for s in data["seed"][ok]],
+                   "first_feasible_s_median": float(np.median(ffs)) if len(ffs) else None,
+                   "evaluations_total": int(data["evaluations"].sum()),
+                   "best": best}
+    summary["run"] = stats.as_dict()
+    return StudyOutcome(stats, summary)
