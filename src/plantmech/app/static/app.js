@@ -510,6 +510,12 @@ function render() {
 }
 
 function tick(t) {
+  try { step(t); } catch (e) { console.error(e); }
+  state.lastT = t;
+  requestAnimationFrame(tick);
+}
+
+function step(t) {
   if (state.playing && state.result && frameCount(state.result)) {
     if (state.lastT !== null) {
       // one carrier turn in 4 s at 1x
@@ -521,8 +527,6 @@ function tick(t) {
       if (state.frame % 6 === 0) renderPlots();
     }
   }
-  state.lastT = t;
-  requestAnimationFrame(tick);
 }
 
 // ---------------------------------------------------------------- optimize
