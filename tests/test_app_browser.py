@@ -77,9 +77,11 @@ def point_px(page, i, xy=None):
     page.wait_for_function("window.__plantmech.view")
     box = page.locator("#mech").bounding_box()
     px, py = page.evaluate(
-        """([i, xy]) => { const s = window.__plantmech; const p = xy || s.design.trajectory.points[i];
+        """([i, xy]) => { const s = window.__plantmech;
+            const p = xy || s.design.trajectory.points[i];
             const c = document.getElementById('mech'); const [x, y] = s.view.toPx(p[0], p[1]);
-            return [x * c.getBoundingClientRect().width / c.width, y * c.getBoundingClientRect().height / c.height]; }""",
+            const r = c.getBoundingClientRect();
+            return [x * r.width / c.width, y * r.height / c.height]; }""",
         [i, xy])
     return box["x"] + px, box["y"] + py
 
@@ -144,9 +146,11 @@ def test_infeasible_span_drawn_red_with_reason(page):
     reasons = page.locator("#diagnostics li").all_inner_texts()
     assert any("between q3 and q4" in r for r in reasons), reasons
     # the span q3-q4 is drawn red on the canvas
-    rgb = page.evaluate("""() => { const s = window.__plantmech, c = document.getElementById('mech');
+    rgb = page.evaluate("""() => { const s = window.__plantmech;
+        const c = document.getElementById('mech');
         const p = s.result.spans[3][12]; const [x, y] = s.view.toPx(p[0], p[1]);
-        return Array.from(c.getContext('2d').getImageData(Math.round(x), Math.round(y), 1, 1).data); }""")
+        const px = c.getContext('2d').getImageData(Math.round(x), Math.round(y), 1, 1);
+        return Array.from(px.data); }""")
     assert rgb[0] > 180 and rgb[1] < 90 and rgb[2] < 90, rgb
 
 

@@ -13,10 +13,11 @@ import numpy as np
 DEG = 180.0 / np.pi
 
 
-def _r(a, nd: int = 3) -> list:
-    """Round an array for JSON (mm to the micrometre is more than a screen shows)."""
-    a = np.asarray(a, dtype=float)
-    return np.round(a, nd).tolist()
+def _r(a, nd: int = 3):
+    """Round an array for JSON (mm to the micrometre is more than a screen shows): a
+    contiguous float array (serialized by orjson), or a float for a scalar."""
+    a = np.round(np.asarray(a, dtype=float), nd)
+    return float(a) if a.ndim == 0 else np.ascontiguousarray(a)
 
 
 def _xy(z) -> list:
@@ -32,12 +33,12 @@ def frame_index(n: int, frames: int) -> np.ndarray:
     return np.linspace(0, n, frames, endpoint=False).astype(int)
 
 
-def _gear(name: str, body: np.ndarray, centre, rot, role: str) -> dict:
+def _gear(name: str, body: np.ndarray, centre, rot, role: str, detail: int = 720) -> dict:
     """A gear: closed pitch curve in its body frame (complex, mm), centre per frame
     (complex, mm; one value for a fixed gear) and absolute rotation per frame (rad)."""
     centre = np.broadcast_to(np.asarray(centre, dtype=complex), np.shape(rot))
     body = np.asarray(body)
-    body = body[:: max(1, len(body) // 720)]
+    body = body[:: max(1, len(body) // detail)]
     return {"name": name, "role": role, "body": _xy(body), "centre": _xy(centre),
             "rot": _r(rot, 5)}
 
@@ -59,11 +60,11 @@ def checks_list(checks) -> list[dict]:
 # --- seeder ------------------------------------------------------------------------------
 
 
-def _trajectory_part(design, traj) -> dict:
+def trajectory_part(design, traj, detail: int = 720) -> dict:
     """Planned closed curve through the type-value points and the points themselves."""
     if traj is None:
         return {}
-    _, u = traj.arc_length_samples(720)
+    _, u = traj.arc_length_samples(detail)
     plan = traj(u)
     n = len(design.trajectory.points)
     # curve samples between consecutive type-value points (for red infeasible spans)
@@ -82,7 +83,7 @@ def diagnostics_list(diags) -> list[dict]:
     return [d.as_dict() if hasattr(d, "as_dict") else dict(d) for d in diags]
 
 
-def seeder_forward_scene(job, frames: int = 360) -> dict:
+def seeder_forward_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Everything the page draws for a simulated seeder train (``SeederForwardJob``)."""
     from plantmech.mechanisms.seeder_forward import shaft_offset
 
@@ -103,17 +104,16 @@ def seeder_forward_scene(job, frames: int = 360) -> dict:
     sun_body = r1 * np.exp(1j * np.angle(S))
     planet_body = r4 * np.exp(1j * (np.angle(S - P) - arm))
     gears = [
-        _gear("sun (gear 1, fixed)", sun_body[:: max(1, n // 720)], 0.0, np.zeros(len(k)),
-              "sun"),
+        _gear("sun (gear 1, fixed)", sun_body, 0.0, np.zeros(len(k)), "sun", detail),
         _gear("gear 2", tr.gear2(theta) * np.exp(1j * theta), S[k],
-              np.angle(-S[k]) - c2[k], "gear2"),
+              np.angle(-S[k]) - c2[k], "gear2", detail),
         _gear("gear 3", tr.gear3(theta) * np.exp(1j * theta), S[k],
-              np.angle(P[k] - S[k]) - c3[k], "gear3"),
-        _gear("planet (gear 4)", planet_body[:: max(1, n // 720)], P[k], arm[k], "planet"),
+              np.angle(P[k] - S[k]) - c3[k], "gear3", detail),
+        _gear("planet (gear 4)", planet_body, P[k], arm[k], "planet", detail),
     ]
     carrier_speed = d.operation.carrier_speed_deg_s
     vel = res.velocity(carrier_speed)
-    ks = frame_index(n, 720)
+    ks = frame_index(n, detail)
     sec = {key: float(v * DEG) for key, v in job.section_psi.items()}
     tip_at = {key: _r(np.interp(v, psi, res.tip[:, 0], period=2 * np.pi), 2)
               for key, v in job.section_psi.items()}
@@ -154,7 +154,7 @@ def seeder_forward_scene(job, frames: int = 360) -> dict:
     return out
 
 
-def seeder_inverse_scene(job, frames: int = 360) -> dict:
+def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a seeder inverse design (``SeederInverseJob``): the realized
     train of the inverse result (carrier, gears 1-4 on their pitch curves, arm, tip),
     the planned trajectory, Table 1 and attitude. Without a feasible train only the
@@ -162,7 +162,7 @@ def seeder_inverse_scene(job, frames: int = 360) -> dict:
     from plantmech.outputs.seeder_report import gear_body_angles
 
     res, d = job.result, job.design
-    out = {"mechanism": "sugarcane_seeder", **_trajectory_part(d, job.trajectory),
+    out = {"mechanism": "sugarcane_seeder", **trajectory_part(d, job.trajectory, detail),
            "feasible": bool(res.feasible),
            "diagnostics": diagnostics_list(res.diagnostics)}
     if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
@@ -189,9 +189,9 @@ def seeder_inverse_scene(job, frames: int = 360) -> dict:
         if role == "sun":  # fixed: its body frame is the machine frame at the start
             body = body * np.exp(1j * car[0])
         centre_k = centre if np.isscalar(centre) else centre[k]
-        gears.append(_gear(name, body[:: max(1, len(body) // 720)], centre_k, rot[k], role))
+        gears.append(_gear(name, body, centre_k, rot[k], role, detail))
     arm = res.arm_angle_realized
-    ks = frame_index(n, 720)
+    ks = frame_index(n, detail)
     sec = {key: float(res.point_carrier_angle[i] * DEG) for key, i in job.sections.items()}
     out.update({
         "frames": {"carrier_angle_deg": _r(psi[k] * DEG, 3),
@@ -217,7 +217,7 @@ def seeder_inverse_scene(job, frames: int = 360) -> dict:
     return out
 
 
-def transplanter_scene(job, frames: int = 360) -> dict:
+def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a transplanting mechanism (``TransplanterJob``): internal gear
     (or fixed sun) and planets on their pitch curves, the arms (planet axis -> break
     point A -> tip B), the tip paths, the seedling box and the ground."""
@@ -225,7 +225,7 @@ def transplanter_scene(job, frames: int = 360) -> dict:
     psi = m.carrier_angle
     n = len(psi)
     k = frame_index(n, frames)
-    ks = frame_index(n, 720)
+    ks = frame_index(n, detail)
     J = m.B.shape[1]
     c0 = np.radians(d.carrier.initial_angle_deg)
     gears, links = [], []
@@ -236,15 +236,15 @@ def transplanter_scene(job, frames: int = 360) -> dict:
         ratio = d.drive.speed_ratio or (g.lobes - 1) / g.lobes
         # the internal gear turns clockwise theta_1 = k psi (seed 001 Eq. 1)
         rot = c0 + phase0 / pair.lobes - ratio * psi[k]
-        gears.append(_gear("internal gear", R * np.exp(1j * ang), 0.0, rot, "internal"))
+        gears.append(_gear("internal gear", R * np.exp(1j * ang), 0.0, rot, "internal", detail))
         pa, pr = pair.planet_polar(0)
         q0 = np.interp(phase0 % (2 * np.pi), pair.p, pair.Q[0])
         for j in range(J):
             gears.append(_gear(f"planet {j + 1}", pr * np.exp(1j * (pa + q0)),
-                               m.centre[0, j, k], m.planet_angle[0, j, k], "planet"))
+                               m.centre[0, j, k], m.planet_angle[0, j, k], "planet", detail))
     else:
         z = pair.r_sun[0] * np.exp(1j * (c0 - pair.sigma))
-        gears.append(_gear("sun (fixed)", z, 0.0, np.zeros(len(k)), "sun"))
+        gears.append(_gear("sun (fixed)", z, 0.0, np.zeros(len(k)), "sun", detail))
     for j in range(J):
         links.append({"name": f"carrier {j + 1}",
                       "points": _xy(np.c_[np.zeros(len(k)), m.centre[0, j, k]])})

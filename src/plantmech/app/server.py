@@ -36,6 +36,7 @@ COMPUTE_TIMEOUT_S = 20.0
 MAX_COMPUTE = 4
 DRAG_SAMPLES = 360  # the app's working resolution during a drag (samples per carrier turn)
 FRAMES = 360  # animation frames per carrier turn
+DRAG_FRAMES, DRAG_DETAIL = 180, 360  # during a drag: frames, points per curve and plot
 
 
 class AppError(Exception):
@@ -97,6 +98,15 @@ def design_json(design) -> dict:
     return design.model_dump(mode="json", exclude_none=True)
 
 
+def fast_json(content) -> Response:
+    """A JSON response serialized by orjson (NumPy arrays directly, NaN as null): the
+    drawing data of one evaluation is ~10^5 numbers."""
+    import orjson
+
+    return Response(orjson.dumps(content, option=orjson.OPT_SERIALIZE_NUMPY),
+                    media_type="application/json")
+
+
 def _finite(x):
     if x is None:
         return None
@@ -111,16 +121,21 @@ def evaluate(design, quality: str = "full") -> dict:
     """Everything the page shows for ``design``: drawing data, checks, diagnostics.
 
     quality "drag": the app's working resolution (``DRAG_SAMPLES``) and only what a drag
-    must see live (seeder trajectory: inverse design, Table 1, attitude and speeds of the
-    inverse-designed train, ``seeder_inverse_checks_population``); "full": the design's own
-    resolution and every check (seeder: the forward simulation of the designed train with
-    the section-4.1 objectives and the gear checks)."""
+    must see live (seeder trajectory: the inverse design with its feasibility verdict,
+    Table 1 and the attitude objectives); "full": the design's own resolution and every
+    check (seeder: the forward simulation of the designed train with every section-4.1
+    objective and the gear checks)."""
     drag = quality == "drag"
     if design.mechanism == "sugarcane_seeder":
         if design.train is None:
             return _seeder_trajectory(design, drag)
         return _seeder_train(design, drag)
     return _transplanter(design, drag)
+
+
+def _resolution(drag: bool) -> tuple[int, int]:
+    """(animation frames, points per curve and plot) sent to the page."""
+    return (DRAG_FRAMES, DRAG_DETAIL) if drag else (FRAMES, 720)
 
 
 def _seeder_trajectory(design, drag: bool) -> dict:
@@ -135,26 +150,13 @@ def _seeder_trajectory(design, drag: bool) -> dict:
     except TrajectoryError as exc:
         raise AppError(422, f"design: field 'trajectory.points': {exc}",
                        [{"field": "trajectory.points", "message": str(exc)}]) from None
-    out = scene.seeder_inverse_scene(job, FRAMES)
+    out = scene.seeder_inverse_scene(job, *_resolution(drag))
     checks = list(job.summary["trajectory_checks"]) + list(job.summary.get("objectives", []))
     out["quality"] = "drag" if drag else "full"
     if not job.result.feasible:
         out["checks"] = scene.checks_list(checks)
         return out
-    gt = d.gear_train
-    dwell = gt.dwell is not None and gt.dwell.enabled
-    if drag and not dwell:
-        from plantmech.workflows import seeder_inverse_checks_population
-
-        pts = np.asarray(d.trajectory.points, dtype=float)[None]
-        pc = seeder_inverse_checks_population(d, pts, samples=DRAG_SAMPLES)
-        checks = [{"name": n, "value": _finite(pc["values"][0, i]), "unit": pc["units"][i],
-                   "limit": pc["limits"][i], "ok": bool(pc["ok"][0, i])}
-                  for i, n in enumerate(pc["names"])]
-        out["checks"] = scene.checks_list(checks)
-        out["pending"] = "gear checks and speed plots follow on release (full resolution)"
-        return out
-    if drag:
+    if drag:  # live: the inverse design, Table 1 and the attitude objectives
         out["checks"] = scene.checks_list(checks)
         out["pending"] = "speed objectives and gear checks follow on release"
         return out
@@ -196,9 +198,9 @@ def _seeder_train(design, drag: bool) -> dict:
                                  "field": field, "between_points": None,
                                  "carrier_angle_deg": None}],
                 **({"train_points": _train_points(d)})}
-    out = scene.seeder_forward_scene(job, FRAMES)
+    out = scene.seeder_forward_scene(job, *_resolution(drag))
     if job.trajectory is not None:
-        out.update({k: v for k, v in scene._trajectory_part(d, job.trajectory).items()
+        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory).items()
                     if k in ("plan", "points", "sections_points")})
     out.update({"feasible": True, "diagnostics": [], "quality": "drag" if drag else "full",
                 "checks": scene.checks_list(job.checks)})
@@ -226,7 +228,7 @@ def _transplanter(design, drag: bool) -> dict:
     except (InternalPairError, ValueError) as exc:
         raise AppError(422, f"design: [{gear}]: {exc}",
                        [{"field": f"{gear}.radii_mm", "message": str(exc)}]) from None
-    out = scene.transplanter_scene(job, FRAMES)
+    out = scene.transplanter_scene(job, *_resolution(drag))
     out["checks"] = scene.checks_list(job.summary["objectives"])
     out["quality"] = "drag" if drag else "full"
     out["centre_distance_mm"] = job.summary["centre_distance_mm"]
@@ -380,7 +382,7 @@ def create_app(initial: Path | None = None) -> FastAPI:
         result = await compute(evaluate, design, quality)
         result["design"] = design_json(design)
         result["parameters"] = editable_parameters(design) if quality == "full" else None
-        return result
+        return fast_json(result)
 
     @app.post("/api/toml")
     async def toml(request: Request):

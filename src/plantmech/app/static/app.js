@@ -280,8 +280,8 @@ function renderChecks() {
   const checks = res.checks || [];
   const failed = checks.filter((c) => !c.ok).length;
   if (!res.feasible) { verdict.textContent = "INFEASIBLE: no gear train can follow this design (reasons below)"; verdict.className = "bad"; }
-  else if (failed) { verdict.textContent = `${failed} of ${checks.length} checks not met`; verdict.className = "bad"; }
-  else { verdict.textContent = `all ${checks.length} checks met`; verdict.className = "good"; }
+  else if (failed) { verdict.textContent = `${failed} of ${checks.length} ${res.quality === "drag" ? "live " : ""}checks not met`; verdict.className = "bad"; }
+  else { verdict.textContent = `all ${checks.length} ${res.quality === "drag" ? "live " : ""}checks met`; verdict.className = "good"; }
   for (const d of res.diagnostics || []) {
     const li = document.createElement("li"); li.className = d.severity;
     let where = d.between_points ? ` between q${d.between_points[0]} and q${d.between_points[1]}` : "";
@@ -289,8 +289,13 @@ function renderChecks() {
     li.textContent = `${d.severity.toUpperCase()} [${d.kind}]${where}: ${d.message}`;
     diag.appendChild(li);
   }
-  for (const c of checks) {
+  // during a drag the checks computed on release only are kept from the last release, greyed
+  const live = new Set(checks.map((c) => c.name));
+  const kept = res.quality === "drag" && state.fullResult && state.fullResult.feasible
+    ? (state.fullResult.checks || []).filter((c) => !live.has(c.name)).map((c) => ({ ...c, stale: true })) : [];
+  for (const c of checks.concat(kept)) {
     const tr = document.createElement("tr");
+    if (c.stale) { tr.className = "stale"; tr.title = "from the last release: updates on release"; }
     const val = c.value === null ? "—" : `${+c.value.toPrecision(5)} ${c.unit}`;
     tr.innerHTML = `<td>${c.name.replaceAll("_", " ")}</td><td class="num">${val}</td><td>${c.limit}</td><td class="${c.ok ? "ok" : "fail"}">${c.ok ? "pass" : "FAIL"}</td>`;
     tr.dataset.check = c.name;
