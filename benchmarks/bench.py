@@ -163,5 +163,18 @@ def main() -> None:
             + f", {rec['evaluations']} evaluations in {rec['wall_s']:.1f} s")
 
 
+def app_figures() -> None:
+    """The app's drag -> redraw latency in chromium and its 20-client load test
+    (benchmarks/app_bench.py); skipped with a reason when a piece is missing."""
+    try:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        import app_bench
+    except ImportError as exc:  # fastapi / uvicorn missing
+        print(f"app benchmarks skipped: {exc}")
+        return
+    app_bench.report()
+
+
 if __name__ == "__main__":
     main()
+    app_figures()
