@@ -169,9 +169,11 @@ def test_optimize_and_make(page):
     n = page.evaluate("document.getElementById('opt-pareto')._pts.length")
     assert n >= 1
     page.locator("#opt-pareto").scroll_into_view_if_needed()
-    cx, cy = page.evaluate("document.getElementById('opt-pareto')._pts[0].slice(0, 2)")
+    cx, cy, width = page.evaluate("(() => { const c = document.getElementById('opt-pareto');"
+                                  " return [...c._pts[0].slice(0, 2), c.width]; })()")
     box = page.locator("#opt-pareto").bounding_box()
-    page.mouse.click(box["x"] + cx, box["y"] + cy)
+    scale = box["width"] / width  # the canvas may be drawn scaled by CSS
+    page.mouse.click(box["x"] + cx * scale, box["y"] + cy * scale)
     page.wait_for_function("window.__plantmech.name.includes('optimized')"
                            " && !window.__plantmech.inflight")
     assert page.evaluate("window.__plantmech.undo.length") == 1  # the user's design is kept

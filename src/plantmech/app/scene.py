@@ -163,7 +163,7 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
 
     res, d = job.result, job.design
     out = {"mechanism": "sugarcane_seeder", **trajectory_part(d, job.trajectory, detail),
-           "feasible": bool(res.feasible),
+           "feasible": bool(res.feasible), "samples": int(d.trajectory.samples),
            "diagnostics": diagnostics_list(res.diagnostics)}
     if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
         return out

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import csv
 import multiprocessing as mp
+import os
+import signal
 import queue
 import shutil
 import tempfile
@@ -65,9 +67,30 @@ def _read_csv(path: Path) -> dict[str, list[float]]:
     return {k: [float(r[k]) for r in rows] for k in rows[0]}
 
 
+def _own_group() -> None:
+    """Put the child in its own process group, so that stopping a task also stops the
+    worker pool an optimizer starts (``_kill``)."""
+    if hasattr(os, "setpgrp"):
+        os.setpgrp()
+
+
+def _kill(process) -> None:
+    """Kill a task's process and its own children (its process group)."""
+    if process.pid is None:
+        return
+    try:
+        if hasattr(os, "killpg"):
+            os.killpg(process.pid, signal.SIGKILL)
+        else:
+            process.kill()
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
 def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) -> None:
     import tqdm
 
+    _own_group()
     _ProgressBar.q = q
     tqdm.tqdm = _ProgressBar  # the runner builds its bar from tqdm.tqdm at run time
     try:
@@ -112,6 +135,7 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
 
 
 def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
+    _own_group()
     try:
         from plantmech.workflows import run_gears
 
@@ -165,7 +189,7 @@ class TaskManager:
             # target(*head, out_dir, opts, queue)
             head, opts = args[:-1], args[-1]
             task.process = self.ctx.Process(
-                target=target, args=(*head, str(task.dir), opts, task.queue), daemon=True)
+                target=target, args=(*head, str(task.dir), opts, task.queue), daemon=False)
             task.process.start()
             self.tasks[task.id] = task
         threading.Thread(target=self._watch, args=(task,), daemon=True).start()
@@ -184,7 +208,7 @@ class TaskManager:
                 kind, payload = task.queue.get(timeout=0.2)
             except queue.Empty:
                 if time.time() - task.started > task.limit_s:
-                    task.process.kill()
+                    _kill(task.process)
                     task.state, task.error = "failed", (
                         f"time limit of {task.limit_s:g} s exceeded: the task was stopped")
                 elif not task.process.is_alive() and task.queue.empty():
@@ -214,7 +238,7 @@ class TaskManager:
         t = self.tasks.get(task_id)
         if t is None or t.state != "running":
             return False
-        t.process.kill()
+        _kill(t.process)
         t.state, t.error = "failed", "cancelled"
         return True
 
@@ -228,5 +252,5 @@ class TaskManager:
     def shutdown(self) -> None:
         for t in self.tasks.values():
             if t.process is not None and t.process.is_alive():
-                t.process.kill()
+                _kill(t.process)
             shutil.rmtree(t.dir, ignore_errors=True)

@@ -27,6 +27,7 @@ def _run(args) -> int:
     import socket
 
     with socket.socket() as s:  # a clear message instead of uvicorn's traceback
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
         try:
             s.bind((args.host, args.port))
         except OSError as exc:

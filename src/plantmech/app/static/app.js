@@ -42,7 +42,10 @@ function pushUndo(before) {
   if (state.undo.length > 200) state.undo.shift();
 }
 
+function blurEdit() { if (document.activeElement && document.activeElement.closest?.("#edit")) document.activeElement.blur(); }
+
 function loadDesign(design, name, keepUndo = false) {
+  blurEdit();
   if (state.design && keepUndo) pushUndo(clone(state.design));
   if (!keepUndo) { state.undo = []; state.redo = []; }
   state.design = clone(design); state.name = name || design.name || "design";
@@ -55,10 +58,12 @@ function loadDesign(design, name, keepUndo = false) {
 
 function undo() {
   if (!state.undo.length) return;
+  blurEdit();
   state.redo.push(clone(state.design)); state.design = state.undo.pop(); evaluate("full");
 }
 function redo() {
   if (!state.redo.length) return;
+  blurEdit();
   state.undo.push(clone(state.design)); state.design = state.redo.pop(); evaluate("full");
 }
 

@@ -52,8 +52,12 @@ export function linePlot(canvas, opt) {
     ctx.beginPath(); ctx.moveTo(X(t), m.t); ctx.lineTo(X(t), H - m.b); ctx.stroke();
     ctx.fillText(fmt(t), X(t) - 8, H - m.b + 12);
   }
-  const yt = logy ? niceTicks(tlo, thi, 4).map((e) => Math.pow(10, Math.round(e)))
-    : niceTicks(ylo, yhi, 4);
+  let yt = niceTicks(ylo, yhi, 4);
+  if (logy) {  // decades inside the range, else plain ticks of the values
+    const dec = [];
+    for (let e = Math.ceil(tlo); e <= Math.floor(thi); e++) dec.push(Math.pow(10, e));
+    yt = dec.length >= 2 ? dec : yt.filter((t) => t > 0);
+  }
   for (const t of yt) {
     ctx.beginPath(); ctx.moveTo(m.l, Y(t)); ctx.lineTo(W - m.r, Y(t)); ctx.stroke();
     ctx.textAlign = "right"; ctx.fillText(fmt(t), m.l - 4, Y(t) + 4); ctx.textAlign = "left";
