@@ -11,9 +11,9 @@ from __future__ import annotations
 import csv
 import multiprocessing as mp
 import os
-import signal
 import queue
 import shutil
+import signal
 import tempfile
 import threading
 import time
