@@ -284,6 +284,11 @@ def create_app(initial: Path | None = None) -> FastAPI:
         tasks.shutdown()
 
     app = FastAPI(title="plantmech app", docs_url=None, redoc_url=None, lifespan=lifespan)
+    from starlette.middleware.trustedhost import TrustedHostMiddleware
+
+    # loopback names only: a page elsewhere cannot reach the API by rebinding its name
+    app.add_middleware(TrustedHostMiddleware,
+                       allowed_hosts=["127.0.0.1", "localhost", "[::1]", "testserver"])
     app.state.tasks = tasks
     compute_slots = threading.BoundedSemaphore(MAX_COMPUTE)
     initial_payload: dict | None = None

@@ -582,7 +582,7 @@ async function pollOptimize() {
   $("opt-status").innerHTML = `${r.feasible ? '<span class="ok">every objective met</span>' : '<span class="fail">not every objective met</span> (closest design kept)'} — ${r.evaluations} evaluations, ${r.wall_s.toFixed(1)} s. ${r.note || ""}
     <a href="/api/tasks/${state.optTask}/files/best.toml" download>best.toml</a> <a href="/api/tasks/${state.optTask}/files/pareto.csv" download>pareto.csv</a> <a href="/api/tasks/${state.optTask}/files/run.json" download>run.json</a>`;
   const h = r.history || {};
-  drawHistory(h.evaluations || [], h.best_violation || [], "evaluations");
+  drawHistory(h.generation || [], h.best_violation || [], "generation (last stage of the run)");
   drawPareto();
 }
 
