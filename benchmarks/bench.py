@@ -228,6 +228,18 @@ def study_scaling(samples: int = 1200, chunk: int = 200, repeat: int = 1) -> Non
           f"({os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f})")
 
 
+def app_figures() -> None:
+    """The app's drag -> redraw latency in chromium and its 20-client load test
+    (benchmarks/app_bench.py); skipped with a reason when a piece is missing."""
+    try:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        import app_bench
+    except ImportError as exc:  # fastapi / uvicorn missing
+        print(f"app benchmarks skipped: {exc}")
+        return
+    app_bench.report()
+
+
 if __name__ == "__main__":
     main()
-
+    app_figures()

@@ -231,7 +231,7 @@ def test_two_worker_local_cluster_runs_the_chunks(seeder, tmp_path):
         assert np.array_equal(data[k][60:90], cols[k])
     s = out.summary
     assert 0.0 <= s["probability_nominal_met_kept"] <= 1.0
-    assert s["samples"] == 120 and len(s["objectives"]) == 10  # 6 objectives, 2 x 2 manufacturability
+    assert s["samples"] == 120 and len(s["objectives"]) == 10  # 6 objectives, 2 x 2 gear rows
 
 
 def outcome_ok(out) -> bool:

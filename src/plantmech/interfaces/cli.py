@@ -486,11 +486,12 @@ def build_parser() -> argparse.ArgumentParser:
                      "recorded in run.json. By default every problem requires them")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import design_cli, schema_cli, study_cli
+    from plantmech.interfaces import app_cli, design_cli, schema_cli, study_cli
 
     design_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
+    app_cli.register(sub)
     return p
 
 

@@ -1,0 +1,184 @@
+"""Benchmarks of the app (``make bench`` runs them after the engine's figures).
+
+- ``load_test``: 20 concurrent clients on loopback sending seeder edit requests (a moved
+  type-value point, evaluated at the drag's working resolution) to a server in its own
+  process; bounded (a fixed number of requests per client and a wall-time cap), it stops
+  by itself. Two patterns: every client sending its next edit as soon as the previous
+  answer arrived (closed loop, the worst case), and every client editing once every
+  ``pace_s`` (designers working side by side).
+- ``browser_drag``: drag -> redraw of the mechanism and the objectives in a real browser
+  (Debian's chromium driven by Playwright): the page's own performance measures from the
+  pointer move to the drawn answer, at the app's working resolution.
+"""
+
+from __future__ import annotations
+
+import http.client
+import json
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM = "/usr/bin/chromium"
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Server:
+    """``plantmech app`` in a child process on a free loopback port."""
+
+    def __enter__(self):
+        self.port = _free_port()
+        code = ("from plantmech.interfaces.cli import main; import sys; "
+                f"sys.exit(main(['app', '--no-browser', '--port', '{self.port}']))")
+        self.proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.DEVNULL)
+        t0 = time.time()
+        while time.time() - t0 < 60:
+            try:
+                c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=2)
+                c.request("GET", "/api/examples")
+                if c.getresponse().status == 200:
+                    break
+            except OSError:
+                time.sleep(0.2)
+        self.url = f"http://127.0.0.1:{self.port}"
+        return self
+
+    def __exit__(self, *exc):
+        self.proc.terminate()
+        try:
+            self.proc.wait(10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+def _example(port: int, name: str) -> dict:
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+    c.request("GET", f"/api/examples/{name}")
+    return json.loads(c.getresponse().read())["design"]
+
+
+def load_test(clients: int = 20, requests: int = 10, pace_s: float | None = None,
+              cap_s: float = 90.0, port: int | None = None) -> dict:
+    """Latencies (ms) of seeder drag-edit requests from ``clients`` concurrent clients,
+    ``requests`` each; ``pace_s``: seconds between one client's edits (None: closed loop).
+    """
+    base = _example(port, "sugarcane_seeder")
+    lat: list[float] = []
+    errors: list[str] = []
+    lock = threading.Lock()
+    stop_at = time.time() + cap_s
+
+    def client(k: int):
+        c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        rng = np.random.default_rng(k)
+        time.sleep(rng.uniform(0, pace_s or 0.05))  # do not start in lockstep
+        for _ in range(requests):
+            if time.time() > stop_at:
+                return
+            d = json.loads(json.dumps(base))
+            j = int(rng.integers(8, 18))  # a point away from the seeding section
+            d["trajectory"]["points"][j][0] += float(rng.uniform(-3, 3))
+            d["trajectory"]["points"][j][1] += float(rng.uniform(-3, 3))
+            body = json.dumps({"design": d, "quality": "drag"})
+            t0 = time.perf_counter()
+            c.request("POST", "/api/evaluate", body, {"Content-Type": "application/json"})
+            r = c.getresponse()
+            r.read()
+            dt = (time.perf_counter() - t0) * 1e3
+            with lock:
+                (lat.append(dt) if r.status == 200 else errors.append(str(r.status)))
+            if pace_s:
+                time.sleep(max(0.0, pace_s - dt / 1e3))
+
+    threads = [threading.Thread(target=client, args=(k,)) for k in range(clients)]
+    t0 = time.time()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(cap_s + 30)
+    a = np.array(lat)
+    return {"clients": clients, "requests": len(a), "errors": len(errors),
+            "wall_s": time.time() - t0,
+            "p50_ms": float(np.percentile(a, 50)) if len(a) else None,
+            "p95_ms": float(np.percentile(a, 95)) if len(a) else None,
+            "max_ms": float(a.max()) if len(a) else None}
+
+
+def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str:
+    """Drag a type-value point of the seeder in chromium: input -> drawn answer (ms),
+    from the page's performance measures ("drag-redraw")."""
+    if not Path(CHROMIUM).exists():
+        return f"skipped: {CHROMIUM} is not installed (apt-get install chromium)"
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        return "skipped: the playwright package is not installed"
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM)
+        pg = b.new_page(viewport={"width": 1400, "height": 1100})
+        pg.goto(url)
+        pg.wait_for_function("window.__plantmech && window.__plantmech.result"
+                             " && window.__plantmech.result.quality === 'full'"
+                             " && window.__plantmech.view", timeout=60000)
+        box = pg.locator("#mech").bounding_box()
+        x0, y0 = pg.evaluate("""() => { const s = window.__plantmech;
+            const p = s.design.trajectory.points[12]; return s.view.toPx(p[0], p[1]); }""")
+        x0, y0 = box["x"] + x0, box["y"] + y0
+        pg.evaluate("window.__dragTimes.length = 0")
+        pg.mouse.move(x0, y0)
+        pg.mouse.down()
+        for k in range(moves):  # a slow circle of ~4 mm radius around the point
+            a = 2 * np.pi * k / moves
+            pg.mouse.move(x0 + 3 * np.sin(a), y0 + 3 * (1 - np.cos(a)))
+            pg.wait_for_timeout(interval_ms)
+        pg.mouse.up()
+        pg.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending",
+                             timeout=60000)
+        times = pg.evaluate("performance.getEntriesByName('drag-redraw').map(e => e.duration)")
+        b.close()
+    a = np.array(times)
+    if not len(a):
+        return "no drag answer was drawn"
+    return {"samples": len(a), "p50_ms": float(np.percentile(a, 50)),
+            "p95_ms": float(np.percentile(a, 95)), "max_ms": float(a.max())}
+
+
+def report() -> None:
+    """Print the app's figures (called by benchmarks/bench.py)."""
+    import os
+
+    load = os.getloadavg()[0]
+    with Server() as srv:
+        r = browser_drag(srv.url)
+        if isinstance(r, str):
+            print(f"app drag -> redraw (browser): {r}")
+        else:
+            ok = "met" if r["p95_ms"] < 50 else "NOT met"
+            print(f"app drag -> redraw of mechanism and objectives in chromium, seeder at the "
+                  f"working resolution (360 samples): p50 {r['p50_ms']:.0f} ms, p95 "
+                  f"{r['p95_ms']:.0f} ms over {r['samples']} drawn answers (target p95 < 50 ms:"
+                  f" {ok}; load average {load:.1f} on {os.cpu_count()} cores)")
+        for pace in (None, 1.0):
+            r = load_test(pace_s=pace, port=srv.port)
+            ok = "met" if r["p95_ms"] is not None and r["p95_ms"] < 100 else "NOT met"
+            what = "closed loop" if pace is None else f"one edit per client every {pace:g} s"
+            print(f"app load test, {r['clients']} clients on loopback ({what}), seeder drag "
+                  f"edits: {r['requests']} answers, {r['errors']} errors, p50 "
+                  f"{r['p50_ms']:.0f} ms, p95 {r['p95_ms']:.0f} ms, max {r['max_ms']:.0f} ms "
+                  f"in {r['wall_s']:.1f} s (target p95 < 100 ms: {ok})")
+
+
+if __name__ == "__main__":
+    report()

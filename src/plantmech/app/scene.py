@@ -1,0 +1,277 @@
+"""Drawing data for the app: the engine's results as JSON-ready arrays.
+
+No physics is computed here: the angles, positions and radii come from the forward or
+inverse results of ``plantmech.workflows``; this module only places each gear's pitch
+curve (body frame, mm) rigidly at its centre and absolute rotation (rad) per animation
+frame, and downsamples the curves the browser plots. Units: mm, deg, m/s as named.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+DEG = 180.0 / np.pi
+
+
+def _r(a, nd: int = 3):
+    """Round an array for JSON (mm to the micrometre is more than a screen shows): a
+    contiguous float array (serialized by orjson), or a float for a scalar."""
+    a = np.round(np.asarray(a, dtype=float), nd)
+    return float(a) if a.ndim == 0 else np.ascontiguousarray(a)
+
+
+def _xy(z) -> list:
+    """Complex positions (mm), any shape -> nested lists ending in [x, y]."""
+    z = np.asarray(z)
+    return _r(np.stack([z.real, z.imag], axis=-1))
+
+
+def frame_index(n: int, frames: int) -> np.ndarray:
+    """Indices of ``frames`` samples spread uniformly over ``n`` (all if n <= frames)."""
+    if n <= frames:
+        return np.arange(n)
+    return np.linspace(0, n, frames, endpoint=False).astype(int)
+
+
+def _gear(name: str, body: np.ndarray, centre, rot, role: str, detail: int = 720) -> dict:
+    """A gear: closed pitch curve in its body frame (complex, mm), centre per frame
+    (complex, mm; one value for a fixed gear) and absolute rotation per frame (rad)."""
+    centre = np.broadcast_to(np.asarray(centre, dtype=complex), np.shape(rot))
+    body = np.asarray(body)
+    body = body[:: max(1, len(body) // detail)]
+    return {"name": name, "role": role, "body": _xy(body), "centre": _xy(centre),
+            "rot": _r(rot, 5)}
+
+
+def checks_list(checks) -> list[dict]:
+    """Checks (dicts or Check objects) as {name, value, unit, limit, ok}."""
+    out = []
+    for c in checks:
+        d = c if isinstance(c, dict) else c.as_dict()
+        v = d.get("value")
+        if v is not None:
+            v = float(v)
+            v = None if not np.isfinite(v) else v
+        out.append({"name": d["name"], "value": v, "unit": d.get("unit", ""),
+                    "limit": d.get("limit", ""), "ok": bool(d.get("ok"))})
+    return out
+
+
+# --- seeder ------------------------------------------------------------------------------
+
+
+def trajectory_part(design, traj, detail: int = 720) -> dict:
+    """Planned closed curve through the type-value points and the points themselves."""
+    if traj is None:
+        return {}
+    _, u = traj.arc_length_samples(detail)
+    plan = traj(u)
+    n = len(design.trajectory.points)
+    # curve samples between consecutive type-value points (for red infeasible spans)
+    spans = []
+    for i in range(n):
+        u0, u1 = traj.point_parameter(i), traj.point_parameter((i + 1) % n)
+        if u1 <= u0:
+            u1 += traj.period
+        uu = np.linspace(u0, u1, 24)
+        spans.append(_r(traj(np.mod(uu, traj.period))))
+    return {"plan": _r(plan), "points": _r(design.trajectory.points), "spans": spans,
+            "sections_points": design.trajectory.sections.model_dump()}
+
+
+def diagnostics_list(diags) -> list[dict]:
+    return [d.as_dict() if hasattr(d, "as_dict") else dict(d) for d in diags]
+
+
+def seeder_forward_scene(job, frames: int = 360, detail: int = 720) -> dict:
+    """Everything the page draws for a simulated seeder train (``SeederForwardJob``)."""
+    from plantmech.mechanisms.seeder_forward import shaft_offset
+
+    tr, res, d = job.train, job.result, job.design
+    n = len(res.carrier_angle)
+    k = frame_index(n, frames)
+    psi = res.carrier_angle
+    car = tr.carrier0 - psi  # absolute carrier direction phi_1 (rad)
+    P = tr.L1 * np.exp(1j * car)  # planet axis
+    S = tr.a1 * np.exp(1j * (car + shaft_offset(tr)))  # gear 2-3 shaft
+    c2 = tr.gear2_contact0 + res.gear2_angle  # gear-2 body angle at the sun contact
+    c3 = tr.gear3_contact0 + res.gear3_angle if hasattr(res, "gear3_angle") else (
+        tr.gear3_contact0 + res.gear2_angle)
+    theta = np.linspace(0.0, 2 * np.pi, 361)[:-1]
+    r1 = tr.a1 - tr.gear2(c2)  # sun radius at the contact (O -> S line)
+    r4 = tr.a2 - tr.gear3(c3)
+    arm = res.arm_angle
+    sun_body = r1 * np.exp(1j * np.angle(S))
+    planet_body = r4 * np.exp(1j * (np.angle(S - P) - arm))
+    gears = [
+        _gear("sun (gear 1, fixed)", sun_body, 0.0, np.zeros(len(k)), "sun", detail),
+        _gear("gear 2", tr.gear2(theta) * np.exp(1j * theta), S[k],
+              np.angle(-S[k]) - c2[k], "gear2", detail),
+        _gear("gear 3", tr.gear3(theta) * np.exp(1j * theta), S[k],
+              np.angle(P[k] - S[k]) - c3[k], "gear3", detail),
+        _gear("planet (gear 4)", planet_body, P[k], arm[k], "planet", detail),
+    ]
+    carrier_speed = d.operation.carrier_speed_deg_s
+    vel = res.velocity(carrier_speed)
+    ks = frame_index(n, detail)
+    sec = {key: float(v * DEG) for key, v in job.section_psi.items()}
+    tip_at = {key: _r(np.interp(v, psi, res.tip[:, 0], period=2 * np.pi), 2)
+              for key, v in job.section_psi.items()}
+    tip_at = {key: [tip_at[key], float(np.round(np.interp(job.section_psi[key], psi,
+                                                          res.tip[:, 1], period=2 * np.pi), 2))]
+              for key in tip_at}
+    out = {
+        "mechanism": "sugarcane_seeder",
+        "frames": {"carrier_angle_deg": _r(psi[k] * DEG, 3),
+                   "links": [{"name": "carrier", "points": _xy(np.c_[np.zeros(len(k)), S[k],
+                                                                      P[k]])},
+                             {"name": "arm (cane)", "points": _xy(np.c_[P[k], res.tip[k, 0]
+                                                                         + 1j * res.tip[k, 1]])}],
+                   "tip": _r(res.tip[k])},
+        "gears": gears,
+        "tip_path": _r(res.tip[ks]),
+        "sections_deg": sec,
+        "section_tip": tip_at,
+        "train": {"L1_mm": tr.L1, "L2_mm": tr.L2, "a1_mm": tr.a1, "a2_mm": tr.a2},
+        "plots": {
+            "carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "attitude_deg": _r((arm[ks] - arm[0]) * DEG, 3),
+            "speed_static_m_s": _r(np.hypot(vel[ks, 0], vel[ks, 1]), 4),
+            "speed_dynamic_m_s": _r(res.speed(carrier_speed, job.travel_m_s)[ks], 4),
+            "total_ratio": _r(res.total_ratio[ks], 5),
+            "stage1_ratio": None if res.stage1_rate is None else _r(res.stage1_rate[ks], 5),
+            "stage2_ratio": None if res.stage2_rate is None else _r(res.stage2_rate[ks], 5),
+            "travel_m_s": job.travel_m_s,
+        },
+        "samples": int(n),
+    }
+    if d.train is not None:
+        out["train_points"] = {
+            name: {"angles_deg": list(g.angles()), "radii_mm": list(g.radii_mm),
+                   "a_mm": a, "curve": _r(g_curve(theta) * 1.0), "theta_deg": _r(theta * DEG)}
+            for name, g, g_curve, a in (("gear2", d.train.gear2, tr.gear2, tr.a1),
+                                        ("gear3", d.train.gear3, tr.gear3, tr.a2))}
+    return out
+
+
+def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
+    """Drawing data of a seeder inverse design (``SeederInverseJob``): the realized
+    train of the inverse result (carrier, gears 1-4 on their pitch curves, arm, tip),
+    the planned trajectory, Table 1 and attitude. Without a feasible train only the
+    planned curve and the diagnostics are drawn."""
+    from plantmech.outputs.seeder_report import gear_body_angles
+
+    res, d = job.result, job.design
+    out = {"mechanism": "sugarcane_seeder", **trajectory_part(d, job.trajectory, detail),
+           "feasible": bool(res.feasible), "samples": int(d.trajectory.samples),
+           "diagnostics": diagnostics_list(res.diagnostics)}
+    if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
+        return out
+    psi = res.carrier_angle
+    n = len(psi)
+    k = frame_index(n, frames)
+    car = res.carrier_abs
+    off = res.shaft_offset
+    S = res.a1 * np.exp(1j * (car + off))
+    P = res.L1 * np.exp(1j * car)
+    ang = gear_body_angles(res)
+    rot2 = car - res.gear2_angle
+    rot4 = car + res.planet_rel_realized
+    tip = res.tip_realized
+    gears = []
+    for name, role, r, key, centre, rot in (
+            ("sun (gear 1, fixed)", "sun", res.r1, "sun", 0.0, np.zeros(n)),
+            ("gear 2", "gear2", res.r2, "gear2", S, rot2),
+            ("gear 3", "gear3", res.r3, "gear3", S, rot2),
+            ("planet (gear 4)", "planet", res.r4, "planet", P, rot4)):
+        ok = np.isfinite(r)
+        body = r[ok] * np.exp(1j * ang[key][ok])
+        if role == "sun":  # fixed: its body frame is the machine frame at the start
+            body = body * np.exp(1j * car[0])
+        centre_k = centre if np.isscalar(centre) else centre[k]
+        gears.append(_gear(name, body, centre_k, rot[k], role, detail))
+    arm = res.arm_angle_realized
+    ks = frame_index(n, detail)
+    sec = {key: float(res.point_carrier_angle[i] * DEG) for key, i in job.sections.items()}
+    out.update({
+        "frames": {"carrier_angle_deg": _r(psi[k] * DEG, 3),
+                   "links": [{"name": "carrier", "points": _xy(np.c_[np.zeros(len(k)), S[k],
+                                                                      P[k]])},
+                             {"name": "arm (cane)",
+                              "points": _xy(np.c_[P[k], tip[k, 0] + 1j * tip[k, 1]])}],
+                   "tip": _r(tip[k])},
+        "gears": gears,
+        "tip_path": _r(tip[ks]),
+        "sections_deg": sec,
+        "section_tip": {key: _r(d.trajectory.points[i], 2) for key, i in job.sections.items()},
+        "train": {"L1_mm": res.L1, "L2_mm": res.L2, "a1_mm": res.a1, "a2_mm": res.a2},
+        "plots": {
+            "carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "attitude_deg": _r((arm[ks] - arm[0]) * DEG, 3),
+            "total_ratio": _r(res.total_ratio[ks], 5),
+            "stage1_ratio": _r(res.stage1_ratio[ks], 5),
+            "stage2_ratio": _r(res.stage2_ratio[ks], 5),
+        },
+        "samples": int(n),
+    })
+    return out
+
+
+def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
+    """Drawing data of a transplanting mechanism (``TransplanterJob``): internal gear
+    (or fixed sun) and planets on their pitch curves, the arms (planet axis -> break
+    point A -> tip B), the tip paths, the seedling box and the ground."""
+    d, m, pair = job.design, job.motion, job.pair
+    psi = m.carrier_angle
+    n = len(psi)
+    k = frame_index(n, frames)
+    ks = frame_index(n, detail)
+    J = m.B.shape[1]
+    c0 = np.radians(d.carrier.initial_angle_deg)
+    gears, links = [], []
+    if d.mechanism == "rice_transplanter":
+        g = d.internal_gear
+        ang, R = pair.internal_polar(0)
+        phase0 = np.radians(g.initial_phase_deg)
+        ratio = d.drive.speed_ratio or (g.lobes - 1) / g.lobes
+        # the internal gear turns clockwise theta_1 = k psi (seed 001 Eq. 1)
+        rot = c0 + phase0 / pair.lobes - ratio * psi[k]
+        gears.append(_gear("internal gear", R * np.exp(1j * ang), 0.0, rot, "internal", detail))
+        pa, pr = pair.planet_polar(0)
+        q0 = np.interp(phase0 % (2 * np.pi), pair.p, pair.Q[0])
+        for j in range(J):
+            gears.append(_gear(f"planet {j + 1}", pr * np.exp(1j * (pa + q0)),
+                               m.centre[0, j, k], m.planet_angle[0, j, k], "planet", detail))
+    else:
+        z = pair.r_sun[0] * np.exp(1j * (c0 - pair.sigma))
+        gears.append(_gear("sun (fixed)", z, 0.0, np.zeros(len(k)), "sun", detail))
+    for j in range(J):
+        links.append({"name": f"carrier {j + 1}",
+                      "points": _xy(np.c_[np.zeros(len(k)), m.centre[0, j, k]])})
+        links.append({"name": f"arm {j + 1}",
+                      "points": _xy(np.c_[m.centre[0, j, k], m.A[0, j, k], m.B[0, j, k]])})
+    b = d.seedling_box
+    u = np.exp(1j * np.radians(b.inclination_deg))
+    o = complex(b.x_mm, b.y_mm)
+    floor = np.array([o, o + b.length_mm * u])
+    top = floor + 1j * u * b.mat_thickness_mm
+    speed = np.abs(m.velocity(d.drive.carrier_speed_deg_s)[0])
+    stages = job.summary["stages_deg"]
+    return {
+        "mechanism": d.mechanism, "feasible": True, "diagnostics": [],
+        "frames": {"carrier_angle_deg": _r(psi[k] * DEG, 3), "links": links,
+                   "tip": _xy(m.B[0, 0, k])},
+        "gears": gears,
+        "tip_paths": [_xy(m.B[0, j, ks]) for j in range(J)],
+        "box": {"floor": _xy(floor), "mat": _xy(np.r_[floor, top[::-1]])},
+        "ground_y_mm": float(job.summary["ground_y_mm"]),
+        "gearbox_radius_mm": float(job.gearbox_radius_mm),
+        "stages_deg": stages,
+        "plots": {
+            "carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "needle_angle_deg": [_r(m.needle_angle[0, j, ks], 3) for j in range(J)],
+            "tip_speed_m_s": [_r(speed[j, ks], 4) for j in range(J)],
+            "planet_ratio": _r(m.planet_rate[0, 0, ks], 5),
+        },
+        "samples": int(n),
+    }

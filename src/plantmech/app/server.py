@@ -1,0 +1,475 @@
+"""HTTP API of the plantmech app (FastAPI), bound to 127.0.0.1 by ``plantmech app``.
+
+Every design travels as JSON (the design file's tables) and is validated by
+``plantmech.design.load_design`` exactly as the CLI validates a file, so the page shows
+the CLI's field-named errors. No file-system path ever comes from the client: examples
+are chosen by name from the bundled ``examples/*.toml``, the file given on the command
+line is read once at start, generated files live in server-side temporary
+directories and are served by name from the task's own list.
+
+Limits: request bodies over ``MAX_BODY_BYTES`` get 413; a computation over
+``COMPUTE_TIMEOUT_S`` answers 503 with a JSON error (the worker thread finishes on its
+own; at most ``MAX_COMPUTE`` run at once); background tasks (optimization, gear
+cutting) run in child processes that are killed at their time limit.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import re
+import tempfile
+import threading
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from fastapi import FastAPI, Request
+from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
+from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
+
+from plantmech.app import scene
+
+STATIC = Path(__file__).parent / "static"
+MAX_BODY_BYTES = 512 * 1024
+COMPUTE_TIMEOUT_S = 20.0
+MAX_COMPUTE = 4
+DRAG_SAMPLES = 360  # the app's working resolution during a drag (samples per carrier turn)
+FRAMES = 360  # animation frames per carrier turn
+DRAG_FRAMES, DRAG_DETAIL = 180, 360  # during a drag: frames, points per curve and plot
+
+
+class AppError(Exception):
+    """An error answered as JSON: status, message, and the fields it concerns."""
+
+    def __init__(self, status: int, message: str, fields: list[dict] | None = None):
+        super().__init__(message)
+        self.status, self.message, self.fields = status, message, fields or []
+
+
+def examples_dir() -> Path:
+    """The bundled examples: the repository's ``examples/`` next to ``src/``."""
+    return Path(__file__).resolve().parents[3] / "examples"
+
+
+def example_names() -> list[str]:
+    d = examples_dir()
+    return sorted(p.stem for p in d.glob("*.toml")) if d.is_dir() else []
+
+
+_FIELD = re.compile(r"field '([^']+)': (.*)")
+
+
+def field_errors(message: str) -> list[dict]:
+    """[{field, message}] from a DesignError text (one line per field)."""
+    out = []
+    for line in message.splitlines():
+        m = _FIELD.search(line)
+        if m:
+            out.append({"field": m.group(1), "message": m.group(2)})
+    return out
+
+
+def validate_design(raw: Any, label: str = "design"):
+    """Validate a design given as JSON tables, exactly as a design file is validated
+    (``load_design``): returns the design model or raises AppError(422) whose
+    message and fields name what is wrong."""
+    import tomli_w
+
+    from plantmech.design import DesignError, load_design
+
+    if not isinstance(raw, dict):
+        raise AppError(422, f"{label}: a design must be a table of fields")
+    try:
+        text = tomli_w.dumps(raw)
+    except (TypeError, ValueError) as exc:
+        raise AppError(422, f"{label}: cannot be written as TOML: {exc}") from None
+    with tempfile.TemporaryDirectory(prefix="plantmech-app-") as tmp:
+        path = Path(tmp) / f"{label}.toml"
+        path.write_text(text, encoding="utf-8")
+        try:
+            return load_design(path)
+        except DesignError as exc:
+            msg = str(exc).replace(str(path), label)
+            raise AppError(422, msg, field_errors(msg)) from None
+
+
+def design_json(design) -> dict:
+    return design.model_dump(mode="json", exclude_none=True)
+
+
+def fast_json(content) -> Response:
+    """A JSON response serialized by orjson (NumPy arrays directly, NaN as null): the
+    drawing data of one evaluation is ~10^5 numbers."""
+    import orjson
+
+    return Response(orjson.dumps(content, option=orjson.OPT_SERIALIZE_NUMPY),
+                    media_type="application/json")
+
+
+def _finite(x):
+    if x is None:
+        return None
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+# --- evaluation ---------------------------------------------------------------------------
+
+
+def evaluate(design, quality: str = "full") -> dict:
+    """Everything the page shows for ``design``: drawing data, checks, diagnostics.
+
+    quality "drag": the app's working resolution (``DRAG_SAMPLES``) and only what a drag
+    must see live (seeder trajectory: the inverse design with its feasibility verdict,
+    Table 1 and the attitude objectives); "full": the design's own resolution and every
+    check (seeder: the forward simulation of the designed train with every section-4.1
+    objective and the gear checks)."""
+    drag = quality == "drag"
+    if design.mechanism == "sugarcane_seeder":
+        if design.train is None:
+            return _seeder_trajectory(design, drag)
+        return _seeder_train(design, drag)
+    return _transplanter(design, drag)
+
+
+def _resolution(drag: bool) -> tuple[int, int]:
+    """(animation frames, points per curve and plot) sent to the page."""
+    return (DRAG_FRAMES, DRAG_DETAIL) if drag else (FRAMES, 720)
+
+
+def _seeder_trajectory(design, drag: bool) -> dict:
+    from plantmech.geometry.trajectory import TrajectoryError
+    from plantmech.workflows import run_seeder_inverse
+
+    d = design.model_copy(deep=True)
+    if drag:
+        d.trajectory.samples = DRAG_SAMPLES
+    try:
+        job = run_seeder_inverse(d)
+    except TrajectoryError as exc:
+        raise AppError(422, f"design: field 'trajectory.points': {exc}",
+                       [{"field": "trajectory.points", "message": str(exc)}]) from None
+    out = scene.seeder_inverse_scene(job, *_resolution(drag))
+    checks = list(job.summary["trajectory_checks"]) + list(job.summary.get("objectives", []))
+    out["quality"] = "drag" if drag else "full"
+    if not job.result.feasible:
+        out["checks"] = scene.checks_list(checks)
+        return out
+    if drag:  # live: the inverse design, Table 1 and the attitude objectives
+        out["checks"] = scene.checks_list(checks)
+        out["pending"] = "speed objectives and gear checks follow on release"
+        return out
+    from plantmech.workflows import InfeasibleDesign, run_seeder_forward
+
+    try:
+        fwd = run_seeder_forward(d)
+    except InfeasibleDesign:  # cannot happen for a feasible inverse, kept for safety
+        out["checks"] = scene.checks_list(checks)
+        return out
+    fs = scene.seeder_forward_scene(fwd, FRAMES)
+    out["plots"].update({k: fs["plots"][k] for k in ("speed_static_m_s", "speed_dynamic_m_s",
+                                                     "travel_m_s")})
+    out["plots"]["speed_carrier_angle_deg"] = fs["plots"]["carrier_angle_deg"]
+    out["checks"] = scene.checks_list(list(job.summary["trajectory_checks"]) + fwd.checks)
+    dev = fwd.metrics.get("deviation_from_trajectory_mm")
+    if dev:
+        out["deviation_mm"] = dev
+    return out
+
+
+def _seeder_train(design, drag: bool) -> dict:
+    from plantmech.gears.closure import ClosureError
+    from plantmech.geometry.periodic import PitchCurveError
+    from plantmech.workflows import run_seeder_forward
+
+    d = design.model_copy(deep=True)
+    if drag:
+        d.train.samples = DRAG_SAMPLES
+    try:
+        job = run_seeder_forward(d)
+    except (ClosureError, PitchCurveError, ValueError) as exc:
+        text = str(exc)
+        field = "train.gear3.radii_mm" if "gear 3" in text or "planet" in text else (
+            "train.gear2.radii_mm" if "gear 2" in text or "sun" in text else "train")
+        return {"mechanism": "sugarcane_seeder", "feasible": False, "quality":
+                "drag" if drag else "full", "checks": [], "train_error": text,
+                "diagnostics": [{"kind": "train", "severity": "error", "message": text,
+                                 "field": field, "between_points": None,
+                                 "carrier_angle_deg": None}],
+                **({"train_points": _train_points(d)})}
+    out = scene.seeder_forward_scene(job, *_resolution(drag))
+    if job.trajectory is not None:
+        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory).items()
+                    if k in ("plan", "points", "sections_points")})
+    out.update({"feasible": True, "diagnostics": [], "quality": "drag" if drag else "full",
+                "checks": scene.checks_list(job.checks)})
+    out["plots"]["speed_carrier_angle_deg"] = out["plots"]["carrier_angle_deg"]
+    return out
+
+
+def _train_points(d) -> dict:
+    t = d.train
+    return {name: {"angles_deg": list(g.angles()), "radii_mm": list(g.radii_mm),
+                   "a_mm": a}
+            for name, g, a in (("gear2", t.gear2, t.a1_mm), ("gear3", t.gear3, t.a2_mm))}
+
+
+def _transplanter(design, drag: bool) -> dict:
+    from plantmech.gears.internal import InternalPairError
+    from plantmech.workflows import run_transplanter
+
+    d = design.model_copy(deep=True)
+    if drag:
+        d.samples = DRAG_SAMPLES
+    gear = "internal_gear" if d.mechanism == "rice_transplanter" else "sun_gear"
+    try:
+        job = run_transplanter(d)
+    except (InternalPairError, ValueError) as exc:
+        raise AppError(422, f"design: [{gear}]: {exc}",
+                       [{"field": f"{gear}.radii_mm", "message": str(exc)}]) from None
+    out = scene.transplanter_scene(job, *_resolution(drag))
+    out["checks"] = scene.checks_list(job.summary["objectives"])
+    out["quality"] = "drag" if drag else "full"
+    out["centre_distance_mm"] = job.summary["centre_distance_mm"]
+    return out
+
+
+def editable_parameters(design) -> list[dict]:
+    """The transplanter's published parameters the page edits: design field, unit and
+    the optimizer's bounds around the current value (``optimize.problems.Transplanter``)
+    as the input's limits."""
+    if design.mechanism == "sugarcane_seeder":
+        return []
+    from plantmech.optimize.problems import Transplanter
+
+    gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
+    field = {"initial_angle_deg": "carrier.initial_angle_deg",
+             "initial_phase_deg": "internal_gear.initial_phase_deg",
+             "S_mm": "arm.S_mm", "H1_mm": "arm.H1_mm", "beta_deg": "arm.beta_deg",
+             "box_x_mm": "seedling_box.x_mm", "box_y_mm": "seedling_box.y_mm",
+             "box_inclination_deg": "seedling_box.inclination_deg"}
+    try:
+        variables = Transplanter(design).variables
+    except Exception:  # noqa: BLE001 - a design the optimizer cannot take: no bounds
+        variables = []
+    out = []
+    for v in variables:
+        if re.fullmatch(r"r\d+", v.name):
+            path, label = f"{gear}.radii_mm.{v.name[1:]}", f"radius r{v.name[1:]}"
+        elif v.name in field:
+            path, label = field[v.name], v.name
+        else:
+            continue
+        out.append({"field": path, "label": label, "unit": v.unit, "value": v.x0,
+                    "min": v.lower, "max": v.upper})
+    return out
+
+
+# --- the application ----------------------------------------------------------------------
+
+
+def create_app(initial: Path | None = None) -> FastAPI:
+    """The app; ``initial``: a design file named on the command line (read once, never
+    written)."""
+    from contextlib import asynccontextmanager
+
+    from plantmech.app.tasks import TaskManager
+
+    tasks = TaskManager()
+
+    @asynccontextmanager
+    async def lifespan(_app):
+        yield
+        tasks.shutdown()
+
+    app = FastAPI(title="plantmech app", docs_url=None, redoc_url=None, lifespan=lifespan)
+    from starlette.middleware.trustedhost import TrustedHostMiddleware
+
+    # loopback names only: a page elsewhere cannot reach the API by rebinding its name
+    app.add_middleware(TrustedHostMiddleware,
+                       allowed_hosts=["127.0.0.1", "localhost", "[::1]", "testserver"])
+    app.state.tasks = tasks
+    compute_slots = threading.BoundedSemaphore(MAX_COMPUTE)
+    initial_payload: dict | None = None
+    if initial is not None:
+        from plantmech.design import load_design
+
+        design = load_design(initial)  # DesignError goes to the CLI, before the server
+        initial_payload = {"name": initial.name, "design": design_json(design)}
+
+    @app.middleware("http")
+    async def limit_body(request: Request, call_next):
+        if request.method in ("POST", "PUT", "PATCH"):
+            length = request.headers.get("content-length")
+            if length is None:
+                return JSONResponse({"error": "a request body needs a Content-Length"},
+                                    status_code=411)
+            if not length.isdigit() or int(length) > MAX_BODY_BYTES:
+                return JSONResponse({"error": f"request body over the {MAX_BODY_BYTES} byte "
+                                     "limit"}, status_code=413)
+        return await call_next(request)
+
+    @app.exception_handler(AppError)
+    async def _app_error(request: Request, exc: AppError):
+        return JSONResponse({"error": exc.message, "fields": exc.fields},
+                            status_code=exc.status)
+
+    async def compute(fn, *args):
+        """Run ``fn`` in a worker thread under the compute time limit."""
+        def guarded():
+            with compute_slots:
+                return fn(*args)
+        try:
+            return await asyncio.wait_for(run_in_threadpool(guarded), COMPUTE_TIMEOUT_S)
+        except TimeoutError:
+            raise AppError(503, f"computation exceeded the {COMPUTE_TIMEOUT_S:g} s limit "
+                           "(lower the samples per turn)") from None
+
+    async def body(request: Request) -> dict:
+        try:
+            data = await request.json()
+        except ValueError:
+            raise AppError(400, "request body is not valid JSON") from None
+        if not isinstance(data, dict):
+            raise AppError(400, "request body must be a JSON object")
+        return data
+
+    @app.get("/", include_in_schema=False)
+    async def index():
+        return FileResponse(STATIC / "index.html", headers={"Cache-Control": "no-store"})
+
+    app.mount("/static", StaticFiles(directory=STATIC), name="static")
+
+    @app.get("/api/examples")
+    async def examples():
+        return {"examples": example_names()}
+
+    @app.get("/api/examples/{name}")
+    async def example(name: str):
+        if name not in example_names():  # whitelist: never a path from the client
+            raise AppError(404, f"no bundled example named {name!r}")
+        from plantmech.design import DesignError, load_design
+
+        try:
+            design = load_design(examples_dir() / f"{name}.toml")
+        except DesignError as exc:
+            raise AppError(422, str(exc)) from None
+        return {"name": name, "design": design_json(design)}
+
+    @app.get("/api/initial")
+    async def initial_design():
+        return {"initial": initial_payload}
+
+    @app.post("/api/parse")
+    async def parse(request: Request):
+        """A TOML text the user opened in the page (the browser reads the file)."""
+        import tomllib
+
+        data = await body(request)
+        text, label = data.get("text"), str(data.get("name") or "design")[:80]
+        if not isinstance(text, str):
+            raise AppError(400, "field 'text': the design file's text is missing")
+        try:
+            raw = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise AppError(422, f"{label}: not valid TOML: {exc}") from None
+        design = validate_design(raw, label)
+        return {"name": label, "design": design_json(design)}
+
+    @app.post("/api/evaluate")
+    async def evaluate_endpoint(request: Request):
+        data = await body(request)
+        quality = data.get("quality", "full")
+        if quality not in ("drag", "full"):
+            raise AppError(400, "field 'quality': expected 'drag' or 'full'")
+        design = await compute(validate_design, data.get("design"))
+        result = await compute(evaluate, design, quality)
+        result["design"] = design_json(design)
+        result["parameters"] = editable_parameters(design) if quality == "full" else None
+        return fast_json(result)
+
+    @app.post("/api/toml")
+    async def toml(request: Request):
+        """The design as a TOML file to download (save = download)."""
+        from plantmech.outputs.optimization_report import design_toml
+
+        data = await body(request)
+        design = validate_design(data.get("design"))
+        text = design_toml(design, "Saved from the plantmech app")
+        name = re.sub(r"[^A-Za-z0-9_.-]+", "_", design.name).strip("_") or "design"
+        return PlainTextResponse(text, media_type="application/toml", headers={
+            "Content-Disposition": f'attachment; filename="{name}.toml"'})
+
+    @app.get("/api/problems")
+    async def problems(mechanism: str = "sugarcane_seeder"):
+        from plantmech.optimize.jobs import DEFAULTS, PROBLEMS
+
+        names = [p for p in PROBLEMS if (p == "transplanter") == (mechanism != "sugarcane_seeder")]
+        return {"problems": [{"name": p, "algorithm": DEFAULTS[p][0],
+                              "generations": DEFAULTS[p][1], "pop": DEFAULTS[p][2]}
+                             for p in names]}
+
+    @app.post("/api/optimize")
+    async def start_optimize(request: Request):
+        from plantmech.optimize.jobs import PROBLEMS
+
+        data = await body(request)
+        design = validate_design(data.get("design"))
+        problem = data.get("problem")
+        if problem not in PROBLEMS:
+            raise AppError(422, f"field 'problem': expected one of {', '.join(PROBLEMS)}",
+                           [{"field": "problem", "message": "unknown problem"}])
+        opts = {}
+        for key, lo, hi in (("generations", 1, 500), ("pop", 4, 400), ("seed", 0, 2**31)):
+            v = data.get(key)
+            if v is None:
+                continue
+            if not isinstance(v, int) or isinstance(v, bool) or not lo <= v <= hi:
+                raise AppError(422, f"field '{key}': a whole number from {lo} to {hi}",
+                               [{"field": key, "message": f"a whole number from {lo} to {hi}"}])
+            opts[key] = v
+        task = tasks.start_optimize(design_json(design), problem, **opts)
+        return {"task": task}
+
+    @app.post("/api/gears")
+    async def start_gears(request: Request):
+        data = await body(request)
+        design = validate_design(data.get("design"))
+        opts = {}
+        for key, lo, hi in (("module", 0.05, 50.0), ("face_width", 0.1, 1000.0),
+                            ("backlash", 0.0, 5.0)):
+            v = data.get(key)
+            if v is None or v == "":
+                continue
+            if isinstance(v, bool) or not isinstance(v, int | float) or not lo <= v <= hi:
+                raise AppError(422, f"field '{key}': a number from {lo:g} to {hi:g}",
+                               [{"field": key, "message": f"a number from {lo:g} to {hi:g}"}])
+            opts[key] = float(v)
+        return {"task": tasks.start_gears(design_json(design), **opts)}
+
+    @app.get("/api/tasks/{task_id}")
+    async def task_status(task_id: str):
+        st = tasks.status(task_id)
+        if st is None:
+            raise AppError(404, f"no task {task_id!r}")
+        return st
+
+    @app.post("/api/tasks/{task_id}/cancel")
+    async def task_cancel(task_id: str):
+        if not tasks.cancel(task_id):
+            raise AppError(404, f"no running task {task_id!r}")
+        return {"cancelled": task_id}
+
+    @app.get("/api/tasks/{task_id}/files/{name}")
+    async def task_file(task_id: str, name: str):
+        path = tasks.file(task_id, name)  # only names the task itself listed
+        if path is None:
+            raise AppError(404, f"task {task_id!r} has no file {name!r}")
+        return FileResponse(path, filename=name)
+
+    @app.get("/favicon.ico", include_in_schema=False)
+    async def favicon():
+        return Response(status_code=204)
+
+    return app

@@ -1,0 +1,68 @@
+"""``plantmech app [DESIGN.toml] [--port N] [--no-browser]``: the interactive app.
+
+A local server (FastAPI + uvicorn) bound to 127.0.0.1 serves one page for both
+mechanisms; the design file, if given, is opened in it and never written. Exit status:
+0 after a clean stop (Ctrl-C), 2 invalid input (the design file, or a port in use).
+"""
+
+from __future__ import annotations
+
+import sys
+
+
+def _run(args) -> int:
+    from pathlib import Path
+
+    from plantmech.design import DesignError
+
+    initial = Path(args.design) if args.design else None
+    try:
+        import uvicorn
+
+        from plantmech.app.server import create_app
+        app = create_app(initial)
+    except DesignError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    import socket
+
+    with socket.socket() as s:  # a clear message instead of uvicorn's traceback
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
+        try:
+            s.bind((args.host, args.port))
+        except OSError as exc:
+            print(f"error: option --port: cannot listen on {args.host}:{args.port} ({exc})",
+                  file=sys.stderr)
+            return 2
+    url = f"http://{args.host}:{args.port}/"
+    print(f"plantmech app on {url} (Ctrl-C to stop)")
+    if not args.no_browser:
+        import threading
+        import webbrowser
+
+        threading.Timer(1.0, lambda: webbrowser.open(url)).start()
+    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    return 0
+
+
+def _port(text: str) -> int:
+    import argparse
+
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number") from None
+    if not 1 <= v <= 65535:
+        raise argparse.ArgumentTypeError(f"{v} is not a port number (1-65535)")
+    return v
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("app", help="interactive design app in the browser "
+                              "(local server on 127.0.0.1)")
+    p.add_argument("design", nargs="?", help="design file (TOML) to open; never overwritten")
+    p.add_argument("--port", type=_port, default=8765, help="port on 127.0.0.1 (default 8765)")
+    p.add_argument("--host", default="127.0.0.1", choices=("127.0.0.1", "localhost"),
+                   help="loopback only")
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.set_defaults(func=_run)

@@ -1,0 +1,187 @@
+"""The app in a real browser: Playwright driving Debian's chromium (never a downloaded
+browser). Loads both mechanisms, drags a type-value point and sees the objectives
+change, makes the design infeasible and sees the red span with its reason, runs a
+short optimization and loads a point of its front, cuts teeth and downloads a DXF."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = "/usr/bin/chromium"
+pytestmark = pytest.mark.skipif(not Path(CHROMIUM).exists(),
+                                reason="Debian's chromium is not installed (.ci/run installs it)")
+sync_api = pytest.importorskip("playwright.sync_api")
+
+
+@pytest.fixture(scope="module")
+def base_url():
+    import uvicorn
+
+    from plantmech.app.server import create_app
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    srv = uvicorn.Server(uvicorn.Config(create_app(), host="127.0.0.1", port=port,
+                                        log_level="warning"))
+    th = threading.Thread(target=srv.run, daemon=True)
+    th.start()
+    t0 = time.time()
+    while not srv.started and time.time() - t0 < 20:
+        time.sleep(0.05)
+    yield f"http://127.0.0.1:{port}"
+    srv.should_exit = True
+    th.join(10)
+
+
+@pytest.fixture(scope="module")
+def page(base_url):
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM)
+        ctx = browser.new_context(viewport={"width": 1400, "height": 1100},
+                                  accept_downloads=True)
+        pg = ctx.new_page()
+        errors: list[str] = []
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.on("console", lambda m: errors.append(m.text) if m.type == "error"
+              and not m.text.startswith("Failed to load resource") else None)
+        pg.goto(base_url)
+        pg.wait_for_function("window.__plantmech && window.__plantmech.result")
+        pg.errors = errors
+        yield pg
+        browser.close()
+    assert not errors, errors
+
+
+def load(page, name):
+    page.select_option("#example", "")  # so that choosing the same example reloads it
+    page.select_option("#example", name)
+    page.wait_for_function(
+        "n => window.__plantmech.name === n && window.__plantmech.result"
+        " && window.__plantmech.result.quality === 'full' && !window.__plantmech.inflight",
+        arg=name, timeout=30000)
+
+
+def check_value(page, name):
+    return page.locator(f'#checks tr[data-check="{name}"] td.num').inner_text()
+
+
+def point_px(page, i, xy=None):
+    """Page coordinates of type-value point q_i (or of a given mm position)."""
+    page.locator("#mech").scroll_into_view_if_needed()
+    page.wait_for_function("window.__plantmech.view")
+    box = page.locator("#mech").bounding_box()
+    px, py = page.evaluate(
+        """([i, xy]) => { const s = window.__plantmech;
+            const p = xy || s.design.trajectory.points[i];
+            const c = document.getElementById('mech'); const [x, y] = s.view.toPx(p[0], p[1]);
+            const r = c.getBoundingClientRect();
+            return [x * r.width / c.width, y * r.height / c.height]; }""",
+        [i, xy])
+    return box["x"] + px, box["y"] + py
+
+
+def drag(page, i, to_mm, steps=8):
+    x0, y0 = point_px(page, i)
+    x1, y1 = point_px(page, i, to_mm)
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    for k in range(1, steps + 1):
+        page.mouse.move(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps)
+        page.wait_for_timeout(30)
+    page.mouse.up()
+    page.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending"
+                           " && window.__plantmech.result.quality === 'full'", timeout=30000)
+
+
+def test_both_mechanisms_load_and_animate(page):
+    load(page, "sugarcane_seeder")
+    assert page.locator("#checks tbody tr").count() >= 13
+    assert "mm" in check_value(page, "small_ring_height")
+    a0 = page.locator("#angle").inner_text()
+    # the carrier turns
+    page.wait_for_function("a => document.getElementById('angle').innerText !== a", arg=a0,
+                           timeout=5000)
+    load(page, "rice_transplanter")
+    assert "deg" in check_value(page, "picking_angle")
+    assert page.locator("#edit input[data-field='arm.S_mm']").count() == 1
+    # text in a number field: the design model's message beside that field
+    inp = page.locator("#edit input[data-field='arm.S_mm']")
+    inp.fill("abc")
+    inp.press("Enter")
+    err = page.locator("[data-error-for='arm.S_mm']")
+    err.wait_for(timeout=20000)
+    assert "number" in err.inner_text()
+    page.click("#undo")
+    page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.result"
+                           " && window.__plantmech.design.arm.S_mm === 150", timeout=20000)
+
+
+def test_drag_changes_objectives_and_undo(page):
+    load(page, "sugarcane_seeder")
+    before = check_value(page, "large_ring_width")
+    x, y = page.evaluate("window.__plantmech.design.trajectory.points[10]")
+    page.evaluate("window.__dragTimes.length = 0")
+    drag(page, 10, [x + 6.0, y + 4.0])
+    after = check_value(page, "large_ring_width")
+    assert after != before
+    assert page.evaluate("window.__dragTimes.length") >= 1  # drag answers were drawn live
+    assert page.evaluate("window.__plantmech.undo.length") == 1  # one entry per gesture
+    page.click("#undo")
+    page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.undo.length"
+                           " === 0 && window.__plantmech.result.quality === 'full'")
+    assert check_value(page, "large_ring_width") == before
+
+
+def test_infeasible_span_drawn_red_with_reason(page):
+    load(page, "sugarcane_seeder")
+    x, _ = page.evaluate("window.__plantmech.design.trajectory.points[3]")
+    drag(page, 3, [x, -219.36])  # Table 2's printed misprint
+    assert "INFEASIBLE" in page.locator("#verdict").inner_text()
+    reasons = page.locator("#diagnostics li").all_inner_texts()
+    assert any("between q3 and q4" in r for r in reasons), reasons
+    # the span q3-q4 is drawn red on the canvas
+    rgb = page.evaluate("""() => { const s = window.__plantmech;
+        const c = document.getElementById('mech');
+        const p = s.result.spans[3][12]; const [x, y] = s.view.toPx(p[0], p[1]);
+        const px = c.getContext('2d').getImageData(Math.round(x), Math.round(y), 1, 1);
+        return Array.from(px.data); }""")
+    assert rgb[0] > 180 and rgb[1] < 90 and rgb[2] < 90, rgb
+
+
+def test_optimize_and_make(page):
+    """Cut the teeth (a background process) while a short optimization runs; pick a
+    point of the front; download a DXF of the cut gear."""
+    load(page, "sugarcane_table4")
+    page.fill("#g-module", "8")
+    page.click("#g-start")
+    page.select_option("#opt-problem", "seeder-layer2")
+    page.fill("#opt-gen", "2")
+    page.fill("#opt-pop", "8")
+    page.click("#opt-start")
+    page.wait_for_function("document.getElementById('opt-status').innerText.includes("
+                           "'evaluations')", timeout=120000)
+    n = page.evaluate("document.getElementById('opt-pareto')._pts.length")
+    assert n >= 1
+    page.locator("#opt-pareto").scroll_into_view_if_needed()
+    cx, cy, width = page.evaluate("(() => { const c = document.getElementById('opt-pareto');"
+                                  " return [...c._pts[0].slice(0, 2), c.width]; })()")
+    box = page.locator("#opt-pareto").bounding_box()
+    scale = box["width"] / width  # the canvas may be drawn scaled by CSS
+    page.mouse.click(box["x"] + cx * scale, box["y"] + cy * scale)
+    page.wait_for_function("window.__plantmech.name.includes('optimized')"
+                           " && !window.__plantmech.inflight")
+    assert page.evaluate("window.__plantmech.undo.length") == 1  # the user's design is kept
+    link = page.locator("#g-files a", has_text="gear2.dxf")
+    link.wait_for(timeout=240000)
+    with page.expect_download() as dl:
+        link.click()
+    text = Path(dl.value.path()).read_text(encoding="utf-8", errors="replace")
+    assert "SECTION" in text and "ENTITIES" in text
+    status = page.locator("#g-status").inner_text()
+    assert status.count("meshes") + status.count("FAIL") == 2  # both pairs judged

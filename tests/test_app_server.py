@@ -1,0 +1,267 @@
+"""The app's HTTP API (FastAPI TestClient): examples by name only, field-named errors,
+limits, the drawing data's geometry, and evaluation consistent with the engine."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fastapi")
+pytest.importorskip("httpx")
+from fastapi.testclient import TestClient  # noqa: E402
+
+from plantmech.app import server  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(server.create_app()) as c:
+        yield c
+
+
+def example(client, name):
+    r = client.get(f"/api/examples/{name}")
+    assert r.status_code == 200, r.text
+    return r.json()["design"]
+
+
+def evaluate(client, design, quality="full"):
+    return client.post("/api/evaluate", json={"design": design, "quality": quality})
+
+
+def test_examples_by_name_only(client):
+    names = client.get("/api/examples").json()["examples"]
+    assert {"sugarcane_seeder", "rice_transplanter", "sugarcane_table4"} <= set(names)
+    assert sorted(names) == sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+    for bad in ("../pyproject", "..%2Fpyproject", "/etc/passwd", "sugarcane_seeder.toml"):
+        r = client.get(f"/api/examples/{bad}")
+        assert r.status_code == 404
+
+
+def test_index_and_static(client):
+    r = client.get("/")
+    assert r.status_code == 200 and "plantmech" in r.text
+    assert client.get("/static/app.js").status_code == 200
+
+
+def _placed(g, k):
+    """Pitch curve of gear g placed at frame k (complex, mm)."""
+    body = np.array(g["body"]) @ np.array([1.0, 1j])
+    cx, cy = g["centre"][k]
+    return complex(cx, cy) + body * np.exp(1j * g["rot"][k])
+
+
+def _radius_towards(curve, centre, direction):
+    """Distance from ``centre`` of the placed curve along ``direction`` (rad), by
+    interpolating the curve's polar radius about that centre."""
+    z = curve - centre
+    ang = np.angle(z)
+    d = np.angle(np.exp(1j * (ang - direction)))
+    k = np.argsort(d)
+    return float(np.interp(0.0, d[k], np.abs(z)[k]))
+
+
+@pytest.mark.parametrize("name,quality", [("sugarcane_seeder", "drag"),
+                                          ("sugarcane_seeder", "full"),
+                                          ("sugarcane_table4", "full")])
+def test_seeder_gears_roll_on_each_other(client, name, quality):
+    """In every drawn frame the placed pitch curves touch on the line of centres: sun
+    radius + gear-2 radius = a1 and gear-3 radius + planet radius = a2 along it, and the
+    links have the train's lengths (independent of how the scene was built)."""
+    res = evaluate(client, example(client, name), quality).json()
+    tr = res["train"]
+    g = {x["role"]: x for x in res["gears"]}
+    n = len(res["frames"]["carrier_angle_deg"])
+    assert n == (server.DRAG_FRAMES if quality == "drag" else server.FRAMES)
+    for k in range(0, n, 37):
+        S = complex(*g["gear2"]["centre"][k])
+        P = complex(*g["planet"]["centre"][k])
+        assert abs(S) == pytest.approx(tr["a1_mm"], rel=1e-5)
+        assert abs(P) == pytest.approx(tr["L1_mm"], rel=1e-5)
+        assert abs(P - S) == pytest.approx(tr["a2_mm"], rel=1e-4)
+        tip = complex(*res["frames"]["tip"][k])
+        assert abs(tip - P) == pytest.approx(tr["L2_mm"], rel=1e-4)
+        toward_sun = np.angle(-S)
+        r1 = _radius_towards(_placed(g["sun"], k), 0.0, np.angle(S))
+        r2 = _radius_towards(_placed(g["gear2"], k), S, toward_sun)
+        assert r1 + r2 == pytest.approx(tr["a1_mm"], abs=0.05 * tr["a1_mm"] / 100 + 0.2)
+        r3 = _radius_towards(_placed(g["gear3"], k), S, np.angle(P - S))
+        r4 = _radius_towards(_placed(g["planet"], k), P, np.angle(S - P))
+        assert r3 + r4 == pytest.approx(tr["a2_mm"], abs=0.3)
+
+
+def test_drag_resolution_agrees_with_full(client):
+    """The working resolution's Table 1 values equal the full resolution's to a
+    fraction of a millimetre / degree (same trajectory, coarser sampling)."""
+    d = example(client, "sugarcane_seeder")
+    drag = {c["name"]: c for c in evaluate(client, d, "drag").json()["checks"]}
+    full = {c["name"]: c for c in evaluate(client, d, "full").json()["checks"]}
+    for name in ("small_ring_height", "large_ring_width", "cd_central_angle",
+                 "sowing_height_difference", "centre_to_trench_bottom"):
+        assert drag[name]["value"] == pytest.approx(full[name]["value"], abs=0.5)
+    assert drag["picking_swing"]["value"] == pytest.approx(full["picking_swing"]["value"],
+                                                           abs=1.0)
+    # speeds and gear checks come on release (full), not during the drag
+    assert "seeding_peak_speed" not in drag and "seeding_peak_speed" in full
+    assert "working_pressure_angle_sun_gear2" in full
+
+
+def test_moving_a_point_changes_the_objectives(client):
+    d = example(client, "sugarcane_seeder")
+    before = {c["name"]: c["value"] for c in evaluate(client, d, "drag").json()["checks"]}
+    d["trajectory"]["points"][10][0] += 5.0
+    after = {c["name"]: c["value"] for c in evaluate(client, d, "drag").json()["checks"]}
+    assert after["large_ring_width"] != before["large_ring_width"]
+    assert after["picking_swing"] != before["picking_swing"]
+
+
+def test_printed_table2_is_infeasible_between_q3_and_q4(client):
+    """Table 2 as printed (q3 y = -219.36) folds back: the verdict names the span."""
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][3][1] = -219.36
+    res = evaluate(client, d, "drag").json()
+    assert res["feasible"] is False
+    errs = [x for x in res["diagnostics"] if x["severity"] == "error"]
+    assert errs and any(x["between_points"] == [3, 4] for x in errs)
+    assert "frames" not in res  # nothing drawn as if it moved
+    assert len(res["spans"]) == len(d["trajectory"]["points"])
+
+
+@pytest.mark.parametrize("edit,field", [
+    (lambda d: d["internal_gear"]["radii_mm"].__setitem__(0, -5.0), "internal_gear.radii_mm.0"),
+    (lambda d: d["arm"].__setitem__("S_mm", "abc"), "arm.S_mm"),
+    (lambda d: d["arm"].__setitem__("H1_mm", 500.0), "arm"),
+])
+def test_transplanter_errors_name_the_field(client, edit, field):
+    d = example(client, "rice_transplanter")
+    edit(d)
+    r = evaluate(client, d)
+    assert r.status_code == 422
+    body = r.json()
+    assert any(f["field"] == field for f in body["fields"]), body
+    assert "Traceback" not in r.text
+
+
+def test_seeder_errors_name_the_field(client):
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][5] = list(d["trajectory"]["points"][4])  # dragged onto q4
+    r = evaluate(client, d, "drag")
+    assert r.status_code == 422
+    assert r.json()["fields"][0]["field"] == "trajectory.points"
+    err = r.json()["error"]
+    assert "q4" in err and "q5" in err and "coincide" in err
+
+
+def test_train_radius_below_minimum_is_reported_on_the_gear(client):
+    d = example(client, "sugarcane_table4")
+    d["train"]["gear3"]["radii_mm"][2] = 200.0  # beyond the centre distance
+    r = evaluate(client, d, "drag")
+    # the design model refuses it (issue 19's validation), naming the gear and the radius
+    assert r.status_code == 422
+    assert r.json()["fields"][0]["field"] == "train"
+    assert "gear3.radii_mm[2]" in r.json()["error"]
+
+
+def test_transplanter_scene_and_parameters(client):
+    d = example(client, "rice_transplanter")
+    res = evaluate(client, d).json()
+    names = [c["name"] for c in res["checks"]]
+    assert "picking_angle" in names and "trajectory_height" in names
+    assert len(res["tip_paths"]) == d["carrier"]["arms"]
+    fields = {p["field"] for p in res["parameters"]}
+    assert {"arm.S_mm", "carrier.initial_angle_deg", "internal_gear.radii_mm.0"} <= fields
+    for p in res["parameters"]:
+        assert p["min"] < p["value"] < p["max"]
+    # every planet centre stays at the centre distance from O
+    for g in res["gears"]:
+        if g["role"] == "planet":
+            r = np.hypot(*np.array(g["centre"]).T)
+            assert np.allclose(r, res["centre_distance_mm"], atol=2e-3)  # mm, rounded to 1 um
+
+
+def test_body_size_limit(client):
+    big = {"design": {"mechanism": "sugarcane_seeder", "name": "x" * (server.MAX_BODY_BYTES)}}
+    r = client.post("/api/evaluate", json=big)
+    assert r.status_code == 413
+    assert "limit" in r.json()["error"]
+
+
+def test_compute_time_limit(client, monkeypatch):
+    monkeypatch.setattr(server, "COMPUTE_TIMEOUT_S", 0.05)
+    d = example(client, "rice_transplanter")
+    d["samples"] = 20_000  # the design model's largest
+    t0 = time.perf_counter()
+    r = evaluate(client, d, "full")
+    assert r.status_code == 503
+    assert "limit" in r.json()["error"]
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_save_round_trip(client, tmp_path):
+    from plantmech.design import load_design
+
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][7] = [205.0, -190.0]
+    r = client.post("/api/toml", json={"design": d})
+    assert r.status_code == 200
+    assert "attachment" in r.headers["content-disposition"]
+    p = tmp_path / "saved.toml"
+    p.write_text(r.text, encoding="utf-8")
+    back = load_design(p)
+    assert back.trajectory.points[7] == (205.0, -190.0)
+    # and opening it in the page gives the same design
+    r2 = client.post("/api/parse", json={"name": "saved", "text": r.text})
+    assert r2.json()["design"]["trajectory"]["points"][7] == [205.0, -190.0]
+
+
+def test_open_bad_toml_names_the_file(client):
+    r = client.post("/api/parse", json={"name": "mine", "text": "mechanism = "})
+    assert r.status_code == 422 and r.json()["error"].startswith("mine: not valid TOML")
+
+
+def test_task_options_are_checked(client):
+    d = example(client, "sugarcane_table4")
+    r = client.post("/api/optimize", json={"design": d, "problem": "nope"})
+    assert r.status_code == 422 and r.json()["fields"][0]["field"] == "problem"
+    r = client.post("/api/optimize", json={"design": d, "problem": "seeder-layer2",
+                                           "generations": "ten"})
+    assert r.status_code == 422 and r.json()["fields"][0]["field"] == "generations"
+    r = client.post("/api/gears", json={"design": d, "module": -1})
+    assert r.status_code == 422 and r.json()["fields"][0]["field"] == "module"
+    assert client.get("/api/tasks/nope").status_code == 404
+    assert client.get("/api/tasks/nope/files/x.dxf").status_code == 404
+
+
+def _wait(client, task, limit=120.0):
+    t0 = time.time()
+    while time.time() - t0 < limit:
+        st = client.get(f"/api/tasks/{task}").json()
+        if st["state"] != "running":
+            return st
+        time.sleep(0.3)
+    raise AssertionError("task did not finish")
+
+
+def test_short_optimization_streams_progress_and_front(client):
+    d = example(client, "sugarcane_table4")
+    r = client.post("/api/optimize", json={"design": d, "problem": "seeder-layer2",
+                                           "generations": 2, "pop": 8, "seed": 1})
+    assert r.status_code == 200
+    st = _wait(client, r.json()["task"])
+    assert st["state"] == "done", st["error"]
+    res = st["result"]
+    assert res["evaluations"] >= 16
+    assert len(st["history"]) >= 2  # one progress report per generation
+    assert all(np.isfinite(h["best_violation"]) for h in st["history"])
+    npts = len(res["pareto"][res["objectives"][0]])
+    assert npts >= 1 and len(res["pareto_designs"]) == npts
+    # a picked Pareto design evaluates to the objective values the front lists
+    r2 = evaluate(client, res["pareto_designs"][0])
+    assert r2.status_code == 200
+    assert client.get(f"/api/tasks/{r.json()['task']}/files/best.toml").status_code == 200
+    assert client.get(f"/api/tasks/{r.json()['task']}/files/..%2Fdesign.toml").status_code == 404
