@@ -1,5 +1,12 @@
-"""Command line of plantmech.
+"""plantmech: design planting mechanisms driven by non-circular planetary gear trains.
 
+Sugarcane seeders (Liu et al. 2023, Int J Agric & Biol Eng 16(6)): from a planned tip
+trajectory to the gear pitch curves, forward simulation and the paper's objectives; rice
+transplanters (Zhou et al. 2022, J Agric Eng LIII:1412): the differential internal-engagement
+and K-H-V trains and the twelve objectives; automatic optimization; gear teeth and
+manufacturing files; an HTML report of every job (--report).
+
+``plantmech init KIND DIR``: write a commented starting design.
 ``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
 ``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
 ``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
@@ -66,15 +73,18 @@ def _inverse(args) -> int:
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
 
-        sp.plot_trajectory(out / "trajectory.png", job.trajectory, res, job.sections)
-        written.append(out / "trajectory.png")
+        figures = [("trajectory.png", sp.plot_trajectory(job.trajectory, res, job.sections))]
         if res.arm_angle_realized is not None and res.feasible:
-            sp.plot_attitude(out / "attitude.png", res, job.sections)
-            sp.plot_ratios(out / "ratios.png", res)
-            sp.plot_pitch_curves(out / "pitch_curves.png", res)
-            written += [out / "attitude.png", out / "ratios.png", out / "pitch_curves.png"]
+            figures += [("attitude.png", sp.plot_attitude(res, job.sections)),
+                        ("ratios.png", sp.plot_ratios(res)),
+                        ("pitch_curves.png", sp.plot_pitch_curves(res))]
+        written += [sp.save(fig, out / name) for name, fig in figures]
     write_json(out / "summary.json", job.summary)
     _print_summary(job.summary)
+    if args.report:
+        from plantmech.interfaces.report_cli import inverse_report
+
+        written += inverse_report(args, out, job, [] if args.no_plots else figures)
     print("wrote: " + ", ".join(str(p) for p in written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
@@ -113,16 +123,20 @@ def _forward(args) -> int:
         return EXIT_INFEASIBLE
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     written = write_forward_outputs(out, job)
+    figures = []
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
 
-        for name, fn in (("trajectories.png", sp.plot_forward_trajectories),
-                         ("speed.png", sp.plot_forward_speed),
-                         ("attitude.png", sp.plot_forward_attitude),
-                         ("pitch_curves.png", sp.plot_forward_pitch_curves)):
-            fn(out / name, job)
-            written.append(out / name)
+        figures = [(name, fn(job)) for name, fn in (
+            ("trajectories.png", sp.plot_forward_trajectories),
+            ("speed.png", sp.plot_forward_speed), ("attitude.png", sp.plot_forward_attitude),
+            ("pitch_curves.png", sp.plot_forward_pitch_curves))]
+        written += [sp.save(fig, out / name, dpi=130) for name, fig in figures]
     _print_forward(job.summary)
+    if args.report:
+        from plantmech.interfaces.report_cli import forward_report
+
+        written += forward_report(args, out, job, figures)
     print("wrote: " + ", ".join(str(p) for p in written))
     return EXIT_OK
 
@@ -141,14 +155,16 @@ def _forward_transplanter(args, design, out) -> int:
         return EXIT_INPUT
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     written = write_transplanter_outputs(out, job)
+    figures = []
     if not args.no_plots:
         from plantmech.outputs import transplanter_plots as tp
+        from plantmech.outputs.seeder_plots import save
 
-        for name, fn in (("trajectories.png", tp.plot_trajectories),
-                         ("attitude_speed.png", tp.plot_attitude_speed),
-                         ("ratio.png", tp.plot_ratio), ("gears.png", tp.plot_gears)):
-            fn(out / name, job)
-            written.append(out / name)
+        figures = [(name, fn(job)) for name, fn in (
+            ("trajectories.png", tp.plot_trajectories),
+            ("attitude_speed.png", tp.plot_attitude_speed),
+            ("ratio.png", tp.plot_ratio), ("gears.png", tp.plot_gears))]
+        written += [save(fig, out / name, dpi=120) for name, fig in figures]
     s = job.summary
     print(f"{s['name']}: {s['mechanism']}, centre distance {s['centre_distance_mm']:.3f} mm, "
           f"closure error {s['closure_error_rad']:.1e} rad")
@@ -163,6 +179,10 @@ def _forward_transplanter(args, design, out) -> int:
     print("  arms repeat each other after the carrier phase shift to "
           f"{max(dev):.1e} mm" if max(dev) < 1e-6 else
           f"  arms differ after the carrier phase shift by up to {max(dev):.2f} mm")
+    if args.report:
+        from plantmech.interfaces.report_cli import forward_report
+
+        written += forward_report(args, out, job, figures)
     print("wrote: " + ", ".join(str(p) for p in written))
     return EXIT_OK
 
@@ -186,7 +206,12 @@ def _optimize(args) -> int:
         return EXIT_INPUT
     for line in summary_lines(outcome.record):
         print(line)
-    print("wrote: " + ", ".join(str(p) for p in outcome.written))
+    written = list(outcome.written)
+    if args.report:
+        from plantmech.interfaces.report_cli import optimize_report
+
+        written += optimize_report(args, out, outcome)
+    print("wrote: " + ", ".join(str(p) for p in written))
     return EXIT_OK if outcome.feasible else EXIT_NOT_MET
 
 
@@ -223,6 +248,10 @@ def _gears(args) -> int:
     if "step" in rec:
         print(f"  STEP skipped: {rec['step']}")
     print(f"wrote {len(rec['files'])} files and verification.json to {out}")
+    if args.report:
+        from plantmech.interfaces.report_cli import gears_report
+
+        gears_report(args, out, design, rec)
     return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
 
 
@@ -298,21 +327,42 @@ def _number(kind, minimum, strict: bool = True):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="plantmech", description=__doc__.splitlines()[0])
+    from plantmech.interfaces.report_cli import add_report_option
+
+    p = argparse.ArgumentParser(
+        prog="plantmech", description="\n".join(__doc__.split("\n\n")[:2]),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Start with: plantmech init seeder mydesign; then plantmech inverse "
+        "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
-    sub = p.add_subparsers(dest="command", required=True)
-    inv = sub.add_parser("inverse", help="trajectory -> gear train (seed 000 §3)")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    inv = sub.add_parser("inverse", help="seeder: planned tip trajectory -> gear train "
+                         "(inverse design of Liu et al. 2023, section 3)",
+                         description="Inverse design of the sugarcane seeder of Liu et al. "
+                         "(2023): closed trajectory through the type-value points, planning "
+                         "checks (Table 1), ratio law, pitch curves of the four gears, "
+                         "feasibility verdict.")
     inv.add_argument("design", help="design file (TOML)")
     inv.add_argument("--out", required=True, help="output directory")
     inv.add_argument("--verify", action="store_true",
                      help="simulate the generated pitch curves forward (round trip)")
     inv.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    add_report_option(inv)
     inv.set_defaults(func=_inverse)
-    fwd = sub.add_parser("forward", help="gear train -> motion, speed, objectives (seed 000 §4)")
+    fwd = sub.add_parser(
+        "forward", help="gear train -> motion and objectives: seeders (Liu et al. 2023, "
+        "section 4) and rice transplanters (Zhou et al. 2022)",
+        description="Forward simulation of a gear train and every objective with value, "
+        "limit and pass/fail. Sugarcane seeder (mechanism = \"sugarcane_seeder\"): a [train] "
+        "given by its pitch curves (Liu et al. 2023, Table 4), or the inverse design of a "
+        "[trajectory]. Rice transplanters (mechanism = \"rice_transplanter\" or "
+        "\"rice_transplanter_khv\"): the trains of Zhou et al. (2022) and their twelve "
+        "objectives (i)-(xii).")
     fwd.add_argument("design", help="design file (TOML) with a [train], or a [trajectory] "
                      "whose inverse design is simulated")
     fwd.add_argument("--out", required=True, help="output directory")
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    add_report_option(fwd)
     fwd.set_defaults(func=_forward)
     gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
@@ -330,6 +380,7 @@ def build_parser() -> argparse.ArgumentParser:
                        help="addendum, x module")
     gears.add_argument("--dedendum", type=_number(float, 0.0), default=1.25,
                        help="dedendum, x module (above the addendum: root clearance)")
+    add_report_option(gears)
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
@@ -337,8 +388,11 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("design", help="design file (TOML); never overwritten")
     opt.add_argument("--problem", required=True, choices=PROBLEMS)
     opt.add_argument("--out", required=True, help="output directory")
-    opt.add_argument("--seed", type=int, default=0)
-    opt.add_argument("--generations", type=_number(int, 1, strict=False), default=None)
+    opt.add_argument("--seed", type=int, default=0,
+                     help="random seed of the algorithm: the same seed and settings give "
+                     "the same run (default 0)")
+    opt.add_argument("--generations", type=_number(int, 1, strict=False), default=None,
+                     help="generations (default per problem, docs/optimization.md)")
     opt.add_argument("--pop", type=_number(int, 4, strict=False), default=None,
                      help="population size (at least 4)")
     opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
@@ -347,7 +401,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="interpolation radii per gear for the seeder's layer 2")
     opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False), default=0,
                      help="seeder layer 1: also scout moving the seeding point e (and f) on "
-                     "by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
+                     "by 1..K type-value points (Liu et al. 2023, Fig. 6, relabels it g)")
     opt.add_argument("--seeding-point", choices=("auto", "keep"), default="auto",
                      help="seeder problems that move type-value points: 'auto' moves the "
                      "seeding point e (and f) on when, at e, a return speed above its "
@@ -358,12 +412,20 @@ def build_parser() -> argparse.ArgumentParser:
                      "fit (xiii)-(xv); seeder layer 2: convexity and working pressure "
                      "angle); without it they are reported")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_report_option(opt)
     opt.set_defaults(func=_optimize)
+    from plantmech.interfaces import init_cli
+
+    init_cli.register(sub)
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if args.command != "init":
+        import matplotlib
+
+        matplotlib.use("Agg")  # files only: the CLI never opens a window
     return args.func(args)
 
 
