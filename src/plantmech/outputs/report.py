@@ -493,3 +493,48 @@ def write_report(path: str | Path, summary: dict, figures=(), animation: Animati
                         gif_path.name if gif_path else None)
     path.write_text(text, encoding="utf-8")
     return [path] + written
+
+
+# --- a job's figures and animation (for the API and the reports) ----------------------
+
+
+def job_figures(job) -> list[tuple[str, object]]:
+    """(file name, matplotlib Figure) of every plot of a job: a seeder inverse job
+    (``run_seeder_inverse``), a seeder forward job (``run_seeder_forward``) or a
+    transplanter job (``run_transplanter``). The names are those the CLI writes."""
+    if hasattr(job, "motion"):
+        from plantmech.outputs import transplanter_plots as tp
+
+        return [("trajectories.png", tp.plot_trajectories(job)),
+                ("attitude_speed.png", tp.plot_attitude_speed(job)),
+                ("ratio.png", tp.plot_ratio(job)), ("gears.png", tp.plot_gears(job))]
+    from plantmech.outputs import seeder_plots as sp
+
+    if hasattr(job, "section_psi"):
+        return [("trajectories.png", sp.plot_forward_trajectories(job)),
+                ("speed.png", sp.plot_forward_speed(job)),
+                ("attitude.png", sp.plot_forward_attitude(job)),
+                ("pitch_curves.png", sp.plot_forward_pitch_curves(job))]
+    res = job.result
+    figs = [("trajectory.png", sp.plot_trajectory(job.trajectory, res, job.sections))]
+    if res.arm_angle_realized is not None and res.feasible:
+        figs += [("attitude.png", sp.plot_attitude(res, job.sections)),
+                 ("ratios.png", sp.plot_ratios(res)),
+                 ("pitch_curves.png", sp.plot_pitch_curves(res))]
+    return figs
+
+
+def job_animation(job, frames: int = FRAMES) -> Animation | None:
+    """The mechanism of a job over one cycle (None: an infeasible inverse design)."""
+    if hasattr(job, "motion"):
+        return transplanter_animation(job, frames)
+    if hasattr(job, "section_psi"):
+        return seeder_forward_animation(job, frames)
+    if job.result.feasible and job.result.tip_realized is not None:
+        return seeder_inverse_animation(job, frames)
+    return None
+
+
+def job_report(job, path: str | Path, gif: bool | str | Path = True) -> list[Path]:
+    """:func:`write_report` of a job with all its figures and its animation."""
+    return write_report(path, job.summary, job_figures(job), job_animation(job), gif=gif)

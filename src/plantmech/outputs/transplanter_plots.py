@@ -66,7 +66,7 @@ def plot_trajectories(job) -> Figure:
     ax.set_ylabel("y / mm")
     ax.set_title("Relative trajectories (frame of the machine)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3)
+    legend_outside(ax)
     ax = axes[1]
     d = job.design
     J = m.B.shape[1]
@@ -86,7 +86,7 @@ def plot_trajectories(job) -> Figure:
     ax.set_title(f"Absolute trajectories, plant spacing {d.field.plant_spacing_mm:g} mm "
                  f"(two carrier turns)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=4)
+    legend_outside(ax)
     return fig
 
 
@@ -124,8 +124,10 @@ def plot_attitude_speed(job) -> Figure:
 
 def needle_angle_unwrapped(angle_deg: np.ndarray) -> np.ndarray:
     """A needle angle sampled over the cycle (deg, in [0, 360)) made continuous: no
-    jump of 360 deg between samples; the first sample is kept in [0, 360)."""
-    return np.degrees(np.unwrap(np.radians(np.asarray(angle_deg, dtype=float))))
+    jump of 360 deg between samples, shifted by whole turns so that its mean lies in
+    [0, 360) (arms that repeat each other then share one band)."""
+    a = np.degrees(np.unwrap(np.radians(np.asarray(angle_deg, dtype=float))))
+    return a - 360.0 * np.floor(a.mean() / 360.0)
 
 
 def plot_ratio(job) -> Figure:
