@@ -156,9 +156,44 @@ def test_report_in_chromium_offline(rice_job, tmp_path):
             assert page.get_attribute("#mechanism", "data-frame") == "36"
             assert page.inner_text("#frame-label").endswith("180.0 deg")
             assert page.is_visible("#verdict") and page.is_visible("#checks-table")
+            # every arm is drawn in its colour (tab:blue of matplotlib = #1f77b4)
+            strokes = page.evaluate("[...document.querySelectorAll('.link')].map("
+                                    "e => getComputedStyle(e).stroke)")
+            assert strokes[0] == "rgb(31, 119, 180)" and len(set(strokes)) == 3
             # the embedded plot decoded
             assert page.evaluate("document.querySelector('figure img').naturalWidth") > 100
         finally:
             browser.close()
     assert errors == []
     assert requests == []
+
+
+def test_cli_report_of_an_infeasible_inverse_design(tmp_path):
+    """No gear train, so no animation and no GIF; the verdict and the diagnostics say why."""
+    from plantmech.interfaces.cli import main
+
+    out = tmp_path / "inf"
+    main(["inverse", str(EXAMPLES / "sugarcane_table2_as_printed.toml"), "--out", str(out),
+          "--report"])
+    text = (out / "report.html").read_text()
+    assert 'class="verdict fail"' in text and "INFEASIBLE" in text
+    assert "[ratio_not_positive] between q3 and q4" in text
+    assert "animation-data" not in text and not (out / "mechanism.gif").exists()
+
+
+def test_cli_report_of_an_optimization(tmp_path):
+    """optimize --report: the run's verdict, its plots and best.toml animated."""
+    from plantmech.interfaces.cli import main
+
+    out = tmp_path / "opt"
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter.toml"), "--problem",
+               "transplanter", "--generations", "1", "--pop", "4", "--quiet", "--out",
+               str(out), "--report"])
+    run = json.loads((out / "run.json").read_text())
+    text = (out / "report.html").read_text()
+    assert rc in (0, 4) and (rc == 0) == bool(run["feasible"])
+    assert ('class="verdict ok"' in text) == bool(run["feasible"])
+    assert text.count("data:image/png;base64,") >= 1  # convergence.png at least
+    data = json.loads(re.search(r'id="animation-data">(.*?)</script>', text, re.S).group(1))
+    assert len(data["links"]) == 3  # the best design's three arms
+    assert (out / "mechanism.gif").stat().st_size > 1000

@@ -57,6 +57,13 @@ class Animation:
         return lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad
 
 
+def _hex(colour) -> str:
+    """A matplotlib colour ('tab:blue', '0.6', '#123456') as #rrggbb for SVG."""
+    from matplotlib.colors import to_hex
+
+    return to_hex(colour)
+
+
 def _frame_index(n_samples: int, frames: int) -> np.ndarray:
     return np.round(np.linspace(0, n_samples, frames, endpoint=False)).astype(int) % n_samples
 
@@ -226,19 +233,19 @@ def _svg_animation(a: Animation) -> str:
     for t in a.traces:
         dash = (f' stroke-dasharray="{" ".join(str(float(v) * unit) for v in t["dash"].split())}"'
                 if t.get("dash") else "")
-        out.append(f'<polyline points="{_points_attr(t["points"])}" stroke="{t["color"]}" '
+        out.append(f'<polyline points="{_points_attr(t["points"])}" stroke="{_hex(t["color"])}" '
                    f'stroke-width="{t["width"] * unit:.3f}"{dash}>'
                    f'<title>{html.escape(t["label"])}</title></polyline>')
     for i, lk in enumerate(a.links):
         out.append(f'<polyline id="link-{i}" class="link" '
-                   f'points="{_points_attr(lk["points"][0])}" stroke="{lk["color"]}" '
+                   f'points="{_points_attr(lk["points"][0])}" stroke="{_hex(lk["color"])}" '
                    f'stroke-width="{lk["width"] * unit:.3f}" opacity="0.85">'
                    f'<title>{html.escape(lk["label"])}</title></polyline>')
     out.append("</g>")
     for i, jt in enumerate(a.joints):
         x, y = np.asarray(jt["points"][0], float)
         out.append(f'<circle id="joint-{i}" cx="{x:.2f}" cy="{-y:.2f}" r="{4 * unit:.3f}" '
-                   f'fill="{jt["color"]}"><title>{html.escape(jt["label"])}</title></circle>')
+                   f'fill="{_hex(jt["color"])}"><title>{html.escape(jt["label"])}</title></circle>')
     out.append(f'<circle cx="0" cy="0" r="{3 * unit:.3f}" fill="#000"><title>carrier axis O'
                '</title></circle>')
     out.append("</svg>")
@@ -413,7 +420,7 @@ def _legend(a: Animation) -> str:
     items = [(t["label"], t["color"]) for t in a.traces] + [(lk["label"], lk["color"])
                                                              for lk in a.links]
     return '<p class="legend">' + "".join(
-        f'<span><i style="background:{c}"></i>{html.escape(lab)}</span>'
+        f'<span><i style="background:{_hex(c)}"></i>{html.escape(lab)}</span>'
         for lab, c in items) + "</p>"
 
 
@@ -451,6 +458,19 @@ def build_report(summary: dict, figures=(), animation: Animation | None = None,
         if gif:
             parts.append(f"<p class=\"meta\">For slides: <code>{html.escape(str(gif))}</code>"
                          " (animated GIF) next to this file.</p>")
+    diags = summary.get("diagnostics") or []
+    if diags:
+        parts.append('<h2 id="diagnostics">Diagnostics</h2><ul>')
+        for d in diags:
+            where = ""
+            if d.get("between_points"):
+                where += " between q{} and q{}".format(*d["between_points"][:2])
+            if d.get("carrier_angle_deg"):
+                where += " (carrier angle {:.1f}-{:.1f} deg)".format(*d["carrier_angle_deg"][:2])
+            parts.append(f"<li><b>{html.escape(str(d.get('severity', '')).upper())}</b> "
+                         f"[{html.escape(str(d.get('kind', '')))}]{html.escape(where)}: "
+                         f"{html.escape(str(d.get('message', '')))}</li>")
+        parts.append("</ul>")
     parts += ['<h2 id="checks">Objectives and checks</h2>', _checks_table(summary)]
     if figures:
         parts.append('<h2 id="plots">Plots</h2>')
