@@ -1,5 +1,12 @@
-"""Command line of plantmech.
+"""plantmech: design planting mechanisms driven by non-circular planetary gear trains.
 
+Sugarcane seeders (Liu et al. 2023, Int J Agric & Biol Eng 16(6)): from a planned tip
+trajectory to the gear pitch curves, forward simulation and the paper's objectives; rice
+transplanters (Zhou et al. 2022, J Agric Eng LIII:1412): the differential internal-engagement
+and K-H-V trains and the twelve objectives; automatic optimization; gear teeth and
+manufacturing files; an HTML report of every job (--report).
+
+``plantmech init KIND DIR``: write a commented starting design.
 ``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
 ``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
 ``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
@@ -146,13 +153,12 @@ def _inverse_body(args, design, run) -> int:
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
 
-        sp.plot_trajectory(out / "trajectory.png", job.trajectory, res, job.sections)
-        written.append(out / "trajectory.png")
+        figures = [("trajectory.png", sp.plot_trajectory(job.trajectory, res, job.sections))]
         if res.arm_angle_realized is not None and res.feasible:
-            sp.plot_attitude(out / "attitude.png", res, job.sections)
-            sp.plot_ratios(out / "ratios.png", res)
-            sp.plot_pitch_curves(out / "pitch_curves.png", res)
-            written += [out / "attitude.png", out / "ratios.png", out / "pitch_curves.png"]
+            figures += [("attitude.png", sp.plot_attitude(res, job.sections)),
+                        ("ratios.png", sp.plot_ratios(res)),
+                        ("pitch_curves.png", sp.plot_pitch_curves(res))]
+        written += [sp.save(fig, out / name) for name, fig in figures]
     s = job.summary
     problems = []
     if "round_trip_not_computable" in s:
@@ -162,6 +168,10 @@ def _inverse_body(args, design, run) -> int:
                                problems=problems)
     write_json(out / "summary.json", s)
     _print_summary(s)
+    if args.report:
+        from plantmech.interfaces.report_cli import inverse_report
+
+        written += inverse_report(args, out, job, [] if args.no_plots else figures)
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
@@ -205,16 +215,20 @@ def _forward_body(args, design, run) -> int:
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
     written = write_forward_outputs(out, job)
+    figures = []
     if not args.no_plots:
         from plantmech.outputs import seeder_plots as sp
 
-        for name, fn in (("trajectories.png", sp.plot_forward_trajectories),
-                         ("speed.png", sp.plot_forward_speed),
-                         ("attitude.png", sp.plot_forward_attitude),
-                         ("pitch_curves.png", sp.plot_forward_pitch_curves)):
-            fn(out / name, job)
-            written.append(out / name)
+        figures = [(name, fn(job)) for name, fn in (
+            ("trajectories.png", sp.plot_forward_trajectories),
+            ("speed.png", sp.plot_forward_speed), ("attitude.png", sp.plot_forward_attitude),
+            ("pitch_curves.png", sp.plot_forward_pitch_curves))]
+        written += [sp.save(fig, out / name, dpi=130) for name, fig in figures]
     _print_forward(job.summary)
+    if args.report:
+        from plantmech.interfaces.report_cli import forward_report
+
+        written += forward_report(args, out, job, figures)
     print(_wrote(run, written))
     print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -236,14 +250,16 @@ def _forward_transplanter(args, design, run) -> int:
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
     written = write_transplanter_outputs(out, job)
+    figures = []
     if not args.no_plots:
         from plantmech.outputs import transplanter_plots as tp
+        from plantmech.outputs.seeder_plots import save
 
-        for name, fn in (("trajectories.png", tp.plot_trajectories),
-                         ("attitude_speed.png", tp.plot_attitude_speed),
-                         ("ratio.png", tp.plot_ratio), ("gears.png", tp.plot_gears)):
-            fn(out / name, job)
-            written.append(out / name)
+        figures = [(name, fn(job)) for name, fn in (
+            ("trajectories.png", tp.plot_trajectories),
+            ("attitude_speed.png", tp.plot_attitude_speed),
+            ("ratio.png", tp.plot_ratio), ("gears.png", tp.plot_gears))]
+        written += [save(fig, out / name, dpi=120) for name, fig in figures]
     s = job.summary
     print(f"{s['name']}: {s['mechanism']}, centre distance {s['centre_distance_mm']:.3f} mm, "
           f"closure error {s['closure_error_rad']:.1e} rad")
@@ -258,6 +274,10 @@ def _forward_transplanter(args, design, run) -> int:
     print("  arms repeat each other after the carrier phase shift to "
           f"{max(dev):.1e} mm" if max(dev) < 1e-6 else
           f"  arms differ after the carrier phase shift by up to {max(dev):.2f} mm")
+    if args.report:
+        from plantmech.interfaces.report_cli import forward_report
+
+        written += forward_report(args, out, job, figures)
     print(_wrote(run, written))
     print(verdict_line(v, "every objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -292,7 +312,12 @@ def _optimize_body(args, design, run) -> int:
         return EXIT_INFEASIBLE
     for line in summary_lines(outcome.record):
         print(line)
-    print(_wrote(run, outcome.written))
+    written = list(outcome.written)
+    if args.report:
+        from plantmech.interfaces.report_cli import optimize_report
+
+        written += optimize_report(args, out, outcome)
+    print(_wrote(run, written))
     v = outcome.record["verdict"]
     print(verdict_line(v, "best.toml meets every objective"
                        + (" and manufacturability check" if outcome.record.get(
@@ -339,6 +364,10 @@ def _gears_body(args, design, run) -> int:
     if "step" in rec:
         print(f"  STEP skipped: {rec['step']}")
     print(f"wrote {len(rec['files'])} files and verification.json to {run.final(out)}")
+    if args.report:
+        from plantmech.interfaces.report_cli import gears_report
+
+        gears_report(args, out, design, rec)
     return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
 
 
@@ -420,21 +449,42 @@ def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="plantmech", description=__doc__.splitlines()[0])
+    from plantmech.interfaces.report_cli import add_report_option
+
+    p = argparse.ArgumentParser(
+        prog="plantmech", description="\n".join(__doc__.split("\n\n")[:2]),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Start with: plantmech init seeder mydesign; then plantmech inverse "
+        "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
-    sub = p.add_subparsers(dest="command", required=True)
-    inv = sub.add_parser("inverse", help="trajectory -> gear train (seed 000 §3)")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    inv = sub.add_parser("inverse", help="seeder: planned tip trajectory -> gear train "
+                         "(inverse design of Liu et al. 2023, section 3)",
+                         description="Inverse design of the sugarcane seeder of Liu et al. "
+                         "(2023): closed trajectory through the type-value points, planning "
+                         "checks (Table 1), ratio law, pitch curves of the four gears, "
+                         "feasibility verdict.")
     inv.add_argument("design", help="design file (TOML)")
     add_output_options(inv)
     inv.add_argument("--verify", action="store_true",
                      help="simulate the generated pitch curves forward (round trip)")
     inv.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    add_report_option(inv)
     inv.set_defaults(func=_inverse)
-    fwd = sub.add_parser("forward", help="gear train -> motion, speed, objectives (seed 000 §4)")
+    fwd = sub.add_parser(
+        "forward", help="gear train -> motion and objectives: seeders (Liu et al. 2023, "
+        "section 4) and rice transplanters (Zhou et al. 2022)",
+        description="Forward simulation of a gear train and every objective with value, "
+        "limit and pass/fail. Sugarcane seeder (mechanism = \"sugarcane_seeder\"): a [train] "
+        "given by its pitch curves (Liu et al. 2023, Table 4), or the inverse design of a "
+        "[trajectory]. Rice transplanters (mechanism = \"rice_transplanter\" or "
+        "\"rice_transplanter_khv\"): the trains of Zhou et al. (2022) and their twelve "
+        "objectives (i)-(xii).")
     fwd.add_argument("design", help="design file (TOML) with a [train], or a [trajectory] "
                      "whose inverse design is simulated")
     add_output_options(fwd)
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
+    add_report_option(fwd)
     fwd.set_defaults(func=_forward)
     gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
@@ -453,6 +503,7 @@ def build_parser() -> argparse.ArgumentParser:
     gears.add_argument("--dedendum", type=_number(float, 0.0, maximum=3.0),
                        default=1.25, help="dedendum, x module (above the addendum: root "
                        "clearance; up to 3)")
+    add_report_option(gears)
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
@@ -474,7 +525,8 @@ def build_parser() -> argparse.ArgumentParser:
                      "(4-128)")
     opt.add_argument("--seeding-shifts", type=_number(int, 0, strict=False, maximum=20),
                      default=0, help="seeder layer 1 (0-20): also scout moving the seeding "
-                     "point e (and f) on by 1..K type-value points (seed 000 Fig. 6 relabels it g)")
+                     "point e (and f) on by 1..K type-value points (Liu et al. 2023, Fig. 6, "
+                     "relabels it g)")
     opt.add_argument("--seeding-point", choices=("auto", "keep"), default="auto",
                      help="seeder problems that move type-value points: 'auto' moves the "
                      "seeding point e (and f) on when, at e, a return speed above its "
@@ -485,10 +537,12 @@ def build_parser() -> argparse.ArgumentParser:
                      "module, working pressure angle, tooth fit) instead of requiring them; "
                      "recorded in run.json. By default every problem requires them")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_report_option(opt)
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import app_cli, design_cli, schema_cli, study_cli
+    from plantmech.interfaces import app_cli, design_cli, init_cli, schema_cli, study_cli
 
     design_cli.register(sub)
+    init_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
     app_cli.register(sub)
@@ -497,6 +551,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if args.command != "init":
+        import matplotlib
+
+        matplotlib.use("Agg")  # files only: the CLI never opens a window
     return args.func(args)
 
 

@@ -206,17 +206,30 @@ def shift_seeding_point(design: SeederDesign, k: int) -> SeederDesign:
 _POOLS: dict = {}
 
 
+def start_method() -> str:
+    """Start method of the worker processes: ``PLANTMECH_START_METHOD`` if set (``fork``,
+    ``spawn``, ``forkserver``), else the platform's default (fork on Linux, spawn on
+    macOS and Windows). The tasks are module-level functions of picklable arguments, so
+    every method works."""
+    import multiprocessing as mp
+    import os
+
+    return os.environ.get("PLANTMECH_START_METHOD") or mp.get_start_method(allow_none=True) \
+        or mp.get_context().get_start_method()
+
+
 def _pool(workers: int):
-    """One process pool per worker count, forked once and reused by every generation
-    (forking the interpreter with NumPy, SciPy and shapely loaded for each generation cost
-    ~10 % of layer 1's time); closed at exit."""
-    ex = _POOLS.get(workers)
+    """One process pool per worker count (and start method), started once and reused by
+    every generation (starting the interpreter with NumPy, SciPy and shapely loaded for
+    each generation cost ~10 % of layer 1's time); closed at exit."""
+    key = (workers, start_method())
+    ex = _POOLS.get(key)
     if ex is None:
         import atexit
         import multiprocessing as mp
         from concurrent.futures import ProcessPoolExecutor
 
-        ex = _POOLS[workers] = ProcessPoolExecutor(workers, mp_context=mp.get_context("fork"))
+        ex = _POOLS[key] = ProcessPoolExecutor(workers, mp_context=mp.get_context(key[1]))
         atexit.register(ex.shutdown)
     return ex
 
@@ -229,7 +242,7 @@ def _in_pool(workers: int, use):
     try:
         return use(_pool(workers))
     except BrokenProcessPool:
-        _POOLS.pop(workers, None)
+        _POOLS.pop((workers, start_method()), None)
         return use(_pool(workers))
 
 

@@ -8,6 +8,28 @@ import numpy as np
 
 from plantmech.outputs.files import write_csv, write_json
 
+# axis labels of the problems' objectives (what is minimized, with its unit)
+OBJECTIVE_LABELS = {
+    "picking_swing": "picking swing (attitude over ab) / deg",
+    "seeding_swing": "seeding swing (attitude over de) / deg",
+    "sowing_angle": "sowing angle |at e| / deg",
+    "seeding_peak_speed": "seeding peak speed (over de) / (m/s)",
+    "neg_return_min_speed_dynamic": "- return minimum dynamic speed (over ef) / (m/s)",
+    "seedling_block_skew": "seedling-block skew (vi) / mm",
+    "hole_width": "widest hole (ix) / mm",
+    "angle_difference_offcentre": "|angle difference (v) - mid-range| / deg",
+}
+
+
+def objective_label(name: str) -> str:
+    """Axis label (with unit) of an objective by its name."""
+    return OBJECTIVE_LABELS.get(name, name.replace("_", " "))
+
+
+def variable_column(name: str, unit: str) -> str:
+    """CSV column of a variable: its name with the unit appended once (``S_mm`` stays)."""
+    return name if not unit or name.endswith(f"_{unit}") else f"{name}_{unit}"
+
 
 def design_toml(design, header: str = "") -> str:
     """A design as TOML that ``load_design`` reads back (comments of the input are lost;
@@ -63,7 +85,7 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
                                               "feasible_in_population", "wall_s")})
     cols = {}
     for i, v in enumerate(problem.variables):
-        cols[f"{v.name}_{v.unit}"] = result.pareto_x[:, i]
+        cols[variable_column(v.name, v.unit)] = result.pareto_x[:, i]
     for i, n in enumerate(problem.objective_names):
         cols[n] = result.pareto_f[:, i]
     write_csv(out / "pareto.csv", cols)
@@ -150,41 +172,66 @@ def write_tradeoff(out: Path, t: dict, problem) -> list[Path]:
 
 
 def plot_run(out: Path, result, problem) -> list[Path]:
-    import matplotlib
+    """Write convergence.png (and pareto.png for two or more objectives); their paths."""
+    written = [out / "convergence.png"]
+    convergence_figure(result).savefig(written[0], dpi=120)
+    fig = pareto_figure(result, problem)
+    if fig is not None:
+        fig.savefig(out / "pareto.png", dpi=120)
+        written.append(out / "pareto.png")
+    return written
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+# the violation axis is logarithmic: a run reaching 0 is drawn at this floor
+VIOLATION_FLOOR = 1e-6
+
+
+def convergence_figure(result):
+    """Best total relative violation per evaluation (Figure). The floor line that marks
+    'every objective met' is drawn only when a design met them all."""
+    from matplotlib.figure import Figure
 
     hist = result.history
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig = Figure(figsize=(10, 4.5), layout="constrained")
+    ax = fig.subplots()
     ev = [h["evaluations"] for h in hist]
-    ax.semilogy(ev, [max(h["best_violation"], 1e-6) for h in hist], "k.-")
+    ax.semilogy(ev, [max(h["best_violation"], VIOLATION_FLOOR) for h in hist], "k.-",
+                label="best design so far")
     ax.set_xlabel("evaluations")
-    ax.set_ylabel("best total relative violation (1e-6 = all met)")
-    ax.set_title(f"Convergence: {result.problem}, {result.algorithm}, seed {result.seed}")
+    ax.set_ylabel("best total relative violation / -")
+    met = bool(result.feasible)
+    verdict = ("every objective met" if met
+               else "NOT met: the best design misses an objective")
+    ax.set_title(f"Convergence: {result.problem}, {result.algorithm}, seed {result.seed} "
+                 f"({verdict})")
+    if met:
+        ax.axhline(VIOLATION_FLOOR, color="tab:green", lw=1, ls=":",
+                   label=f"{VIOLATION_FLOOR:g}: violation 0, every objective met")
     if result.first_feasible_evaluations:
         ax.axvline(result.first_feasible_evaluations, color="tab:green", ls="--",
                    label=f"first design meeting every objective ({result.first_feasible_s:.1f} s)")
-        ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3, which="both")
-    fig.tight_layout()
-    fig.savefig(out / "convergence.png", dpi=120)
-    plt.close(fig)
-    written = [out / "convergence.png"]
+    return fig
+
+
+def pareto_figure(result, problem):
+    """Final non-dominated objectives, axes with units (Figure), or None for fewer than
+    two objectives or points."""
+    from matplotlib.figure import Figure
+
     F = result.pareto_f
     names = problem.objective_names
-    if F.shape[1] >= 2 and len(F) > 1:
-        fig, ax = plt.subplots(figsize=(6.5, 5.5))
-        sc = ax.scatter(F[:, 0], F[:, 1], c=F[:, 2] if F.shape[1] > 2 else "tab:blue",
-                        cmap="viridis")
-        if F.shape[1] > 2:
-            fig.colorbar(sc, ax=ax, label=names[2])
-        ax.set_xlabel(names[0])
-        ax.set_ylabel(names[1])
-        ax.set_title("Pareto front (final population, non-dominated)")
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(out / "pareto.png", dpi=120)
-        plt.close(fig)
-        written.append(out / "pareto.png")
-    return written
+    if F.ndim != 2 or F.shape[1] < 2 or len(F) < 2:
+        return None
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = fig.subplots()
+    sc = ax.scatter(F[:, 0], F[:, 1], c=F[:, 2] if F.shape[1] > 2 else "tab:blue",
+                    cmap="viridis")
+    if F.shape[1] > 2:
+        fig.colorbar(sc, ax=ax, label=objective_label(names[2]))
+    ax.set_xlabel(objective_label(names[0]))
+    ax.set_ylabel(objective_label(names[1]))
+    ax.set_title("Pareto front (final population, non-dominated; all minimized)")
+    ax.grid(alpha=0.3)
+    return fig

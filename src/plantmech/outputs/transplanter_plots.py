@@ -1,17 +1,28 @@
-"""Plots of a transplanting mechanism (PNG, units on every axis)."""
+"""Plots of a transplanting mechanism, units on every axis.
+
+Every function returns a :class:`matplotlib.figure.Figure` built without pyplot (no backend
+forced; save with :func:`plantmech.outputs.seeder_plots.save`). Legends sit outside the
+data. The arms repeat each other after a carrier phase shift, so their relative paths
+coincide: each arm has its own line style and width so that none hides another.
+"""
 
 from __future__ import annotations
 
-from pathlib import Path
+import numpy as np
+from matplotlib.figure import Figure
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plantmech.outputs.seeder_plots import legend_outside
 
 DEG = 180.0 / np.pi
 COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
+# arm j: wide solid under narrower dashed/dotted lines, so coincident paths all show
+ARM_STYLES = [dict(ls="-", lw=4.0, alpha=0.45), dict(ls="--", lw=2.0), dict(ls=":", lw=1.6),
+              dict(ls="-.", lw=1.2), dict(ls=(0, (1, 3)), lw=1.2), dict(ls="-", lw=0.8)]
+
+
+def arm_style(j: int) -> dict:
+    """Colour, line style and width of arm ``j`` (0-based)."""
+    return {"color": COLOURS[j % len(COLOURS)], **ARM_STYLES[j % len(ARM_STYLES)]}
 STAGE_COLOURS = {"picking": "tab:green", "conveying": "tab:blue", "planting": "tab:red",
                  "return": "0.6"}
 
@@ -30,13 +41,16 @@ def _box_and_ground(ax, job, x_range):
     ax.fill_between(x_range, g, g - 40, color="saddlebrown", alpha=0.15)
 
 
-def plot_trajectories(path: Path, job) -> None:
+def plot_trajectories(job) -> Figure:
+    """Relative trajectories of every arm tip (frame of the machine) with the box and the
+    ground, and absolute trajectories over two carrier turns (mm)."""
     m = job.motion
-    fig, axes = plt.subplots(1, 2, figsize=(16, 7.5), gridspec_kw={"width_ratios": [1, 1.6]})
+    fig = Figure(figsize=(18, 8), layout="constrained")
+    axes = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1, 1.6]})
     ax = axes[0]
     J = m.B.shape[1]
     for j in range(J):
-        ax.plot(m.B[0, j].real, m.B[0, j].imag, color=COLOURS[j], lw=1.2,
+        ax.plot(m.B[0, j].real, m.B[0, j].imag, **arm_style(j),
                 label=f"arm {j + 1} tip (relative)")
     for k in range(0, m.B.shape[-1], m.B.shape[-1] // 12):
         for j in range(J):
@@ -52,7 +66,7 @@ def plot_trajectories(path: Path, job) -> None:
     ax.set_ylabel("y / mm")
     ax.set_title("Relative trajectories (frame of the machine)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
+    legend_outside(ax)
     ax = axes[1]
     d = job.design
     J = m.B.shape[1]
@@ -62,7 +76,7 @@ def plot_trajectories(path: Path, job) -> None:
     for turn in range(2):
         for j in range(J):
             x = m.B[0, j].real * sign + advance * (turn + np.arange(S) / S)
-            ax.plot(x, m.B[0, j].imag, color=COLOURS[j], lw=1,
+            ax.plot(x, m.B[0, j].imag, **arm_style(j),
                     label=f"arm {j + 1}" if turn == 0 else None)
     g = job.evaluation.metrics["ground_y_mm"][0]
     ax.axhline(g, color="saddlebrown", lw=1.5, label="ground")
@@ -72,16 +86,17 @@ def plot_trajectories(path: Path, job) -> None:
     ax.set_title(f"Absolute trajectories, plant spacing {d.field.plant_spacing_mm:g} mm "
                  f"(two carrier turns)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    legend_outside(ax)
+    return fig
 
 
-def plot_attitude_speed(path: Path, job) -> None:
+def plot_attitude_speed(job) -> Figure:
+    """Needle angle (unwrapped, deg) and relative tip speed (m/s) of every arm, with
+    arm 1's stages."""
     m = job.motion
     deg = m.carrier_angle * DEG
-    fig, axes = plt.subplots(2, 1, figsize=(11, 8), sharex=True)
+    fig = Figure(figsize=(13, 8), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
     stages = job.summary["stages_deg"]["arm_I"]
     for ax in axes:
         for name, span in stages.items():
@@ -94,40 +109,46 @@ def plot_attitude_speed(path: Path, job) -> None:
                            label=f"arm 1 {name}" if (i == 0 and ax is axes[0]) else None)
     speed = np.abs(m.velocity(job.design.drive.carrier_speed_deg_s)[0])
     for j in range(m.B.shape[1]):
-        axes[0].plot(deg, m.needle_angle[0, j], ".", ms=1, color=COLOURS[j],
+        axes[0].plot(deg, needle_angle_unwrapped(m.needle_angle[0, j]), **arm_style(j),
                      label=f"arm {j + 1} needle angle")
-        axes[1].plot(deg, speed[j], color=COLOURS[j], label=f"arm {j + 1} tip speed")
-    axes[0].set_ylabel("needle angle A->B / deg (CCW from +x)")
-    axes[0].set_ylim(0, 360)
+        axes[1].plot(deg, speed[j], **arm_style(j), label=f"arm {j + 1} tip speed")
+    axes[0].set_ylabel("needle angle A->B / deg (CCW from +x, unwrapped)")
     axes[1].set_ylabel("tip speed (relative) / (m/s)")
     axes[1].set_xlabel("carrier angle (clockwise from start) / deg")
     axes[1].set_xlim(0, 360)
     for ax in axes:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+        legend_outside(ax)
+    return fig
 
 
-def plot_ratio(path: Path, job) -> None:
+def needle_angle_unwrapped(angle_deg: np.ndarray) -> np.ndarray:
+    """A needle angle sampled over the cycle (deg, in [0, 360)) made continuous: no
+    jump of 360 deg between samples, shifted by whole turns so that its mean lies in
+    [0, 360) (arms that repeat each other then share one band)."""
+    a = np.degrees(np.unwrap(np.radians(np.asarray(angle_deg, dtype=float))))
+    return a - 360.0 * np.floor(a.mean() / 360.0)
+
+
+def plot_ratio(job) -> Figure:
+    """Planet turn per carrier turn seen by arm 1 (relative to the carrier, -)."""
     m = job.motion
-    fig, ax = plt.subplots(figsize=(10, 4.5))
+    fig = Figure(figsize=(10, 4.5), layout="constrained")
+    ax = fig.subplots()
     ax.plot(m.carrier_angle * DEG, m.planet_rate[0, 0], "k")
     ax.set_xlabel("carrier angle (clockwise from start) / deg")
     ax.set_ylabel("planet turn per carrier turn (relative to the carrier)")
     ax.set_title("Transmission ratio seen by arm 1")
     ax.set_xlim(0, 360)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    return fig
 
 
-def plot_gears(path: Path, job) -> None:
-    """The gear pair(s) drawn in mesh at the start."""
+def plot_gears(job) -> Figure:
+    """The gear pair(s) drawn in mesh at the start (pitch curves, mm)."""
     m = job.motion
-    fig, ax = plt.subplots(figsize=(7.5, 7.5))
+    fig = Figure(figsize=(9.5, 7.5), layout="constrained")
+    ax = fig.subplots()
     c0 = np.radians(job.design.carrier.initial_angle_deg)
     if job.design.mechanism == "rice_transplanter":
         pair = job.pair
@@ -164,7 +185,5 @@ def plot_gears(path: Path, job) -> None:
     ax.set_xlabel("x / mm")
     ax.set_ylabel("y / mm")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    legend_outside(ax)
+    return fig

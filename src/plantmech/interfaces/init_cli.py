@@ -1,0 +1,42 @@
+"""``plantmech init KIND DIR``: write a commented starting design (never overwrites)."""
+
+from __future__ import annotations
+
+import sys
+
+
+def _init(args) -> int:
+    from plantmech.starters import write_starter
+
+    try:
+        path = write_starter(args.kind, args.dir, args.name)
+    except FileExistsError as exc:
+        print(f"error: --name / DIR: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"error: DIR {args.dir}: cannot write there: {exc.strerror or exc}",
+              file=sys.stderr)
+        return 2
+    from plantmech.starters import STARTERS
+
+    print(f"wrote {path}: {STARTERS[args.kind].what}")
+    print("next:")
+    for c in STARTERS[args.kind].commands:
+        print("  " + c.format(file=path))
+    return 0
+
+
+def register(subparsers) -> None:
+    from plantmech.starters import STARTERS
+
+    kinds = "; ".join(f"{k}: {s.what.split(':')[0]}" for k, s in STARTERS.items())
+    p = subparsers.add_parser(
+        "init", help="write a commented starting design (seeder, seeder-train, transplanter)",
+        description="Write a commented starting design into DIR, copied from a shipped "
+        f"example, with what to edit first and the commands to run. Kinds: {kinds}. "
+        "An existing file is never overwritten (exit 2).")
+    p.add_argument("kind", choices=list(STARTERS), help="what to start from")
+    p.add_argument("dir", help="directory to write into (created if missing)")
+    p.add_argument("--name", default=None,
+                   help="file name (default: KIND.toml with '-' as '_')")
+    p.set_defaults(func=_init)

@@ -1,0 +1,121 @@
+"""``--report`` of the commands: the option and the glue from a command's results to
+:func:`plantmech.outputs.report.write_report` (no physics here: the jobs are run by the
+workflows, the report only shows them)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+REPORT_NAME = "report.html"
+
+
+def add_report_option(parser) -> None:
+    parser.add_argument(
+        "--report", action="store_true",
+        help=f"also write {REPORT_NAME} in --out: one self-contained HTML file (opens "
+        "offline) with the verdict, every objective and check, the plots, the gear "
+        "drawings and the mechanism animated over one cycle; and mechanism.gif for slides")
+
+
+def _command(args) -> str:
+    return "plantmech " + " ".join(sys.argv[1:]) if sys.argv[1:] else f"plantmech {args.command}"
+
+
+def _finish(paths: list[Path]) -> list[Path]:
+    print(f"report: {paths[0]}" + (f" (animation for slides: {paths[1]})" if len(paths) > 1
+                                   else ""))
+    return paths
+
+
+def inverse_report(args, out: Path, job, figures) -> list[Path]:
+    """Report of ``plantmech inverse``: animation of the feasible gear train."""
+    from plantmech.outputs.report import seeder_inverse_animation, write_report
+
+    anim = None
+    if job.result.feasible and job.result.tip_realized is not None:
+        anim = seeder_inverse_animation(job)
+    return _finish(write_report(out / REPORT_NAME, job.summary, figures, anim,
+                                command=_command(args)))
+
+
+def forward_report(args, out: Path, job, figures) -> list[Path]:
+    """Report of ``plantmech forward`` (seeder or transplanter job)."""
+    from plantmech.outputs.report import (
+        seeder_forward_animation,
+        transplanter_animation,
+        write_report,
+    )
+
+    anim = (transplanter_animation(job) if hasattr(job, "motion")
+            else seeder_forward_animation(job))
+    return _finish(write_report(out / REPORT_NAME, job.summary, figures, anim,
+                                command=_command(args)))
+
+
+def design_animation(design):
+    """The mechanism of a design simulated forward for the animation, or None (with the
+    reason printed) when it cannot be simulated."""
+    from plantmech.outputs.report import seeder_forward_animation, transplanter_animation
+    from plantmech.workflows import run_seeder_forward, run_transplanter
+
+    try:
+        if design.mechanism == "sugarcane_seeder":
+            return seeder_forward_animation(run_seeder_forward(design))
+        return transplanter_animation(run_transplanter(design))
+    except Exception as exc:  # noqa: BLE001 - the report says why the animation is missing
+        print(f"  report: no animation ({type(exc).__name__}: {exc})", file=sys.stderr)
+        return None
+
+
+def optimize_report(args, out: Path, outcome) -> list[Path]:
+    """Report of ``plantmech optimize``: run record, convergence and Pareto plots, and the
+    best design (best.toml) animated."""
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.report import write_report
+
+    figures = [(p.name, p) for p in outcome.written if p.suffix == ".png"]
+    anim = None
+    best = out / "best.toml"
+    if best.exists():
+        try:
+            anim = design_animation(load_design(best))
+        except DesignError as exc:
+            print(f"  report: no animation ({exc})", file=sys.stderr)
+    rec = dict(outcome.record)
+    rec.setdefault("name", f"optimize --problem {args.problem}")
+    return _finish(write_report(out / REPORT_NAME, rec, figures, anim,
+                                verdict=(bool(outcome.feasible), _optimize_verdict(outcome)),
+                                command=_command(args)))
+
+
+def _optimize_verdict(outcome) -> str:
+    return ("a design meeting every objective was found (best.toml)" if outcome.feasible
+            else "NOT MET: no design meets every objective; the closest is best.toml")
+
+
+def gears_report(args, out: Path, design, rec: dict) -> list[Path]:
+    """Report of ``plantmech gears``: checks per gear, mesh checks, the mesh PNGs and
+    every gear's SVG drawing, and the mechanism animated."""
+    from plantmech.outputs.report import write_report
+
+    figures = [(f, out / f) for f in rec["files"] if f.endswith(".png")]
+    drawings = [(f, out / f) for f in rec["files"] if f.endswith(".svg")]
+    checks = []
+    for g in rec["gears"]:
+        rc = g.get("cutter_pitch_radius_mm")
+        checks += [
+            {"name": f"{g['name']}: cutter fits the concave spans", "ok": bool(g["cutter_fits"]),
+             "value": g.get("min_concave_curvature_radius_mm"), "unit": "mm",
+             "limit": "smallest concave radius of curvature above the cutter's"
+                      + (f" ({rc:.2f} mm)" if rc else "")},
+            {"name": f"{g['name']}: no undercut", "ok": not g["undercut"], "value": g["teeth"],
+             "unit": "teeth", "limit": "equivalent spur gear not undercut"},
+            {"name": f"{g['name']}: no pointed teeth", "ok": not g["pointed"], "value": None,
+             "unit": "", "limit": "equivalent spur gear teeth not pointed"},
+            {"name": f"{g['name']}: max pressure angle", "ok": True, "required": False,
+             "value": g["max_pressure_angle_deg"], "unit": "deg", "limit": "reported"}]
+    summary = dict(rec, name=design.name, gear_checks=checks)
+    # the verdict counts the meshes and every gear check (the exit status: the meshes)
+    return _finish(write_report(out / REPORT_NAME, summary, figures, design_animation(design),
+                                gear_drawings=drawings, command=_command(args)))

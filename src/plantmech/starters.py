@@ -1,0 +1,119 @@
+"""The example designs shipped inside the package, and starting designs for ``plantmech init``.
+
+The examples are package data (``plantmech/examples/*.toml``, the repository's ``examples/``
+is a symlink to that directory), so a ``pip install`` user has them too:
+
+>>> from plantmech.starters import example_path, list_examples
+>>> sorted(list_examples())[:2]
+['rice_transplanter', 'rice_transplanter_khv']
+>>> example_path("sugarcane_seeder").name
+'sugarcane_seeder.toml'
+
+A starting design is one of the examples with a header of comments saying what it is, what to
+change first and which commands to run on it (:func:`starter_text`, :func:`write_starter`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Starter:
+    """One kind of starting design: the example it copies and what to tell the designer."""
+
+    example: str
+    what: str
+    edit_first: tuple[str, ...]
+    commands: tuple[str, ...]
+
+
+STARTERS: dict[str, Starter] = {
+    "seeder": Starter(
+        "sugarcane_seeder",
+        "a sugarcane seeder designed from its tip trajectory (Liu et al. 2023, Table 2): "
+        "the type-value points and the section boundaries a-f give the path, the inverse "
+        "design gives the gear train",
+        ("[trajectory] points: the tip path, mm, in the order the tip runs through them",
+         "[trajectory.sections]: which point starts picking (a), transport (b, c, d), "
+         "seeding (e) and the return (f)",
+         "[attitude] and [speed]: the limits of the section-4.1 objectives"),
+        ("plantmech inverse {file} --out out/inverse --verify --report",
+         "plantmech forward {file} --out out/forward --report",
+         "plantmech optimize {file} --problem seeder-layered --out out/optimize --report",
+         "plantmech gears {file} --out out/gears --report"),
+    ),
+    "seeder-train": Starter(
+        "sugarcane_table4",
+        "a sugarcane seeder given by its gear train (Liu et al. 2023, Table 4): two "
+        "non-circular pairs from their interpolation radii, simulated forward",
+        ("[train.gear2] and [train.gear3] radii_mm: the pitch radii of gears 2 and 3 at "
+         "angles_deg (mm)",
+         "[train] L1_mm, L2_mm, a1_mm, a2_mm: carrier, arm and centre distances (mm)",
+         "[train.dwell]: the sun's toothless sector (delete the table for none)"),
+        ("plantmech forward {file} --out out/forward --report",
+         "plantmech optimize {file} --problem seeder-layer2 --out out/optimize --report",
+         "plantmech gears {file} --out out/gears --report"),
+    ),
+    "transplanter": Starter(
+        "rice_transplanter",
+        "a rice transplanter with a differential internal-engagement non-circular gear "
+        "train (Zhou et al. 2022, the published parameter set)",
+        ("[internal_gear] radii_mm and phases_deg: the lobed internal pitch curve (mm, deg)",
+         "[arm], [carrier]: the planting arm and the arms' start",
+         "[seedling_box] and [field]: where the seedlings are picked and planted"),
+        ("plantmech forward {file} --out out/forward --report",
+         "plantmech optimize {file} --problem transplanter --out out/optimize --report",
+         "plantmech gears {file} --out out/gears --report"),
+    ),
+}
+
+
+def _examples_dir():
+    return resources.files("plantmech") / "examples"
+
+
+def list_examples() -> list[str]:
+    """Names (without ``.toml``) of the example designs shipped in the package."""
+    return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def example_path(name: str) -> Path:
+    """Path of a shipped example design, by name with or without ``.toml``."""
+    stem = name[:-5] if name.endswith(".toml") else name
+    if stem not in list_examples():
+        raise KeyError(f"no example {name!r}; shipped: {', '.join(list_examples())}")
+    return Path(str(_examples_dir() / f"{stem}.toml"))
+
+
+def starter_text(kind: str, file_name: str = "design.toml") -> str:
+    """The starting design of ``kind`` (a key of :data:`STARTERS`) as commented TOML:
+    a header (what it is, what to edit first, the commands to run) and then the example,
+    with its own comments."""
+    s = STARTERS[kind]
+    body = example_path(s.example).read_text(encoding="utf-8")
+    head = [f"Starting design written by `plantmech init {kind}`: {s.what}.",
+            f"Copied from the shipped example '{s.example}.toml'; edit it freely.",
+            "", "Edit first:"]
+    head += [f"  - {line}" for line in s.edit_first]
+    head += ["", "Then run (every command checks the file and names a bad field):"]
+    head += [f"  {c.format(file=file_name)}" for c in s.commands]
+    head += ["", "Units: mm and degrees; m/s for speeds. Every field: the project's docs/.", ""]
+    return "\n".join(f"# {h}".rstrip() for h in head) + "\n" + body
+
+
+def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
+    """Write the starting design of ``kind`` into ``directory`` (created if needed) as
+    ``file_name`` (default ``<kind>.toml``); never overwrites: raises FileExistsError."""
+    directory = Path(directory)
+    name = file_name or f"{kind.replace('-', '_')}.toml"
+    target = directory / name
+    if target.exists():
+        raise FileExistsError(f"{target} exists; plantmech init never overwrites a file")
+    directory.mkdir(parents=True, exist_ok=True)
+    text = starter_text(kind, str(target))
+    with open(target, "x", encoding="utf-8") as fh:
+        fh.write(text)
+    return target
