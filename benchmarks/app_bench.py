@@ -155,11 +155,36 @@ def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str
             "p95_ms": float(np.percentile(a, 95)), "max_ms": float(a.max())}
 
 
+def drag_cpu_ms(repeat: int = 20) -> tuple[float, float]:
+    """(median CPU ms, median wall ms) of one seeder drag answer in-process: validation
+    through load_design, inverse design at the working resolution, drawing data, JSON.
+    CPU time is what a loaded machine's other processes change least."""
+    from plantmech.app import server
+    from plantmech.design import load_design
+
+    base = load_design(ROOT / "examples" / "sugarcane_seeder.toml").model_dump(
+        mode="json", exclude_none=True)
+    cpu, wall = [], []
+    rng = np.random.default_rng(0)
+    for _ in range(repeat):
+        d = json.loads(json.dumps(base))
+        d["trajectory"]["points"][12][0] += float(rng.uniform(-2, 2))
+        c0, w0 = time.process_time(), time.perf_counter()
+        server.fast_json(server.evaluate(server.validate_design(d), "drag"))
+        cpu.append(time.process_time() - c0)
+        wall.append(time.perf_counter() - w0)
+    return float(np.median(cpu) * 1e3), float(np.median(wall) * 1e3)
+
+
 def report() -> None:
     """Print the app's figures (called by benchmarks/bench.py)."""
     import os
 
     load = os.getloadavg()[0]
+    cpu, wall = drag_cpu_ms()
+    print(f"app seeder drag answer in-process (validation, inverse design at 360 samples, "
+          f"Table 1, attitude, drawing data, JSON): median {cpu:.1f} ms CPU, {wall:.1f} ms "
+          f"wall (load average {load:.1f} on {os.cpu_count()} cores)")
     with Server() as srv:
         r = browser_drag(srv.url)
         if isinstance(r, str):

@@ -117,6 +117,7 @@ def test_both_mechanisms_load_and_animate(page):
     err = page.locator("[data-error-for='arm.S_mm']")
     err.wait_for(timeout=20000)
     assert "number" in err.inner_text()
+    assert "INVALID INPUT" in page.locator("#verdict").inner_text()  # nothing shown as valid
     page.click("#undo")
     page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.result"
                            " && window.__plantmech.design.arm.S_mm === 150", timeout=20000)

@@ -61,21 +61,20 @@ def checks_list(checks) -> list[dict]:
 
 
 def trajectory_part(design, traj, detail: int = 720) -> dict:
-    """Planned closed curve through the type-value points and the points themselves."""
+    """Planned closed curve through the type-value points (sampled uniformly in its
+    parameter: for drawing), the points, and the curve between each point and the next
+    (24 samples each: the spans drawn red when a diagnostic names them)."""
     if traj is None:
         return {}
-    _, u = traj.arc_length_samples(detail)
-    plan = traj(u)
+    period = traj.period
+    plan = traj(np.linspace(0.0, period, detail, endpoint=False))
     n = len(design.trajectory.points)
-    # curve samples between consecutive type-value points (for red infeasible spans)
-    spans = []
-    for i in range(n):
-        u0, u1 = traj.point_parameter(i), traj.point_parameter((i + 1) % n)
-        if u1 <= u0:
-            u1 += traj.period
-        uu = np.linspace(u0, u1, 24)
-        spans.append(_r(traj(np.mod(uu, traj.period))))
-    return {"plan": _r(plan), "points": _r(design.trajectory.points), "spans": spans,
+    u0 = np.array([traj.point_parameter(i) for i in range(n)])
+    u1 = np.roll(u0, -1)
+    u1 = np.where(u1 <= u0, u1 + period, u1)
+    uu = u0[:, None] + (u1 - u0)[:, None] * np.linspace(0.0, 1.0, 24)[None, :]
+    spans = traj(np.mod(uu.ravel(), period)).reshape(n, 24, 2)
+    return {"plan": _r(plan), "points": _r(design.trajectory.points), "spans": _r(spans),
             "sections_points": design.trajectory.sections.model_dump()}
 
 

@@ -93,6 +93,9 @@ async function evaluate(quality, t0 = null) {
     renderEdit();
     renderChecks();
     drawMechanism();
+    const v = $("verdict");
+    v.textContent = "INVALID INPUT (see the field marked red): the mechanism and checks shown are the last valid design's";
+    v.className = "bad";
   } finally {
     state.inflight = false;
     state.shown = seq;
