@@ -3,7 +3,7 @@
 Every design travels as JSON (the design file's tables) and is validated by
 ``plantmech.design.load_design`` exactly as the CLI validates a file, so the page shows
 the CLI's field-named errors. No file-system path ever comes from the client: examples
-are chosen by name from the bundled ``examples/*.toml``, the file given on the command
+are chosen by name from the packaged ``plantmech/examples/*.toml``, the file given on the command
 line is read once at start, generated files live in server-side temporary
 directories and are served by name from the task's own list.
 
@@ -48,8 +48,11 @@ class AppError(Exception):
 
 
 def examples_dir() -> Path:
-    """The bundled examples: the repository's ``examples/`` next to ``src/``."""
-    return Path(__file__).resolve().parents[3] / "examples"
+    """The examples shipped in the package (``plantmech.starters``; the repository's
+    ``examples/`` is a link to them), so a wheel install has them too."""
+    from plantmech.starters import example_path
+
+    return example_path("sugarcane_seeder").parent
 
 
 def example_names() -> list[str]:
