@@ -92,7 +92,7 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
     written = [out / "best.toml", out / "run.json", out / "history.csv", out / "pareto.csv"]
     if result.tradeoff is not None:
         rec["tradeoff"] = tradeoff_record(result.tradeoff, problem)
-        written += write_tradeoff(out, result.tradeoff, problem)
+        written += write_tradeoff(out, result.tradeoff, problem, rec["tradeoff"])
     rec["verdict"] = run_verdict(rec)
     write_json(out / "run.json", rec)
     written += plot_run(out, result, problem)
@@ -153,17 +153,37 @@ def tradeoff_record(t: dict, problem) -> dict:
     return rec
 
 
-def write_tradeoff(out: Path, t: dict, problem) -> list[Path]:
-    """tradeoff.csv (the front) and tradeoff.png."""
+def write_tradeoff(out: Path, t: dict, problem, rec: dict | None = None) -> list[Path]:
+    """tradeoff.csv (the front) and tradeoff.png: the non-dominated designs, both axes from
+    0 (0 = met), each end labelled with the checks it fails (``tradeoff_record``)."""
     import matplotlib.pyplot as plt
 
     write_csv(out / "tradeoff.csv", {"agronomic_violation": t["agronomic"],
                                      "manufacturing_violation": t["manufacturing"]})
-    fig, ax = plt.subplots(figsize=(6.5, 5))
-    ax.plot(t["agronomic"], t["manufacturing"], "o-", ms=4, color="tab:red")
+    fig, ax = plt.subplots(figsize=(7.5, 5.2))
+    ax.plot(t["agronomic"], t["manufacturing"], "o", ms=5, color="tab:red",
+            label=f"non-dominated designs ({len(t['agronomic'])})")
+    ax.plot([0], [0], "*", ms=12, color="tab:green", label="every objective and check met")
+    for key, label, align in (("best_agronomic", "closest to every objective", "left"),
+                              ("best_manufacturing", "most manufacturable", "right")):
+        end = (rec or {}).get(key)
+        if end is None:
+            continue
+        fails = ", ".join(end["fails"][:4]) + (" ..." if len(end["fails"]) > 4 else "")
+        ax.annotate(f"{label}\nfails: {fails or 'nothing'}",
+                    (end["agronomic_violation"], end["manufacturing_violation"]),
+                    xytext=(0.02 if align == "left" else 0.98, 0.55 if align == "left" else 0.3),
+                    textcoords="axes fraction", ha=align, fontsize=7.5,
+                    arrowprops={"arrowstyle": "->", "color": "0.4"})
+    xr = max(0.05, 1.15 * float(np.max(t["agronomic"])))
+    yr = max(0.05, 1.15 * float(np.max(t["manufacturing"])))
+    ax.set_xlim(-0.03 * xr, xr)  # the origin (everything met) stays in view
+    ax.set_ylim(-0.03 * yr, yr)
     ax.set_xlabel("agronomic objectives: summed relative violation (0 = all met)")
     ax.set_ylabel("manufacturability: summed relative violation (0 = cuttable)")
-    ax.set_title(f"Trade-off over every evaluated design: {problem.name}", fontsize=10)
+    ax.set_title(f"Objectives against manufacturability, every evaluated design: "
+                 f"{problem.name}", fontsize=10)
+    ax.legend(fontsize=8, loc="upper right")
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out / "tradeoff.png", dpi=120)
