@@ -304,3 +304,29 @@ def test_layer1_of_a_dwell_design_checks_each_candidate_alone():
         ref = seeder_inverse_checks(p.decode(X[k]), p.samples, LAYER1_PITCH_MARGIN_MM)
         assert b.values[k, 0] == ref["infeasible"]
         assert np.array_equal(b.values[k, 1:], ref["values"], equal_nan=True)
+
+
+def test_time_budget_stops_every_run_inside_it_and_says_so():
+    import time
+
+    from plantmech.optimize.runner import time_budget
+
+    class Slow(DesignProblem):
+        name = "slow"
+        objective_names = ["x2"]
+
+        def evaluate_batch(self, X):
+            time.sleep(0.05)
+            f = (X**2).sum(axis=1, keepdims=True)
+            return Batch(f, np.zeros((len(X), 0)), ["x2"], [""], [""], f,
+                         np.ones((len(X), 1), bool))
+
+    d = load_design(EXAMPLES / "sugarcane_table4.toml")
+    p = Slow(d, [Variable("x", 1.0, -2.0, 2.0, "", lambda dd, v: None)], n_constr=0)
+    t0 = time.perf_counter()
+    with time_budget(0.3):
+        r = run(p, "nsga2", 0, 200, 8, progress=False)
+    assert time.perf_counter() - t0 < 5.0
+    assert len(r.history) < 200 and r.settings["stopped_by_time_budget"] is True
+    r = run(p, "nsga2", 0, 3, 8, progress=False)  # outside the budget: not cut
+    assert len(r.history) == 3 and r.settings["stopped_by_time_budget"] is False

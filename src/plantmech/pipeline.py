@@ -36,14 +36,23 @@ def problem_for(design) -> str:
     return "seeder-layered" if design.train is None else "seeder-layer2"
 
 
+def _stopped_by_time(record: dict) -> bool:
+    """Did a time budget cut any run of this optimization record (layered: either layer)?"""
+    recs = [record] + [record[k] for k in ("layer1", "layer2") if isinstance(record.get(k),
+                                                                             dict)]
+    return any(r.get("settings", {}).get("stopped_by_time_budget") for r in recs)
+
+
 def _failed(check: dict) -> list[str]:
     return [o["name"] for o in check["objectives"] if not o["ok"] and o.get("required", True)]
 
 
 def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bool = True,
                generations: int | None = None, module: float | None = None,
-               say=print) -> DesignOutcome:
-    """Run the whole job into ``out`` (an existing, empty directory)."""
+               time_limit_s: float | None = None, say=print) -> DesignOutcome:
+    """Run the whole job into ``out`` (an existing, empty directory); ``time_limit_s`` bounds
+    the optimization's wall time (``optimize.runner.time_budget``: the runs stop at the end
+    of the generation that passes it, and the record says so)."""
     from plantmech.optimize.jobs import optimize, verify
     from plantmech.outputs.files import write_json
     from plantmech.outputs.optimization_report import design_toml
@@ -75,15 +84,21 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
             "required)")
         opt_dir = out / "optimize"
         opt_dir.mkdir()
-        outcome = optimize(design, name, opt_dir, design_input, seed=seed,
-                           generations=generations, progress=progress,
-                           manufacturability=True)
+        from plantmech.optimize.runner import time_budget
+
+        with time_budget(time_limit_s):
+            outcome = optimize(design, name, opt_dir, design_input, seed=seed,
+                               generations=generations, progress=progress,
+                               manufacturability=True)
         written += outcome.written
         from plantmech.design import load_design
 
         final = load_design(opt_dir / "best.toml")
         check = outcome.record.get("verified_full_resolution") or verify(final, True)
-        stage("optimize", problem=name, feasible=outcome.feasible,
+        cut = _stopped_by_time(outcome.record)
+        if cut:
+            say(f"      stopped by the time limit ({time_limit_s:g} s)")
+        stage("optimize", problem=name, feasible=outcome.feasible, stopped_by_time_limit=cut,
               evaluations=outcome.record.get("evaluations"),
               failed=_failed(check), tradeoff=outcome.record.get("tradeoff", {}).get(
                   "conflict"))

@@ -21,6 +21,9 @@ def register(sub) -> None:
                    help="optimizer generations (default per problem, docs/optimization.md)")
     p.add_argument("--module", type=_number(float, 0.0), default=None,
                    help="tooth module, mm (default: the largest the pitch curves allow)")
+    p.add_argument("--time-limit", type=_number(float, 0.0), default=None,
+                   help="seconds the optimization may take (it stops at the end of the "
+                   "generation that passes it, and says so); default: none")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=run)
 
@@ -39,7 +42,7 @@ def _body(args, design, run) -> int:
     try:
         outcome = run_design(design, run.path, str(args.design), seed=args.seed,
                              progress=not args.quiet, generations=args.generations,
-                             module=args.module)
+                             module=args.module, time_limit_s=args.time_limit)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT

@@ -209,6 +209,7 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
     first design meeting every objective. Returns (last problem, its result with
     evaluations, wall time and time to the first feasible design summed over the stages,
     per-stage records)."""
+    from plantmech.optimize.runner import _out_of_time as out_of_time
     from plantmech.optimize.runner import run
 
     current, records, tally = design, [], _Tally()
@@ -222,7 +223,7 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
                         "evaluations": r.evaluations, "wall_s": round(r.wall_s, 3),
                         "best_violation": float(r.best.violation[0]),
                         "feasible": bool(r.feasible)})
-        if r.feasible or getattr(hook, "found", None) is not None:
+        if r.feasible or getattr(hook, "found", None) is not None or out_of_time():
             break
     return p, tally.onto(r), records
 

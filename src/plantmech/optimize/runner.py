@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import platform
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -98,6 +99,7 @@ class _Recorder(Callback):
         self.history: list[dict] = []
         self.first_feasible_s = None
         self.first_feasible_evals = None
+        self.out_of_time = False
 
     def notify(self, algorithm):
         pop = algorithm.pop
@@ -121,6 +123,28 @@ class _Recorder(Callback):
             self.bar.set_postfix(best_violation=f"{best:.4g}", feasible=n_feas)
         if self.hook is not None and self.hook(self.problem):
             self.stop = True
+
+
+_DEADLINE: list[float] = []  # time.perf_counter() deadlines of enclosing time_budget()s
+
+
+@contextmanager
+def time_budget(seconds: float | None):
+    """Every ``run`` inside stops at the end of the generation in which ``seconds`` (wall
+    time from entering) have passed; None: no limit. The runs' records say they were cut
+    (``settings.stopped_by_time_budget``)."""
+    if seconds is None:
+        yield
+        return
+    _DEADLINE.append(time.perf_counter() + float(seconds))
+    try:
+        yield
+    finally:
+        _DEADLINE.pop()
+
+
+def _out_of_time() -> bool:
+    return bool(_DEADLINE) and time.perf_counter() > min(_DEADLINE)
 
 
 def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
@@ -167,12 +191,14 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
     problem.tradeoff = None
     rec = _Recorder(problem, bar, t0, hook)
     termination = get_termination("n_gen", generations)
-    if stop_when_feasible or hook is not None:
+    if stop_when_feasible or hook is not None or _DEADLINE:
         from pymoo.core.termination import Termination
 
         class _Stop(Termination):
             def _update(self, algorithm):
-                done = (rec.stop or algorithm.n_gen >= generations
+                if _out_of_time():
+                    rec.out_of_time = True
+                done = (rec.stop or algorithm.n_gen >= generations or rec.out_of_time
                         or (stop_when_feasible and rec.first_feasible_s is not None))
                 return 1.0 if done else algorithm.n_gen / generations
 
@@ -200,7 +226,8 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
                                      "upper": v.upper, "unit": v.unit}
                                     for v in problem.variables],
                       "objectives_minimized": problem.objective_names,
-                      "stop_when_feasible": stop_when_feasible},
+                      "stop_when_feasible": stop_when_feasible,
+                      "stopped_by_time_budget": rec.out_of_time},
                      getattr(problem, "tradeoff", None))
 
 
