@@ -17,7 +17,7 @@ Quick start (the same jobs as the command line, without files)::
     pm.job_report(fwd, "report.html")           # self-contained HTML + mechanism.gif
     rice = pm.run_transplanter(pm.load_design(pm.example_path("rice_transplanter")))
     pm.run_gears(rice.design, "gears_out")      # teeth, checks, DXF/SVG/STL files
-    pm.optimize(design, "seeder-layered", out_dir, "my design")    # writes best.toml
+    pm.run_optimization(design, "seeder-layered", out_dir, "my design")  # best.toml
 
 Every ``summary`` is a dict of plain numbers (what ``summary.json`` holds); objectives are
 ``{"name", "value", "unit", "limit", "ok"}``. Units: mm and degrees in design files and
@@ -41,7 +41,8 @@ _EXPORTS = {
     "evaluate_seeder_population": ("plantmech.workflows", "evaluate_seeder_population"),
     "evaluate_transplanter_population": ("plantmech.workflows",
                                          "evaluate_transplanter_population"),
-    "optimize": ("plantmech.optimize.jobs", "optimize"),
+    # not "optimize": that name is the subpackage plantmech.optimize
+    "run_optimization": ("plantmech.optimize.jobs", "optimize"),
     "job_figures": ("plantmech.outputs.report", "job_figures"),
     "job_animation": ("plantmech.outputs.report", "job_animation"),
     "job_report": ("plantmech.outputs.report", "job_report"),
