@@ -115,3 +115,46 @@ if __name__ == "__main__":
     table4_floor()
     if "--grid" in sys.argv:
         table4_phase_grid()
+
+
+def table4_phase_grid_population(step_deg: float = 10.0, samples: int = 720):
+    """The same grid on the population model (``evaluate_seeder_population``, 720 samples per
+    turn, the optimizer's resolution): seeding peak and static return minimum per pair, and
+    the RMS distance of the path from the plan."""
+    from plantmech.workflows import (
+        evaluate_seeder_population,
+        section_reference_psi,
+        trajectory_deviation,
+    )
+
+    from plantmech.geometry.trajectory import ClosedTrajectory
+
+    base = load_design(EX / "sugarcane_table4.toml")
+    grid = np.arange(0.0, 360.0, step_deg)
+    out = np.full((grid.size, grid.size, 3), np.nan)
+    ref = section_reference_psi(base)
+    plan = ClosedTrajectory.through(np.asarray(base.trajectory.points, dtype=float))
+    for i, c2 in enumerate(grid):
+        for j, c3 in enumerate(grid):
+            d = base.model_copy(deep=True)
+            d.train.gear2.contact_angle_deg = float(c2)
+            d.train.gear3.contact_angle_deg = float(c3)
+            pop = evaluate_seeder_population(d, samples=samples, reference_psi=ref)
+            names = list(pop.evaluation.names)
+            v = pop.evaluation.values[0]
+            rms = trajectory_deviation(plan, pop.motion.tip[0], 8000)["rms_tip_to_plan"]
+            out[i, j] = (v[names.index("seeding_peak_speed")],
+                         v[names.index("return_min_speed_static")], rms)
+        print(f"c2 = {c2:5.1f}: lowest peak so far {np.nanmin(out[:i + 1, :, 0]):.3f} m/s",
+              flush=True)
+    np.save("/tmp/fh_val/grid_pop.npy", out)
+    peak = out[..., 0]
+    k = np.unravel_index(np.nanargmin(peak), peak.shape)
+    print("pairs", np.isfinite(peak).sum(), "peak range", np.nanmin(peak), np.nanmax(peak),
+          "lowest at", grid[k[0]], grid[k[1]], out[k])
+    print("pairs with peak <= 1.33:", int((peak <= 1.33).sum()))
+    for lim in (30.0, 15.0):
+        m = out[..., 2] <= lim
+        print(f"within {lim} mm RMS: {int(m.sum())} pairs, peak {np.nanmin(peak[m]):.3f}-"
+              f"{np.nanmax(peak[m]):.3f}, static ef minimum {np.nanmin(out[..., 1][m]):.3f}-"
+              f"{np.nanmax(out[..., 1][m]):.3f}")

@@ -22,6 +22,7 @@ def test_import_is_lean_and_exports_are_lazy():
 
 def test_help_lists_every_entry_point():
     import plantmech
+    import plantmech.optimize.jobs  # noqa: F401 - a subpackage import must not shadow an export
 
     text = pydoc.render_doc(plantmech, renderer=pydoc.plaintext)
     for name in plantmech._EXPORTS:
@@ -72,3 +73,15 @@ def test_notebook_runs(tmp_path, monkeypatch):
                                   "pitch_curves.png"}
     assert [p.name for p in ns["written"]] == ["report.html", "mechanism.gif"]
     assert all(p.stat().st_size > 1000 for p in ns["written"])
+
+
+def test_no_export_is_shadowed_by_a_submodule():
+    """Importing plantmech.X sets the attribute X on the package: an export of that name
+    would turn into the module."""
+    import pkgutil
+
+    import plantmech
+
+    submodules = {m.name for m in pkgutil.iter_modules(plantmech.__path__)}
+    assert "optimize" in submodules
+    assert not submodules & set(plantmech._EXPORTS)

@@ -101,7 +101,15 @@ def starter_text(kind: str, file_name: str = "design.toml") -> str:
     head += ["", "Then run (every command checks the file and names a bad field):"]
     head += [f"  {c.format(file=file_name)}" for c in s.commands]
     head += ["", "Units: mm and degrees; m/s for speeds. Every field: the project's docs/.", ""]
-    return "\n".join(f"# {h}".rstrip() for h in head) + "\n" + body
+    import textwrap
+
+    lines = []
+    for h in head:  # prose wrapped at 92 columns (commands stay whole, for copy and paste)
+        indent = "    " if h.startswith("  - ") else ""
+        short = len(h) <= 92 or h.startswith("  plantmech ")
+        lines += [h] if short else textwrap.wrap(h, 92, subsequent_indent=indent,
+                                                 break_on_hyphens=False)
+    return "\n".join(f"# {h}".rstrip() for h in lines) + "\n" + body
 
 
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:

@@ -1,0 +1,42 @@
+"""plantmech init / plantmech.starters: commented starting designs that load, never
+overwriting a file."""
+
+from __future__ import annotations
+
+import pytest
+
+from plantmech.design import load_design
+from plantmech.interfaces.cli import main
+from plantmech.starters import STARTERS, example_path, starter_text, write_starter
+from tests.conftest import EXAMPLES
+
+
+@pytest.mark.parametrize("kind", list(STARTERS))
+def test_starter_is_the_example_under_a_commented_header(kind, tmp_path):
+    path = write_starter(kind, tmp_path / "new" / "dir")
+    text = path.read_text()
+    example = (EXAMPLES / f"{STARTERS[kind].example}.toml").read_text()
+    head = text[: len(text) - len(example)]
+    assert text.endswith(example)
+    assert all(line.startswith("#") for line in head.splitlines())
+    assert f"plantmech forward {path} --out out/forward --report" in head
+    # the written file is a valid design, the same as the example
+    assert load_design(path) == load_design(example_path(STARTERS[kind].example))
+
+
+def test_init_never_overwrites(tmp_path, capsys):
+    assert main(["init", "transplanter", str(tmp_path)]) == 0
+    before = (tmp_path / "transplanter.toml").read_text()
+    (tmp_path / "transplanter.toml").write_text(before + "# mine\n")
+    assert main(["init", "transplanter", str(tmp_path)]) == 2
+    assert "never overwrites" in capsys.readouterr().err
+    assert (tmp_path / "transplanter.toml").read_text().endswith("# mine\n")
+    assert main(["init", "seeder", str(tmp_path), "--name", "mine.toml"]) == 0
+    assert (tmp_path / "mine.toml").is_file()
+
+
+def test_unknown_kind_is_an_input_error(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["init", "tractor", str(tmp_path)])
+    assert exc.value.code == 2 and "invalid choice: 'tractor'" in capsys.readouterr().err
+    assert starter_text("seeder").startswith("# Starting design written by")
