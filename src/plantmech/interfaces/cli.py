@@ -359,6 +359,9 @@ def build_parser() -> argparse.ArgumentParser:
                      "angle); without it they are reported")
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     opt.set_defaults(func=_optimize)
+    from plantmech.interfaces import verify_cli
+
+    verify_cli.register(sub)
     return p
 
 
