@@ -82,7 +82,7 @@ def outline_from_rings(name: str, rings: list, source: str = "") -> GearOutline:
     if len(peaks) < 3:
         raise GearFileError(f"{source or name}: layer '{name}': found {len(peaks)} teeth on "
                             "the outline (a gear needs at least 3)")
-    tips = np.sort(np.mod(np.arctan2(ring[peaks, 1], ring[peaks, 0]), TWO_PI))
+    tips = np.unique(np.round(np.mod(np.arctan2(peaks[:, 1], peaks[:, 0]), TWO_PI), 12))
     out = GearOutline(name, ring, rings, internal, tips, source)
     ang = np.arctan2(ring[:, 1], ring[:, 0])
     out.tooth_of_vertex = out.tooth_at(ang)
@@ -90,11 +90,11 @@ def outline_from_rings(name: str, rings: list, source: str = "") -> GearOutline:
 
 
 def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray:
-    """Indices of the tooth-tip vertices: the radius is resampled uniformly in arc length,
-    the tooth frequency is the strongest harmonic above the 5th (the slow change of the
-    radius around a non-circular gear lies below it), the radius is smoothed over one
-    tooth pitch, and each run above the smooth curve (below, for an internal gear) is a
-    tooth whose tip is its extreme vertex."""
+    """Points (n, 2) at the teeth's middles (the tips): the radius is resampled
+    uniformly in arc length, the tooth frequency is the strongest harmonic above the 5th
+    (the slow change of the radius around a non-circular gear lies below it), the radius
+    is smoothed over one tooth pitch, and each run above the smooth curve (below, for an
+    internal gear) is a tooth whose middle is halfway along the run."""
     seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
     s = np.r_[0.0, np.cumsum(seg)]
     length = s[-1]
@@ -111,7 +111,7 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
     # runs of ``above`` (cyclic); short runs (< a quarter pitch) are noise
     edges = np.flatnonzero(np.diff(np.r_[above[-1], above].astype(int)))
     if len(edges) == 0:
-        return np.array([], dtype=int)
+        return np.zeros((0, 2))
     starts = [e for e in edges if above[e]]
     tips = []
     for a in starts:
@@ -120,10 +120,11 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
             b += 1
         if b - a < w / 4:
             continue
-        idx = np.arange(a, b) % m
-        j = idx[int(np.argmax(ru[idx]))]
-        tips.append(int(np.clip(np.searchsorted(s, su[j], side="right") - 1, 0, len(ring) - 1)))
-    return np.asarray(sorted(set(tips)), dtype=int)
+        # the tooth's middle: halfway along the run (a symmetric tooth's centre line)
+        mid = su[a % m] + 0.5 * (b - a) * length / m
+        tips.append(np.mod(mid, length))
+    closed = np.vstack([ring, ring[:1]])
+    return np.c_[np.interp(tips, s, closed[:, 0]), np.interp(tips, s, closed[:, 1])]
 
 
 def read_gear_dxf(path: Path, layer: str | None = None) -> GearOutline:

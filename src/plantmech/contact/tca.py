@@ -152,7 +152,8 @@ def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
     other = np.full(t, np.inf)
     sel = idx[tooth[idx] != best_tooth[step[idx]]]
     np.minimum.at(other, step[sel], v[sel])
-    double = np.isfinite(best) & np.isfinite(other) & (other - best <= tol)
+    with np.errstate(invalid="ignore"):
+        double = np.isfinite(best) & np.isfinite(other) & (other - best <= tol)
     return np.where(np.isfinite(best), side * best, np.nan), arg, double
 
 
