@@ -30,6 +30,17 @@ def register(subparsers) -> None:
                    help="limit on the arm's attitude error through the train, deg")
     p.add_argument("--max-tip-band", type=_number(float, 0.0), default=5.0,
                    help="limit on the tip band (both ends of the free play), mm")
+    p.add_argument("--density", type=_number(float, 0.0), default=7850.0,
+                   help="gear material density, kg/m^3 (loads)")
+    p.add_argument("--face-width", type=_number(float, 0.0), default=None,
+                   help="gear face width, mm (default: the gears' verification.json, else 12)")
+    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False), default=1.0,
+                   help="arm mass, kg (a slender rod planet axis -> tip)")
+    p.add_argument("--payload", type=_number(float, 0.0, strict=False), default=0.5,
+                   help="cane / seedling mass at the tip, kg")
+    p.add_argument("--carrier-speed", type=_number(float, 0.0), default=360.0,
+                   help="carrier speed for the loads, deg/s (the papers': 360)")
+    p.add_argument("--no-loads", action="store_true", help="skip the multibody loads")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.set_defaults(func=run)
 
@@ -70,6 +81,26 @@ def run(args) -> int:
     limits = {"transmission_error_deg": args.max_te,
               "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
     rec = seeder_record(contact, train, limits)
+    loads = None
+    if not args.no_loads:
+        from plantmech.contact.loads import LoadSpec, seeder_loads
+        from plantmech.mechanisms.seeder_forward import simulate
+        from plantmech.objectives import Check
+
+        face = args.face_width or _face_width(gears_dir)
+        spec = LoadSpec(density_kg_m3=args.density, face_width_mm=face,
+                        arm_mass_kg=args.arm_mass, payload_kg=args.payload,
+                        carrier_speed_deg_s=args.carrier_speed)
+        try:
+            loads = seeder_loads(train, simulate(train, samples=3600), gears, spec)
+        except ValueError as exc:
+            rec["loads"] = {"skipped": str(exc)}
+        else:
+            rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
+            err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
+            ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
+            rec["checks"].append(ch.as_dict())
+            rec["ok"] = rec["ok"] and ch.ok
     rec["design"] = str(args.design)
     rec["gears_dir"] = str(gears_dir)
     rec["teeth_found_on_outlines"] = {n: g.teeth for n, g in gears.items()}
@@ -81,6 +112,9 @@ def run(args) -> int:
         vp.plot_transmission_error(out / "transmission_error.png", contact)
         vp.plot_tip_band(out / "tip_band.png", contact)
         files += ["transmission_error.png", "tip_band.png"]
+        if loads is not None:
+            vp.plot_loads(out / "loads.png", loads)
+            files.append("loads.png")
     rec["files"] = files
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
@@ -99,7 +133,25 @@ def run(args) -> int:
                   f"{s['carrier_angle_deg'][1]:.1f} deg: "
                   + ", ".join(f"{k} {v}" for k, v in s.items()
                               if k not in ("carrier_angle_deg", "steps")))
+    if loads is not None:
+        print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
+              f"input torque {loads['input_torque_N_m']['min']:.2f} to "
+              f"{loads['input_torque_N_m']['max']:.2f} N m, tangential tooth force up to "
+              f"{loads['tangential_tooth_force_N']['sun_gear2_max']:.0f} N (sun-gear 2), "
+              f"{loads['tangential_tooth_force_N']['gear3_planet_max']:.0f} N (gear 3-planet)")
+    elif "loads" in rec:
+        print(f"  loads skipped: {rec['loads']['skipped']}")
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
     print("wrote: " + ", ".join(str(out / f) for f in files))
     return EXIT_OK if rec["ok"] else EXIT_NOT_MET
+
+
+def _face_width(gears_dir: Path) -> float:
+    """The face width the gears were written with (their verification.json), else 12 mm."""
+    import json
+
+    try:
+        return float(json.loads((gears_dir / "verification.json").read_text())["face_width_mm"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return 12.0

@@ -79,3 +79,30 @@ def plot_tip_band(path: Path, c) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def plot_loads(path: Path, loads: dict) -> None:
+    """Input torque and tangential tooth forces over the carrier turn (exudyn), and the
+    energy balance (drive work vs change of kinetic + potential energy)."""
+    plt = _plt()
+    s = loads["series"]
+    psi = s["carrier_angle_deg"]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    axes[0].plot(psi, s["input_torque_N_m"], label="input torque on the carrier")
+    axes[0].set_ylabel("torque / N m")
+    axes[1].plot(psi, s["tooth_force_sun_gear2_N"], label="sun - gear 2")
+    axes[1].plot(psi, s["tooth_force_gear3_planet_N"], label="gear 3 - planet")
+    axes[1].set_ylabel("tangential tooth force / N")
+    axes[2].plot(psi, s["work_J"], label="work of the drive")
+    axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
+    axes[2].set_ylabel("energy / J")
+    axes[2].set_xlabel("carrier angle / deg")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
+    axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
+                      f"balance error {err:.2f} %", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
