@@ -178,9 +178,6 @@ def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_dr
     overlapped = np.zeros(T, dtype=bool)
     jammed = np.zeros(T, dtype=bool)
     poly_n, poly_d = _prepared(driven), _prepared(driver)
-    grid = np.linspace(-max_turn, max_turn, 121)
-    grid = grid[np.argsort(np.abs(grid))]
-    last = 0.0
     mesh = np.zeros(T)
     res = {key: np.full(T, np.nan) for key in ("lo", "hi", "lon", "hin", "lod", "hid")}
     dbl = {"lo": np.zeros(T, dtype=bool), "hi": np.zeros(T, dtype=bool)}
@@ -202,19 +199,11 @@ def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_dr
         reach = (driven._reach, driver._reach)
         bad = _overlap(pn, ring_d[vd], q_n[sl], c_n, qd, c_d, poly_n, poly_d, *reach)
         overlapped[sl] = bad
-        for i in np.flatnonzero(bad):
-            tries = np.r_[last, grid]
-            if not _overlap(pn[i:i + 1], ring_d[vd[i:i + 1]], q_n[s + i:s + i + 1] + last, c_n,
-                            qd[i:i + 1], c_d, poly_n, poly_d, *reach)[0]:
-                ref[s + i] = last
-                continue
-            free = ~_overlap(np.repeat(pn[i:i + 1], len(tries), 0),
-                             np.repeat(ring_d[vd[i:i + 1]], len(tries), 0), q_n[s + i] + tries,
-                             c_n, np.full(len(tries), qd[i]), c_d, poly_n, poly_d, *reach)
-            if free.any():
-                ref[s + i] = last = tries[int(np.argmax(free))]
-            else:
-                jammed[s + i] = True
+        if bad.any():
+            off, jam = _free_offsets(np.flatnonzero(bad), pn, en1, ring_d, vd, q_n[sl], qd,
+                                     c_n, c_d, max_turn, poly_n, poly_d, reach)
+            ref[s + np.flatnonzero(bad)] = off
+            jammed[s + np.flatnonzero(bad)] = jam
         qn = q_n[sl] + ref[sl]
         pd = _to_driven_frame(ring_d[vd], qd, c_d, qn, c_n)
         ed1 = _to_driven_frame(ring_d[(vd + 1) % nd], qd, c_d, qn, c_n)
@@ -286,6 +275,54 @@ def _pose_point(q_body_n, extra, qn, c_n, qd, c_d):
     y = s * q_body_n[:, 0] + c * q_body_n[:, 1] + c_n[1] - c_d[1]
     c2, s2 = np.cos(-qd), np.sin(-qd)
     return np.c_[c2 * x - s2 * y, s2 * x + c2 * y]
+
+
+def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_n, poly_d,
+                  reach, candidates: int = 48):
+    """For steps whose reference pose overlaps: the free extra rotation nearest to it
+    (rad) and whether there is none (jammed). The overlap status can only change where a
+    vertex crosses an edge, so the candidates are the midpoints between consecutive
+    crossing rotations (exact: no free interval is missed, however narrow), nearest
+    first, tested at once."""
+    nd = len(ring_d)
+    qn, qd = q_n[rows], q_d[rows]
+    pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
+    ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
+    sa, _, _, qa = _crossings(pn[rows], pd, ed)
+    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows])
+    n = len(rows)
+    st = np.r_[sa, sb, np.arange(n), np.arange(n)]
+    dq = np.r_[qa, -qb, np.full(n, -max_turn), np.full(n, max_turn)]
+    keep = np.abs(dq) <= max_turn
+    st, dq = st[keep], dq[keep]
+    order = np.lexsort((dq, st))
+    st, dq = st[order], dq[order]
+    same = st[1:] == st[:-1]
+    mid = 0.5 * (dq[1:] + dq[:-1])[same]
+    ms = st[1:][same]
+    gap = (dq[1:] - dq[:-1])[same] > 1e-12
+    mid, ms = mid[gap], ms[gap]
+    # nearest ``candidates`` midpoints of each step
+    order = np.lexsort((np.abs(mid), ms))
+    mid, ms = mid[order], ms[order]
+    first = np.r_[0, np.flatnonzero(np.diff(ms)) + 1]
+    rank = np.arange(len(ms)) - np.repeat(first, np.diff(np.r_[first, len(ms)]))
+    off = np.zeros(n)
+    jam = np.ones(n, dtype=bool)
+    # nearest first, in batches of ``candidates`` per step, until every step is resolved
+    for r0 in range(0, int(rank.max()) + 1 if len(rank) else 0, candidates):
+        pick = (rank >= r0) & (rank < r0 + candidates) & jam[ms]
+        if not pick.any():
+            break
+        m_, s_ = mid[pick], ms[pick]
+        free = ~_overlap(pn[rows][s_], ring_d[vd[rows]][s_], qn[s_] + m_, c_n, qd[s_], c_d,
+                         poly_n, poly_d, *reach)
+        idx = np.flatnonzero(free)
+        if len(idx):
+            firsts = idx[np.r_[True, s_[idx][1:] != s_[idx][:-1]]]  # nearest free per step
+            off[s_[firsts]] = m_[firsts]
+            jam[s_[firsts]] = False
+    return off, jam
 
 
 def _prepared(gear: GearOutline):
