@@ -539,12 +539,20 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     add_report_option(opt)
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import app_cli, design_cli, init_cli, schema_cli, study_cli
+    from plantmech.interfaces import (
+        app_cli,
+        design_cli,
+        init_cli,
+        schema_cli,
+        study_cli,
+        verify_cli,
+    )
 
     design_cli.register(sub)
     init_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
+    verify_cli.register(sub)
     app_cli.register(sub)
     return p
 

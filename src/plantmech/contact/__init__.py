@@ -1,0 +1,1 @@
+"""Tooth-contact verification of written gear files (issue 15)."""

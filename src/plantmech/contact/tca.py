@@ -1,0 +1,354 @@
+"""Unloaded tooth-contact analysis of two gear outlines (closed polygons in mm).
+
+Pose of a gear in a pair's mesh frame: centre c (mm) and rotation q (rad, counter-
+clockwise, applied to its body-frame outline). The driver's pose is given at every step;
+the driven gear turns about its fixed centre. Its free play at a step is the interval
+[lo, hi] of extra rotations (rad, counter-clockwise, about the reference rotation) over
+which the two outlines do not overlap; at lo and hi its teeth touch the driver's (one
+flank direction each), hi - lo is the angular backlash.
+
+Exact for polygons: a first contact under rotation is always a vertex of one outline
+meeting an edge of the other. A vertex at radius rho about the driven centre travels on
+the circle of that radius; its crossings with the other outline's edges (a quadratic in
+the edge parameter) give the rotation to contact. Both directions (driven vertices on
+driver edges, driver vertices on driven edges), vectorised over steps x vertices x
+edges, restricted to the K vertices of each gear nearest the mesh zone.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from plantmech.contact.outlines import GearOutline
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass
+class FreePlay:
+    """Free play of the driven gear over the steps (arrays (T,)): ``lo`` / ``hi`` extra
+    rotation (rad, CCW) to contact, NaN where no contact within ``max_turn`` (contact
+    lost on that flank); ``reference`` the extra rotation the analysis started from at
+    each step (0 unless the reference pose overlapped); ``jammed`` no free rotation at
+    all (interference that turning cannot clear); contact points on each flank: driven
+    and driver body angles (rad) and tooth numbers; ``double_*`` a second tooth pair
+    within ``double_tol`` (rad) of the first on that flank."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    reference: np.ndarray
+    overlapped: np.ndarray
+    jammed: np.ndarray
+    lo_driven_angle: np.ndarray
+    hi_driven_angle: np.ndarray
+    lo_driver_angle: np.ndarray
+    hi_driver_angle: np.ndarray
+    lo_driven_tooth: np.ndarray
+    hi_driven_tooth: np.ndarray
+    lo_driver_tooth: np.ndarray
+    hi_driver_tooth: np.ndarray
+    double_lo: np.ndarray
+    double_hi: np.ndarray
+    mesh_driven_angle: np.ndarray = None  # driven body angle facing the driver (rad)
+    mesh_driven_tooth: np.ndarray = None  # its nearest tooth
+
+
+def _rot(q):
+    c, s = np.cos(q), np.sin(q)
+    return c, s
+
+
+def _to_driven_frame(xy, q_driver, c_driver, q_driven, c_driven):
+    """Driver body points xy (T, K, 2) -> driven body frame for poses (T,)."""
+    c1, s1 = _rot(q_driver)
+    x = c1[:, None] * xy[..., 0] - s1[:, None] * xy[..., 1] + c_driver[0] - c_driven[0]
+    y = s1[:, None] * xy[..., 0] + c1[:, None] * xy[..., 1] + c_driver[1] - c_driven[1]
+    c2, s2 = _rot(-q_driven)
+    return np.stack([c2[:, None] * x - s2[:, None] * y, s2[:, None] * x + c2[:, None] * y],
+                    axis=-1)
+
+
+def _nearest(ring: np.ndarray, point: np.ndarray, k: int, farthest: bool = False):
+    """Indices (T, k) of the ring vertices nearest to (farthest from) points (T, 2)."""
+    d = (ring[None, :, 0] - point[:, None, 0]) ** 2 + (ring[None, :, 1] - point[:, None, 1]) ** 2
+    if farthest:
+        d = -d
+    k = min(k, ring.shape[0])
+    return np.argpartition(d, k - 1, axis=1)[:, :k]
+
+
+def _crossings(pts, s0, s1):
+    """Every (step, point, segment) where the circle about the origin through the point
+    (t, P, 2) meets the segment s0 -> s1 (t, S, 2), and the rotation (rad, wrapped to
+    (-pi, pi]) that brings the point there. Candidates come from a sort of the points'
+    radii against each segment's exact distance range (closest point to farthest end),
+    so the work grows with the crossings, not with points x segments."""
+    t, npt, _ = pts.shape
+    ns = s0.shape[1]
+    rho = np.hypot(pts[..., 0], pts[..., 1])
+    big = 2.0 * (float(np.max(rho)) + float(np.max(np.abs(s0))) + float(np.max(np.abs(s1)))
+                 + 1.0)
+    off = np.arange(t)[:, None] * big
+    key = (rho + off).ravel()
+    order = np.argsort(key, kind="stable")
+    skey = key[order]
+    d = s1 - s0
+    dd = np.einsum("tsk,tsk->ts", d, d)
+    u0 = np.clip(-np.einsum("tsk,tsk->ts", s0, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    near = np.hypot(s0[..., 0] + u0 * d[..., 0], s0[..., 1] + u0 * d[..., 1])
+    far = np.maximum(np.hypot(s0[..., 0], s0[..., 1]), np.hypot(s1[..., 0], s1[..., 1]))
+    lo = np.searchsorted(skey, (near - 1e-12 + off).ravel(), side="left")
+    hi = np.searchsorted(skey, (far + 1e-12 + off).ravel(), side="right")
+    counts = hi - lo
+    total = int(counts.sum())
+    seg = np.repeat(np.arange(t * ns), counts)
+    start = np.repeat(np.cumsum(counts) - counts, counts)
+    flat_p = order[np.repeat(lo, counts) + np.arange(total) - start]
+    step = seg // ns
+    si = seg % ns
+    pi_ = flat_p % npt
+    p = pts[step, pi_]
+    a0 = s0[step, si]
+    dv = d[step, si]
+    a = dd[step, si]
+    b = 2.0 * np.einsum("ck,ck->c", a0, dv)
+    c = np.einsum("ck,ck->c", a0, a0) - rho[step, pi_] ** 2
+    disc = np.maximum(b * b - 4.0 * a * c, 0.0)
+    sq = np.sqrt(disc)
+    a2 = np.where(a > 0, 2.0 * a, np.inf)
+    phi = np.arctan2(p[:, 1], p[:, 0])
+    out_step, out_p, out_s, out_dq = [], [], [], []
+    for sign in (-1.0, 1.0):
+        u = (-b + sign * sq) / a2
+        good = (u >= -1e-12) & (u <= 1.0 + 1e-12)
+        x = a0[:, 0] + u * dv[:, 0]
+        y = a0[:, 1] + u * dv[:, 1]
+        dq = np.angle(np.exp(1j * (np.arctan2(y, x) - phi)))
+        out_step.append(step[good])
+        out_p.append(pi_[good])
+        out_s.append(si[good])
+        out_dq.append(dq[good])
+    return (np.concatenate(out_step), np.concatenate(out_p), np.concatenate(out_s),
+            np.concatenate(out_dq))
+
+
+def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
+    """Per step: the smallest positive (side +1) or largest negative (side -1) rotation,
+    the index of its crossing, and whether another driven tooth touches within tol."""
+    v = dq * side
+    ok = (v >= -1e-12) & (v <= max_turn)
+    idx = np.flatnonzero(ok)
+    best = np.full(t, np.inf)
+    arg = np.full(t, -1)
+    if len(idx):
+        order = idx[np.lexsort((v[idx], step[idx]))]
+        first = np.r_[True, step[order][1:] != step[order][:-1]]
+        win = order[first]
+        best[step[win]] = v[win]
+        arg[step[win]] = win
+    best_tooth = np.where(arg >= 0, tooth[np.maximum(arg, 0)], -1)
+    other = np.full(t, np.inf)
+    sel = idx[tooth[idx] != best_tooth[step[idx]]]
+    np.minimum.at(other, step[sel], v[sel])
+    with np.errstate(invalid="ignore"):
+        double = np.isfinite(best) & np.isfinite(other) & (other - best <= tol)
+    return np.where(np.isfinite(best), side * best, np.nan), arg, double
+
+
+def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_driven,
+              q_driver, max_turn: float | None = None, window_pitches: float = 2.5,
+              double_tol: float = 1e-5, chunk: int = 90) -> FreePlay:
+    """Free play of ``driven`` (centre c_driven, reference rotation q_driven (T,)) against
+    ``driver`` (c_driver, q_driver (T,)); mm and rad. ``max_turn``: the largest rotation
+    searched (default: 0.75 of the driven gear's mean tooth angle). ``double_tol``: rad."""
+    c_n = np.asarray(c_driven, dtype=float)
+    c_d = np.asarray(c_driver, dtype=float)
+    q_n = np.asarray(q_driven, dtype=float)
+    q_d = np.broadcast_to(np.asarray(q_driver, dtype=float), q_n.shape)
+    T = len(q_n)
+    if max_turn is None:
+        max_turn = 0.75 * TWO_PI / max(driven.teeth, 1)
+    kn = int(np.ceil(2 * window_pitches * len(driven.ring) / driven.teeth))
+    kd = int(np.ceil(2 * window_pitches * len(driver.ring) / driver.teeth))
+    ring_n, ring_d = driven.ring, driver.ring
+    nn, nd = len(ring_n), len(ring_d)
+    ref = np.zeros(T)
+    overlapped = np.zeros(T, dtype=bool)
+    jammed = np.zeros(T, dtype=bool)
+    poly_n, poly_d = _prepared(driven), _prepared(driver)
+    mesh = np.zeros(T)
+    res = {key: np.full(T, np.nan) for key in ("lo", "hi", "lon", "hin", "lod", "hid")}
+    dbl = {"lo": np.zeros(T, dtype=bool), "hi": np.zeros(T, dtype=bool)}
+    for s in range(0, T, chunk):
+        sl = slice(s, min(T, s + chunk))
+        qd = q_d[sl]
+        t = len(qd)
+        # centres in each other's body frames (the mesh zone)
+        cd_in_n = _to_driven_frame(np.zeros((t, 1, 2)), qd, c_d, q_n[sl], c_n)[:, 0]
+        cn_in_d = _to_driven_frame(np.zeros((t, 1, 2)), q_n[sl], c_n, qd, c_d)[:, 0]
+        mesh[sl] = np.arctan2(cd_in_n[:, 1], cd_in_n[:, 0]) + (np.pi if driver.internal
+                                                               else 0.0)
+        # the planet inside a ring: its teeth in mesh face away from the ring's centre
+        vn = _nearest(ring_n, cd_in_n, kn, farthest=driver.internal)
+        vd = _nearest(ring_d, cn_in_d, kd, farthest=driven.internal)
+        pn = ring_n[vn]                      # driven vertices, driven frame
+        en1 = ring_n[(vn + 1) % nn]          # driven edges vn -> vn + 1
+        # a reference pose where the outlines overlap: start from the nearest free turn
+        reach = (driven._reach, driver._reach)
+        bad = _overlap(pn, ring_d[vd], q_n[sl], c_n, qd, c_d, poly_n, poly_d, *reach)
+        overlapped[sl] = bad
+        if bad.any():
+            off, jam = _free_offsets(np.flatnonzero(bad), pn, en1, ring_d, vd, q_n[sl], qd,
+                                     c_n, c_d, max_turn, poly_n, poly_d, reach)
+            ref[s + np.flatnonzero(bad)] = off
+            jammed[s + np.flatnonzero(bad)] = jam
+        qn = q_n[sl] + ref[sl]
+        pd = _to_driven_frame(ring_d[vd], qd, c_d, qn, c_n)
+        ed1 = _to_driven_frame(ring_d[(vd + 1) % nd], qd, c_d, qn, c_n)
+        # (a) driven vertices onto driver edges: the driven turns by dq
+        sa, pa, _, qa = _crossings(pn, pd, ed1)
+        # (b) driver vertices onto driven edges: the driven turns by -dq
+        sb, pb, eb, qb = _crossings(pd, pn, en1)
+        step = np.r_[sa, sb]
+        dq = np.r_[qa, -qb]
+        kind_a = np.r_[np.ones(len(sa), bool), np.zeros(len(sb), bool)]
+        vert = np.r_[pa, pb]
+        tooth = np.r_[driven.tooth_of_vertex[vn[sa, pa]], driven.tooth_of_vertex[vn[sb, eb]]]
+        for key, side in (("lo", -1), ("hi", 1)):
+            val, k, double = _reduce(t, step, dq, tooth, side, max_turn, double_tol)
+            res[key][sl] = val + ref[sl]
+            dbl[key][sl] = double
+            ang_n, ang_d = _contact_angles(k, kind_a, vert, pn, pd, vd, ring_d, val, qd, c_d,
+                                           qn, c_n)
+            res[key + "n"][sl] = ang_n
+            res[key + "d"][sl] = ang_d
+    lo, hi = res["lo"], res["hi"]
+    lo[jammed] = np.nan
+    hi[jammed] = np.nan
+
+    def teeth_of(gear, ang):
+        out = np.zeros(T, dtype=int)
+        ok = np.isfinite(ang)
+        out[ok] = gear.tooth_at(ang[ok])
+        return out
+
+    return FreePlay(lo, hi, ref, overlapped, jammed, res["lon"], res["hin"], res["lod"],
+                    res["hid"], teeth_of(driven, res["lon"]), teeth_of(driven, res["hin"]),
+                    teeth_of(driver, res["lod"]), teeth_of(driver, res["hid"]),
+                    dbl["lo"], dbl["hi"], np.mod(mesh, TWO_PI), driven.tooth_at(mesh))
+
+
+def _contact_angles(k, kind_a, vert, pn, pd, vd, ring_d, val, qd, c_d, qn, c_n):
+    """Body angles (rad) of the contact point on the driven and the driver gear."""
+    t = len(k)
+    ang_n = np.full(t, np.nan)
+    ang_d = np.full(t, np.nan)
+    rows = np.arange(t)
+    ok = np.isfinite(val) & (k >= 0)
+    kk = np.maximum(k, 0)
+    in_a = ok & kind_a[kk]
+    if in_a.any():
+        # a driven vertex touches: its own body angle; the driver's point: that vertex
+        # with the driven turned by val, in the driver frame
+        q = pn[rows[in_a], vert[kk[in_a]]]
+        ang_n[in_a] = np.arctan2(q[:, 1], q[:, 0])
+        x = _pose_point(q, val[in_a], qn[in_a], c_n, qd[in_a], c_d)
+        ang_d[in_a] = np.arctan2(x[:, 1], x[:, 0])
+    in_b = ok & ~kind_a[kk]
+    if in_b.any():
+        # a driver vertex touches: its own body angle; the driven's point: the driver
+        # vertex in the driven frame, turned back by val
+        j = vd[rows[in_b], vert[kk[in_b]]]
+        ang_d[in_b] = np.arctan2(ring_d[j, 1], ring_d[j, 0])
+        x = pd[rows[in_b], vert[kk[in_b]]]
+        c, s = np.cos(-val[in_b]), np.sin(-val[in_b])
+        ang_n[in_b] = np.arctan2(s * x[:, 0] + c * x[:, 1], c * x[:, 0] - s * x[:, 1])
+    return np.mod(ang_n, TWO_PI), np.mod(ang_d, TWO_PI)
+
+
+def _pose_point(q_body_n, extra, qn, c_n, qd, c_d):
+    """A driven body point, the driven turned by ``extra`` -> driver body frame."""
+    c, s = np.cos(qn + extra), np.sin(qn + extra)
+    x = c * q_body_n[:, 0] - s * q_body_n[:, 1] + c_n[0] - c_d[0]
+    y = s * q_body_n[:, 0] + c * q_body_n[:, 1] + c_n[1] - c_d[1]
+    c2, s2 = np.cos(-qd), np.sin(-qd)
+    return np.c_[c2 * x - s2 * y, s2 * x + c2 * y]
+
+
+def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_n, poly_d,
+                  reach, candidates: int = 48):
+    """For steps whose reference pose overlaps: the free extra rotation nearest to it
+    (rad) and whether there is none (jammed). The overlap status can only change where a
+    vertex crosses an edge, so the candidates are the midpoints between consecutive
+    crossing rotations (exact: no free interval is missed, however narrow), nearest
+    first, tested at once."""
+    nd = len(ring_d)
+    qn, qd = q_n[rows], q_d[rows]
+    pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
+    ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
+    sa, _, _, qa = _crossings(pn[rows], pd, ed)
+    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows])
+    n = len(rows)
+    st = np.r_[sa, sb, np.arange(n), np.arange(n)]
+    dq = np.r_[qa, -qb, np.full(n, -max_turn), np.full(n, max_turn)]
+    keep = np.abs(dq) <= max_turn
+    st, dq = st[keep], dq[keep]
+    order = np.lexsort((dq, st))
+    st, dq = st[order], dq[order]
+    same = st[1:] == st[:-1]
+    mid = 0.5 * (dq[1:] + dq[:-1])[same]
+    ms = st[1:][same]
+    gap = (dq[1:] - dq[:-1])[same] > 1e-12
+    mid, ms = mid[gap], ms[gap]
+    # nearest ``candidates`` midpoints of each step
+    order = np.lexsort((np.abs(mid), ms))
+    mid, ms = mid[order], ms[order]
+    first = np.r_[0, np.flatnonzero(np.diff(ms)) + 1]
+    rank = np.arange(len(ms)) - np.repeat(first, np.diff(np.r_[first, len(ms)]))
+    off = np.zeros(n)
+    jam = np.ones(n, dtype=bool)
+    # nearest first, in batches of ``candidates`` per step, until every step is resolved
+    for r0 in range(0, int(rank.max()) + 1 if len(rank) else 0, candidates):
+        pick = (rank >= r0) & (rank < r0 + candidates) & jam[ms]
+        if not pick.any():
+            break
+        m_, s_ = mid[pick], ms[pick]
+        free = ~_overlap(pn[rows][s_], ring_d[vd[rows]][s_], qn[s_] + m_, c_n, qd[s_], c_d,
+                         poly_n, poly_d, *reach)
+        idx = np.flatnonzero(free)
+        if len(idx):
+            firsts = idx[np.r_[True, s_[idx][1:] != s_[idx][:-1]]]  # nearest free per step
+            off[s_[firsts]] = m_[firsts]
+            jam[s_[firsts]] = False
+    return off, jam
+
+
+def _prepared(gear: GearOutline):
+    import shapely
+
+    if getattr(gear, "_poly", None) is None:
+        gear._poly = gear.polygon()
+        shapely.prepare(gear._poly)
+        gear._reach = float(max(np.hypot(*r.T).max() for r in gear.rings)) + 1e-9
+    return gear._poly
+
+
+def _overlap(pn, pd_body, q_n, c_n, q_d, c_d, poly_n, poly_d, reach_n, reach_d) -> np.ndarray:
+    """Whether a window vertex of either gear lies strictly inside the other gear (T,):
+    driven vertices pn (T, K, 2, driven frame), driver vertices pd_body (T, K, 2, driver
+    frame) at the poses q_n, q_d (T,)."""
+    import shapely
+
+    in_d = _to_driven_frame(pn, q_n, c_n, q_d, c_d)  # driven vertices -> driver frame
+    in_n = _to_driven_frame(pd_body, q_d, c_d, q_n, c_n)
+    out = np.zeros(len(pn), dtype=bool)
+    for pts, poly, reach in ((in_d, poly_d, reach_d), (in_n, poly_n, reach_n)):
+        # only points within the other gear's reach can lie inside it
+        near = np.einsum("tkc,tkc->tk", pts, pts) < reach * reach
+        if near.any():
+            rows = np.nonzero(near)[0]
+            hit = shapely.contains_xy(poly, pts[near][:, 0], pts[near][:, 1])
+            out[rows[hit]] = True
+    return out

@@ -1,0 +1,108 @@
+"""Plots of the tooth-contact verification (``plantmech verify``): transmission error
+and backlash band per pair, arm attitude error, tip path band. Units on every axis."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_transmission_error(path: Path, c) -> None:
+    """Driven gear's turn off the pitch-curve law (deg) on both flanks, per pair, and
+    the arm's (the planet's, through the whole train)."""
+    plt = _plt()
+    psi = np.degrees(c.psi)
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    for ax, fp, title in ((axes[0], c.stage1, "sun -> gear 2 (gear 2's turn)"),
+                          (axes[1], c.stage2, "gear 3 -> planet (planet's turn, gear 3 "
+                                              "at its nominal angle)")):
+        ax.plot(psi, np.degrees(fp.lo), lw=0.8, label="flank lo (CW contact)")
+        ax.plot(psi, np.degrees(fp.hi), lw=0.8, label="flank hi (CCW contact)")
+        ax.plot(psi, np.degrees(0.5 * (fp.lo + fp.hi)), "k", lw=0.6, label="mid band")
+        bad = fp.jammed
+        if bad.any():
+            ax.plot(psi[bad], np.zeros(bad.sum()), "rx", label="interference (jammed)")
+        ax.set_ylabel("transmission error / deg")
+        ax.set_title(title, fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right")
+    ax = axes[2]
+    ax.fill_between(psi, np.degrees(c.planet_lo), np.degrees(c.planet_hi), alpha=0.4,
+                    label="arm attitude band (whole train)")
+    if c.in_dwell.any():
+        ax.axvspan(psi[c.in_dwell][0], psi[c.in_dwell][-1], color="0.85", label="dwell")
+    ax.set_ylabel("arm attitude error / deg")
+    ax.set_xlabel("carrier angle (clockwise from the start) / deg")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_tip_band(path: Path, c) -> None:
+    """Tip path of the pitch-curve model and of the toothed train at both ends of its
+    free play (mm), and the band's width over the cycle."""
+    plt = _plt()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5),
+                                 gridspec_kw={"width_ratios": [1.2, 1]})
+    ax.plot(*c.tip_nominal.T, "k", lw=0.8, label="pitch-curve model")
+    ax.plot(*c.tip_lo.T, lw=0.7, label="toothed, arm at lo end of its play")
+    ax.plot(*c.tip_hi.T, lw=0.7, label="toothed, arm at hi end of its play")
+    ax.plot(0, 0, "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / mm")
+    ax.set_ylabel("y / mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("tip path")
+    psi = np.degrees(c.psi)
+    bx.plot(psi, np.hypot(*(c.tip_hi - c.tip_lo).T), label="band width")
+    bx.plot(psi, np.fmax(np.hypot(*(c.tip_hi - c.tip_nominal).T),
+                         np.hypot(*(c.tip_lo - c.tip_nominal).T)), lw=0.8,
+            label="largest distance from the pitch-curve path")
+    bx.set_xlabel("carrier angle / deg")
+    bx.set_ylabel("tip / mm")
+    bx.grid(alpha=0.3)
+    bx.legend(fontsize=8)
+    bx.set_title("tip band over the cycle")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_loads(path: Path, loads: dict) -> None:
+    """Input torque and tangential tooth forces over the carrier turn (exudyn), and the
+    energy balance (drive work vs change of kinetic + potential energy)."""
+    plt = _plt()
+    s = loads["series"]
+    psi = s["carrier_angle_deg"]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    axes[0].plot(psi, s["input_torque_N_m"], label="input torque on the carrier")
+    axes[0].set_ylabel("torque / N m")
+    axes[1].plot(psi, s["tooth_force_sun_gear2_N"], label="sun - gear 2")
+    axes[1].plot(psi, s["tooth_force_gear3_planet_N"], label="gear 3 - planet")
+    axes[1].set_ylabel("tangential tooth force / N")
+    axes[2].plot(psi, s["work_J"], label="work of the drive")
+    axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
+    axes[2].set_ylabel("energy / J")
+    axes[2].set_xlabel("carrier angle / deg")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
+    axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
+                      f"balance error {err:.2f} %", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
