@@ -505,7 +505,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "clearance; up to 3)")
     add_report_option(gears)
     gears.set_defaults(func=_gears)
-    from plantmech.optimize.jobs import PROBLEMS
+    from plantmech.optimize import PROBLEMS
 
     opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")
     opt.add_argument("design", help="design file (TOML); never overwritten")

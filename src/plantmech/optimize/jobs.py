@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-PROBLEMS = ("seeder-layer1", "seeder-layer2", "seeder-layered", "seeder-joint", "transplanter")
+from plantmech.optimize import PROBLEMS  # noqa: F401  (re-exported: the problem names)
 
 DEFAULTS = {  # algorithm, generations, population
     "seeder-layer1": ("cmaes", 200, 40),
