@@ -259,3 +259,19 @@ def test_transplanter_extreme_valid_box_and_field_run(tmp_path, capsys, table, k
                "--no-plots"])
     assert rc in (0, 3, 4)
     assert "Traceback" not in capsys.readouterr().err
+
+
+def test_verify_with_a_dwell_across_the_start_is_reported_not_met(tmp_path, capsys):
+    # was: ValueError from seeder_forward.simulate via verification.round_trip
+    import json
+
+    doc = _doc("sugarcane_seeder_dwell.toml")
+    doc["trajectory"]["samples"] = 720
+    doc["gear_train"]["dwell"].update(start="f", end="b", anchor="d")
+    out = tmp_path / "o"
+    rc = main(["inverse", str(_write(tmp_path, doc)), "--out", str(out), "--verify",
+               "--no-plots"])
+    assert rc == 4
+    assert "round trip is not computable" in capsys.readouterr().err
+    s = json.loads((out / "summary.json").read_text())
+    assert "one carrier turn" in s["round_trip_not_computable"]
