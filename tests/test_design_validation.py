@@ -275,3 +275,34 @@ def test_verify_with_a_dwell_across_the_start_is_reported_not_met(tmp_path, caps
     assert "round trip is not computable" in capsys.readouterr().err
     s = json.loads((out / "summary.json").read_text())
     assert "one carrier turn" in s["round_trip_not_computable"]
+
+
+def test_population_without_a_meshing_planet_is_infeasible(tmp_path, capsys, monkeypatch):
+    # was: RuntimeError in optimize/problems.py's one-by-one path
+    import json
+
+    import numpy as np
+
+    from plantmech.gears.internal import InternalPairError
+    from plantmech.optimize import jobs
+    from plantmech.optimize.problems import InfeasiblePopulation, Transplanter
+
+    prob = Transplanter(load_design(EXAMPLES / "rice_transplanter.toml"))
+
+    def no_mesh(x):
+        raise InternalPairError("planet cut")
+
+    monkeypatch.setattr(prob, "_single", no_mesh)
+    with pytest.raises(InfeasiblePopulation, match="no candidate"):
+        prob._one_by_one(np.tile(prob.x0, (3, 1)))
+
+    def infeasible(*a, **k):
+        raise InfeasiblePopulation("no candidate in the population has a meshing planet")
+
+    monkeypatch.setattr(jobs, "optimize", infeasible)
+    out = tmp_path / "o"
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter.toml"), "--problem",
+               "transplanter", "--out", str(out), "--quiet"])
+    assert rc == 3
+    assert "INFEASIBLE" in capsys.readouterr().err
+    assert json.loads((out / "run.json").read_text())["feasible"] is False
