@@ -306,3 +306,22 @@ def test_population_without_a_meshing_planet_is_infeasible(tmp_path, capsys, mon
     assert rc == 3
     assert "INFEASIBLE" in capsys.readouterr().err
     assert json.loads((out / "run.json").read_text())["feasible"] is False
+
+
+def test_seeding_point_shift_keeps_the_section_order():
+    from plantmech.optimize.problems import shift_seeding_point
+
+    doc = _doc()
+    doc["trajectory"]["sections"].update(a=11)  # f = 8: e and f may move on by 2 at most
+    doc["trajectory"]["samples"] = 720
+    d = load_design(doc)
+    assert shift_seeding_point(d, 2).trajectory.sections.f == 10
+    with pytest.raises(ValueError, match="puts f past the next section point a"):
+        shift_seeding_point(d, 3)
+    from plantmech.workflows import seeding_point_placement
+
+    try:
+        placement = seeding_point_placement(d)
+    except ValueError:  # an infeasible inverse design is refused before any shift
+        return
+    assert len(placement["rows"]) <= 3

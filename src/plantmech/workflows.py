@@ -569,6 +569,8 @@ def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
                          "placing the seeding point")
     res, t = job.result, design.trajectory
     n = len(t.points)
+    # f moves with e and must stay before a (section order)
+    max_shift = max(0, min(max_shift, (t.sections.a - t.sections.f) % n - 1))
     psi = res.carrier_angle
     phi, arm = np.unwrap(res.carrier_abs), np.unwrap(res.arm_angle)
     rows = []

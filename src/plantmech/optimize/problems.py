@@ -164,7 +164,13 @@ def shift_seeding_point(design: SeederDesign, k: int) -> SeederDesign:
     n = len(d.trajectory.points)
     d.trajectory.sections.e = (d.trajectory.sections.e + k) % n
     d.trajectory.sections.f = (d.trajectory.sections.f + k) % n
-    return d.__class__.model_validate(d.model_dump())
+    from pydantic import ValidationError
+
+    try:
+        return d.__class__.model_validate(d.model_dump())
+    except ValidationError:
+        raise ValueError(f"moving the seeding point e (and f) on by {k} type-value points "
+                         "puts f past the next section point a (--seeding-shifts)") from None
 
 
 _POOLS: dict = {}
