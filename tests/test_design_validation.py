@@ -325,3 +325,23 @@ def test_seeding_point_shift_keeps_the_section_order():
     except ValueError:  # an infeasible inverse design is refused before any shift
         return
     assert len(placement["rows"]) <= 3
+
+
+def test_optimizer_candidate_breaking_a_file_check_is_still_evaluated():
+    # two type-value points moved onto each other: refused in a design file, but a layer-1
+    # candidate is graded, not a crash in the middle of a run
+    import numpy as np
+
+    from plantmech.optimize.problems import SeederLayer1
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    p = SeederLayer1(d)
+    names = [v.name for v in p.variables]
+    x = np.zeros(p.n_var)
+    q4, q5 = d.trajectory.points[4], d.trajectory.points[5]
+    x[names.index("q5_dx")] = q4[0] - q5[0] + 0.01
+    x[names.index("q5_dy")] = q4[1] - q5[1]
+    cand = p.decode(x)
+    assert abs(cand.trajectory.points[5][0] - q4[0] - 0.01) < 1e-9
+    with pytest.raises(DesignError, match="0.01 mm apart"):
+        load_design(cand.model_dump(mode="json"))
