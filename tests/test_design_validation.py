@@ -345,3 +345,25 @@ def test_optimizer_candidate_breaking_a_file_check_is_still_evaluated():
     assert abs(cand.trajectory.points[5][0] - q4[0] - 0.01) < 1e-9
     with pytest.raises(DesignError, match="0.01 mm apart"):
         load_design(cand.model_dump(mode="json"))
+
+
+def test_section_point_passed_closer_than_a_sample_step_is_finite(tmp_path):
+    # found by the fuzzer (seed 0, case 4059): the parabola refinement of the miss went
+    # below 0 and section_point_miss_mm.c was NaN (refused at writing, exit 3)
+    import json
+
+    import numpy as np
+
+    from tests.fuzzing import make_case
+
+    case = make_case(4059, 0)
+    d = tmp_path / "d.toml"
+    d.write_text(case.text)
+    out = tmp_path / "o"
+    assert main(["forward", str(d), "--out", str(out), "--no-plots"]) == 0
+    miss = json.loads((out / "summary.json").read_text())["section_point_miss_mm"]
+    design = load_design(d)
+    q = np.array(design.trajectory.points[design.trajectory.sections.c])
+    tip = np.loadtxt(out / "motion.csv", delimiter=",", skiprows=1, usecols=(2, 3))
+    closest = np.hypot(*(tip - q).T).min()
+    assert 0 < miss["c"] <= closest + 1e-6
