@@ -259,3 +259,111 @@ def test_transplanter_extreme_valid_box_and_field_run(tmp_path, capsys, table, k
                "--no-plots"])
     assert rc in (0, 3, 4)
     assert "Traceback" not in capsys.readouterr().err
+
+
+def test_verify_with_a_dwell_across_the_start_is_reported_not_met(tmp_path, capsys):
+    # was: ValueError from seeder_forward.simulate via verification.round_trip
+    import json
+
+    doc = _doc("sugarcane_seeder_dwell.toml")
+    doc["trajectory"]["samples"] = 720
+    doc["gear_train"]["dwell"].update(start="f", end="b", anchor="d")
+    out = tmp_path / "o"
+    rc = main(["inverse", str(_write(tmp_path, doc)), "--out", str(out), "--verify",
+               "--no-plots"])
+    assert rc == 4
+    assert "round trip is not computable" in capsys.readouterr().err
+    s = json.loads((out / "summary.json").read_text())
+    assert "one carrier turn" in s["round_trip_not_computable"]
+
+
+def test_population_without_a_meshing_planet_is_infeasible(tmp_path, capsys, monkeypatch):
+    # was: RuntimeError in optimize/problems.py's one-by-one path
+    import json
+
+    import numpy as np
+
+    from plantmech.gears.internal import InternalPairError
+    from plantmech.optimize import jobs
+    from plantmech.optimize.problems import InfeasiblePopulation, Transplanter
+
+    prob = Transplanter(load_design(EXAMPLES / "rice_transplanter.toml"))
+
+    def no_mesh(x):
+        raise InternalPairError("planet cut")
+
+    monkeypatch.setattr(prob, "_single", no_mesh)
+    with pytest.raises(InfeasiblePopulation, match="no candidate"):
+        prob._one_by_one(np.tile(prob.x0, (3, 1)))
+
+    def infeasible(*a, **k):
+        raise InfeasiblePopulation("no candidate in the population has a meshing planet")
+
+    monkeypatch.setattr(jobs, "optimize", infeasible)
+    out = tmp_path / "o"
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter.toml"), "--problem",
+               "transplanter", "--out", str(out), "--quiet"])
+    assert rc == 3
+    assert "INFEASIBLE" in capsys.readouterr().err
+    assert json.loads((out / "run.json").read_text())["feasible"] is False
+
+
+def test_seeding_point_shift_keeps_the_section_order():
+    from plantmech.optimize.problems import shift_seeding_point
+
+    doc = _doc()
+    doc["trajectory"]["sections"].update(a=11)  # f = 8: e and f may move on by 2 at most
+    doc["trajectory"]["samples"] = 720
+    d = load_design(doc)
+    assert shift_seeding_point(d, 2).trajectory.sections.f == 10
+    with pytest.raises(ValueError, match="puts f past the next section point a"):
+        shift_seeding_point(d, 3)
+    from plantmech.workflows import seeding_point_placement
+
+    try:
+        placement = seeding_point_placement(d)
+    except ValueError:  # an infeasible inverse design is refused before any shift
+        return
+    assert len(placement["rows"]) <= 3
+
+
+def test_optimizer_candidate_breaking_a_file_check_is_still_evaluated():
+    # two type-value points moved onto each other: refused in a design file, but a layer-1
+    # candidate is graded, not a crash in the middle of a run
+    import numpy as np
+
+    from plantmech.optimize.problems import SeederLayer1
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    p = SeederLayer1(d)
+    names = [v.name for v in p.variables]
+    x = np.zeros(p.n_var)
+    q4, q5 = d.trajectory.points[4], d.trajectory.points[5]
+    x[names.index("q5_dx")] = q4[0] - q5[0] + 0.01
+    x[names.index("q5_dy")] = q4[1] - q5[1]
+    cand = p.decode(x)
+    assert abs(cand.trajectory.points[5][0] - q4[0] - 0.01) < 1e-9
+    with pytest.raises(DesignError, match="0.01 mm apart"):
+        load_design(cand.model_dump(mode="json"))
+
+
+def test_section_point_passed_closer_than_a_sample_step_is_finite(tmp_path):
+    # found by the fuzzer (seed 0, case 4059): the parabola refinement of the miss went
+    # below 0 and section_point_miss_mm.c was NaN (refused at writing, exit 3)
+    import json
+
+    import numpy as np
+
+    from tests.fuzzing import make_case
+
+    case = make_case(4059, 0)
+    d = tmp_path / "d.toml"
+    d.write_text(case.text)
+    out = tmp_path / "o"
+    assert main(["forward", str(d), "--out", str(out), "--no-plots"]) == 0
+    miss = json.loads((out / "summary.json").read_text())["section_point_miss_mm"]
+    design = load_design(d)
+    q = np.array(design.trajectory.points[design.trajectory.sections.c])
+    tip = np.loadtxt(out / "motion.csv", delimiter=",", skiprows=1, usecols=(2, 3))
+    closest = np.hypot(*(tip - q).T).min()
+    assert 0 < miss["c"] <= closest + 1e-6

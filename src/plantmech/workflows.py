@@ -129,8 +129,12 @@ def locate_section_points(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
         local = np.flatnonzero((d2 <= np.roll(d2, 1)) & (d2 <= np.roll(d2, -1)))
         local = local[np.argsort(d2[local])][:candidates]
         at, low = refine_minimum(d2[None], local[None], step)
+        # the parabola through three squared distances can dip below 0 when the tip
+        # passes closer than a sample step: then the closest sample's distance (an upper
+        # bound) is reported, never a NaN
+        low = np.where(low[0] >= 0, low[0], d2[local])
         cands.append([(float(np.mod(psi[k] + a, 2 * np.pi)), float(np.sqrt(v)))
-                      for k, a, v in zip(local, at[0], low[0], strict=True)])
+                      for k, a, v in zip(local, at[0], low, strict=True)])
     best, best_cost = None, np.inf
     for combo in product(*cands):
         angles = np.array([c[0] for c in combo])
@@ -604,6 +608,8 @@ def seeding_point_placement(design: SeederDesign, max_shift: int = 4,
                          "placing the seeding point")
     res, t = job.result, design.trajectory
     n = len(t.points)
+    # f moves with e and must stay before a (section order)
+    max_shift = max(0, min(max_shift, (t.sections.a - t.sections.f) % n - 1))
     psi = res.carrier_angle
     phi, arm = np.unwrap(res.carrier_abs), np.unwrap(res.arm_angle)
     rows = []

@@ -19,6 +19,19 @@ from plantmech.design import SeederDesign
 from plantmech.objectives import relative_violation
 
 
+def _revalidated(d):
+    """``d`` validated again; a candidate that breaks one of the design file's semantic
+    checks (e.g. two moved type-value points closer than their minimum spacing) is
+    evaluated as it is: the optimizer grades it by its objectives and constraints, which a
+    design file's refusal would otherwise turn into a crash in the middle of a run."""
+    from pydantic import ValidationError
+
+    try:
+        return d.__class__.model_validate(d.model_dump())
+    except ValidationError:
+        return d
+
+
 class InfeasiblePopulation(RuntimeError):
     """No candidate of a population can be evaluated (the design space is infeasible
     around the start)."""
@@ -85,7 +98,7 @@ class DesignProblem(Problem):
             v.apply(d, float(val))
         if not d.name.endswith(f"(optimized: {self.name})"):
             d.name = f"{d.name} (optimized: {self.name})"
-        return d.__class__.model_validate(d.model_dump())
+        return _revalidated(d)
 
     def evaluate_batch(self, X: np.ndarray) -> Batch:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -200,7 +213,13 @@ def shift_seeding_point(design: SeederDesign, k: int) -> SeederDesign:
     n = len(d.trajectory.points)
     d.trajectory.sections.e = (d.trajectory.sections.e + k) % n
     d.trajectory.sections.f = (d.trajectory.sections.f + k) % n
-    return d.__class__.model_validate(d.model_dump())
+    from pydantic import ValidationError
+
+    try:
+        return d.__class__.model_validate(d.model_dump())
+    except ValidationError:
+        raise ValueError(f"moving the seeding point e (and f) on by {k} type-value points "
+                         "puts f past the next section point a (--seeding-shifts)") from None
 
 
 _POOLS: dict = {}
@@ -484,7 +503,7 @@ class SeederJoint(DesignProblem):
                                                                dr[:self.points], strict=True)]
         d.train.gear3.radii_mm = [float(r + c) for r, c in zip(d.train.gear3.radii_mm,
                                                                dr[self.points:], strict=True)]
-        return d.__class__.model_validate(d.model_dump())
+        return _revalidated(d)
 
     def _layer1_rows(self, X) -> list[dict]:
         """Layer-1 checks of each candidate's trajectory (``SeederLayer1.checks``)."""
