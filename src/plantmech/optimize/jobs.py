@@ -106,9 +106,15 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
             print(placement["reason"])
 
     def recheck(path):
-        from plantmech.design import load_design
+        from plantmech.design import DesignError, load_design
 
-        return verify(load_design(path), manufacturability)
+        try:
+            design_ = load_design(path)
+        except DesignError as exc:  # a candidate the optimizer moved past a file check
+            return {"all_met": False, "objectives": [
+                {"name": "valid_design_file", "value": None, "unit": "", "limit": "valid",
+                 "ok": False, "note": str(exc).replace("\n", " ")}]}
+        return verify(design_, manufacturability)
 
     algo0, gen0, pop0 = DEFAULTS.get(name, ("nsga2", 30, 40))
     user_gen, user_pop = generations, pop
