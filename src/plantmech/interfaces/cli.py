@@ -8,7 +8,8 @@
 Exit status: 0 done (forward: objectives are reported, met or not; optimize: a design
 meeting every objective was found), 2 invalid input (names the field, gear or angle),
 3 infeasible design, 4 optimize found no design meeting every objective (the closest
-one is written) / gears: a pair does not mesh without interference.
+one is written) / gears: a gear is not manufacturable or a file is not what it claims
+(the verdict and its findings are printed last and in verification.json).
 """
 
 from __future__ import annotations
@@ -191,6 +192,7 @@ def _optimize(args) -> int:
 
 
 def _gears(args) -> int:
+    from plantmech.gears.findings import VERDICT_OK, describe
     from plantmech.workflows import run_gears
 
     loaded = _load(args)
@@ -201,29 +203,38 @@ def _gears(args) -> int:
         rec = run_gears(design, out, module=args.module, face_width=args.face_width,
                         backlash=args.backlash,
                         tooth={"pressure_angle_deg": args.pressure_angle,
-                               "addendum": args.addendum, "dedendum": args.dedendum})
+                               "addendum": args.addendum, "dedendum": args.dedendum},
+                        step=args.step)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    failed = {f["gear"] for f in rec["findings"]}
     for g in rec["gears"]:
-        flags = [k for k in ("undercut", "pointed") if g[k]]
         rc = g["cutter_pitch_radius_mm"]
         cutter = (g["cutter"] if rc is None else f"shaper r {rc:.2f} mm")
-        if not g["cutter_fits"]:
-            flags.append(f"concave radius {g['min_concave_curvature_radius_mm']:.2f} mm < "
-                         f"{cutter}")
-        print(f"  {g['name']:<9} z = {g['teeth']:>3}, m = {g['module_mm']:.4f} mm, {cutter}, "
-              f"max pressure angle {g['max_pressure_angle_deg']:.1f} deg"
-              + (f"  WARNING: {', '.join(flags)}" if flags else ""))
+        stl = g["stl"]
+        print(f"  {'FAIL' if g['name'] in failed else 'ok  '} {g['name']:<9} z = "
+              f"{g['teeth']:>3}, m = {g['module_mm']:.4f} mm, {cutter}, max working pressure "
+              f"angle {g['max_pressure_angle_deg']:.1f} deg, STL "
+              + ("one watertight body" if stl["written"] else f"refused ({stl['bodies']} bodies)"))
     for mm in rec["mesh"]:
-        bl = mm["max_backlash_mm"]
-        print(f"  {'ok  ' if mm['ok'] else 'FAIL'} mesh {mm['pair']}: interference "
-              f"{mm['max_interference_mm']:.4f} mm, backlash up to "
-              + ("n/a" if bl is None else f"{bl:.4f} mm"))
+        play = ("none (the outlines overlap everywhere)"
+                if mm["min_circumferential_backlash_mm"] is None else
+                f"{mm['min_circumferential_backlash_mm']:.3f}..."
+                f"{mm['max_circumferential_backlash_mm']:.3f} mm (asked "
+                f"{rec['backlash_mm']:g}), normal gap {mm['min_normal_gap_mm']:.3f}..."
+                f"{mm['max_normal_gap_mm']:.3f} mm")
+        print(f"  {'FAIL' if mm['pair'] in failed else 'ok  '} mesh {mm['pair']}: interference "
+              f"{mm['max_interference_mm']:.4f} mm, circumferential backlash {play}")
     if "step" in rec:
-        print(f"  STEP skipped: {rec['step']}")
+        print(f"  STEP not written: {rec['step']}")
     print(f"wrote {len(rec['files'])} files and verification.json to {out}")
-    return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
+    for f in rec["findings"]:
+        print(f"  NOT OK {describe(f)}")
+    ok = rec["verdict"] == VERDICT_OK
+    print(f"verdict: {rec['verdict']}" + ("" if ok else
+          f" ({len(rec['findings'])} findings on {len(failed)} gears or pairs)"))
+    return EXIT_OK if ok else EXIT_NOT_MET
 
 
 def _print_forward(s: dict) -> None:
@@ -330,6 +341,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="addendum, x module")
     gears.add_argument("--dedendum", type=_number(float, 0.0), default=1.25,
                        help="dedendum, x module (above the addendum: root clearance)")
+    gears.add_argument("--step", action="store_true",
+                       help="also write STEP solids (needs plantmech[step]; minutes per gear)")
     gears.set_defaults(func=_gears)
     from plantmech.optimize.jobs import PROBLEMS
 
