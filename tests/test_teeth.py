@@ -252,6 +252,10 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsy
     assert set(cut["where"]) >= {"body_angle_deg", "tooth"} and cut["why"]
     assert found[("gear3", "working_pressure_angle")]["value"] > 80
     assert ("planet", "undercut") in found
+    # the gouged gear 3 and the planet's toothless bump (mesh PNG): teeth lost
+    lost = found[("gear3", "tooth_count")]
+    assert lost["limit"] == 21 and lost["value"] < 21
+    assert found[("planet", "tooth_count")]["value"] < 21
     for f in rec["findings"]:
         assert set(f) == {"gear", "check", "value", "limit", "unit", "where", "why"}
         assert f"{f['gear']}: {f['check']}" in printed
@@ -323,7 +327,10 @@ def test_internal_circular_pair_tip_interference_needs_a_tooth_difference(planet
 
 def test_toothed_transplanter_example_meets_every_objective_and_meshes(tmp_path):
     """The transplanter re-optimized with the tooth fit: objectives (i)-(xv) met, and its
-    generated ring and planet turn through a full cycle without interference."""
+    generated ring and planet turn through a full cycle without interference with the free
+    play asked for; each STL one body. Its pitch curves still bend like spur gears of 8.5
+    (ring) and 9.6 (planet) teeth, under the rack's undercut limit of 17.1: by that rule the
+    verdict is "not manufacturable" (exit 4), and those are its only findings."""
     import json
 
     from plantmech.design import load_design
@@ -335,13 +342,22 @@ def test_toothed_transplanter_example_meets_every_objective_and_meshes(tmp_path)
     objs = run_transplanter(load_design(path)).summary["objectives"]
     assert len(objs) == 15 and all(o["ok"] for o in objs), [o for o in objs if not o["ok"]]
     out = tmp_path / "g"
-    assert main(["gears", str(path), "--out", str(out)]) == 0
+    assert main(["gears", str(path), "--out", str(out)]) == 4
     rec = json.loads((out / "verification.json").read_text())
     (mesh,) = rec["mesh"]
     assert mesh["ok"] and mesh["max_interference_mm"] < 0.01 * rec["gears"][0]["module_mm"]
-    assert 0 < mesh["max_backlash_mm"] < 0.1
-    assert all(g["stl_watertight"] for g in rec["gears"])
+    assert 0.05 < mesh["min_circumferential_backlash_mm"] <= \
+        mesh["max_circumferential_backlash_mm"] < 0.25
+    assert 0 < mesh["max_normal_gap_mm"] < 0.1
+    assert all(g["stl"]["written"] and g["stl"]["bodies"] == 1 for g in rec["gears"])
     assert [g["teeth"] for g in rec["gears"]] == [80, 20]
+    assert [g["teeth_on_outline"] for g in rec["gears"]] == [80, 20]
+    assert rec["verdict"] == "not manufacturable"
+    assert sorted((f["gear"], f["check"]) for f in rec["findings"]) == [
+        ("internal", "undercut"), ("planet", "undercut")]
+    z_eq = {f["gear"]: f["value"] for f in rec["findings"]}
+    assert z_eq["internal"] == pytest.approx(8.5, abs=0.1)
+    assert z_eq["planet"] == pytest.approx(9.6, abs=0.1)
 
 
 def test_step_solid_follows_the_outline_within_its_tolerance_and_sits_like_the_stl(tmp_path):

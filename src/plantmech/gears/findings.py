@@ -96,6 +96,18 @@ def gear_findings(check: dict, teeth: dict | None, limits: CutLimits = CutLimits
             _place(check["max_pressure_angle_at_deg"], ang),
             "the pitch curve is so steep there that the teeth push mostly along the radius "
             "(large radial force, the mesh locks near 90 deg)"))
+    if teeth is not None and len(teeth["angle_deg"]) < check["teeth"]:
+        # teeth gouged away or merged into a toothless bump: where the widest gap between
+        # neighbouring tooth centres is
+        a = np.sort(teeth["angle_deg"])
+        gaps = np.diff(np.r_[a, a[:1] + 360.0]) if len(a) else np.array([360.0])
+        k = int(np.argmax(gaps))
+        mid = float(np.mod(a[k] + gaps[k] / 2, 360.0)) if len(a) else 0.0
+        out.append(finding(
+            name, "tooth_count", len(a), check["teeth"], "teeth",
+            {"body_angle_deg": round(mid, 2)} | ({"tooth": k + 1} if len(a) else {}),
+            f"the cut outline carries {len(a)} teeth where {check['teeth']} were cut: the "
+            f"widest gap ({gaps[k]:.1f} deg, after tooth {k + 1}) has lost its teeth"))
     if teeth is not None and len(teeth["tip_land_mm"]):
         land = teeth["tip_land_mm"]
         bad = np.flatnonzero(land < limits.min_tip_land * m)

@@ -163,7 +163,8 @@ def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.patches import Patch
+    from matplotlib.patches import Patch, PathPatch
+    from matplotlib.path import Path as MplPath
 
     fig, ax = plt.subplots(figsize=(8, 6))
     handles = []
@@ -174,10 +175,16 @@ def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
         for g in geoms:
             if g.geom_type != "Polygon":
                 continue
-            for ring in _rings(g):
-                ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.35, lw=0)
+            rings = list(_rings(g))
+            # one compound path per polygon, so a bore or an internal gear's toothed hole
+            # stays a hole
+            outline = MplPath.make_compound_path(*[MplPath(r[:, :2], closed=True)
+                                                for r in rings])
+            ax.add_patch(PathPatch(outline, facecolor=colour, alpha=0.35, lw=0))
+            for ring in rings:
                 ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=0.5)
-        kind = " (internal)" if pair.internal and colour == "tab:blue" else ""
+        kind = " (internal gear)" if pair.internal and colour == "tab:blue" \
+            and name != "internal" else ""
         handles.append(Patch(color=colour, alpha=0.5,
                              label=f"{name}{kind}: {z} teeth, centre {centre} mm"))
     ax.plot([0, pair.a], [0, 0], "k+-", lw=0.5, ms=10)
