@@ -171,6 +171,7 @@ def test_circumferential_backlash_of_circular_involute_gears_is_what_was_cut(bac
     m = mesh_check(pair, 60)
     assert m["min_circumferential_backlash_mm"] == pytest.approx(backlash, abs=0.003)
     assert m["max_circumferential_backlash_mm"] == pytest.approx(backlash, abs=0.003)
+    assert m["max_backlash_mm"] == m["max_circumferential_backlash_mm"]  # the app's name
     gap = backlash / 2 * np.cos(np.radians(20.0))
     assert m["min_normal_gap_mm"] == pytest.approx(gap, abs=0.003)
     assert m["max_normal_gap_mm"] == pytest.approx(gap, abs=0.003)

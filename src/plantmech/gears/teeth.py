@@ -658,6 +658,9 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
             "max_circumferential_backlash_mm": None if hi is None else float(play[hi]),
             "max_circumferential_backlash_at_deg": None if hi is None
             else float(np.degrees(pa[hi])),
+            # the names readers of this record used before (the app): now the free play
+            "min_backlash_mm": None if lo is None else float(play[lo]),
+            "max_backlash_mm": None if hi is None else float(play[hi]),
             "max_normal_gap_mm": float(np.nanmax(gap)) if free.any() else None,
             "min_normal_gap_mm": float(np.nanmin(gap)) if free.any() else None,
             "ok": bool(depth.max() < 0.01 * pair.module), "steps": steps}
