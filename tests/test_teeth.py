@@ -96,7 +96,10 @@ def test_ellipse_about_its_focus_meshes_with_its_twin():
     assert ratio.max() == pytest.approx(2.0769, abs=5e-3)  # (1 + e) / (1 - e)
     m = mesh_check(pair, 360)
     assert m["ok"] and m["max_interference_mm"] < 1e-3
-    assert 0.0 < m["min_backlash_mm"] <= m["max_backlash_mm"] < 0.1
+    assert 0.0 < m["min_normal_gap_mm"] <= m["max_normal_gap_mm"] < 0.1
+    # the free play a designer asked for (0.1 mm on the pitch curve) holds over the cycle
+    assert 0.09 < m["min_circumferential_backlash_mm"] <= m["max_circumferential_backlash_mm"] \
+        < 0.13
 
 
 def test_wrong_tooth_phase_is_caught_by_the_mesh_check():
@@ -136,7 +139,9 @@ def test_concave_pitch_curve_with_a_shaper_cutter_meshes():
     assert c["cutter_fits"]
     m = mesh_check(pair, 360)
     assert m["ok"] and m["max_interference_mm"] < 1e-3
-    assert m["max_backlash_mm"] < 0.1
+    assert m["max_normal_gap_mm"] < 0.1
+    assert 0.08 < m["min_circumferential_backlash_mm"] <= m["max_circumferential_backlash_mm"] \
+        < 0.15
 
 
 def test_a_rack_gouges_the_concave_spans():
@@ -151,7 +156,50 @@ def test_a_rack_gouges_the_concave_spans():
     pair.gear_a = cut_gear(pair.pitch_a, rack, tooth_at=_arc_to_angle(pair.pitch_a, TH[0]))
     m = mesh_check(pair, 360)
     # the fitted shaper's pair keeps its backlash under 0.05 mm (previous test)
-    assert m["max_backlash_mm"] > 0.2
+    assert m["max_normal_gap_mm"] > 0.2 and m["max_circumferential_backlash_mm"] > 0.4
+
+
+@pytest.mark.parametrize("backlash", [0.1, 0.3])
+def test_circumferential_backlash_of_circular_involute_gears_is_what_was_cut(backlash):
+    """Two 30-tooth involute gears cut with a circumferential backlash B (each tooth
+    thinner by B / 2 on the pitch circle): the driven gear turns B / r between its two
+    flank contacts, everywhere in the cycle; the normal gap on one side at the nominal
+    position is B / 2 x cos(alpha) (what used to be reported as "backlash": 0.047 mm)."""
+    th = np.linspace(0, 2 * np.pi, 721)
+    pair = make_pair("c", th, np.full_like(th, 30.0), 60.0,
+                     ToothSpec(2.0, backlash_mm=backlash))
+    m = mesh_check(pair, 60)
+    assert m["min_circumferential_backlash_mm"] == pytest.approx(backlash, abs=0.003)
+    assert m["max_circumferential_backlash_mm"] == pytest.approx(backlash, abs=0.003)
+    assert m["max_backlash_mm"] == m["max_circumferential_backlash_mm"]  # the app's name
+    gap = backlash / 2 * np.cos(np.radians(20.0))
+    assert m["min_normal_gap_mm"] == pytest.approx(gap, abs=0.003)
+    assert m["max_normal_gap_mm"] == pytest.approx(gap, abs=0.003)
+
+
+def test_a_module_leaving_too_few_teeth_is_refused_before_cutting(tmp_path, capsys):
+    """--module 200 would cut 1-tooth gears, --module 0.001 ran 400 s and allocated 5 GiB:
+    the option's range refuses both (0.5-50 mm), and a module inside it that leaves a gear
+    of Table 4 (perimeter 381.1 mm) with 381.1 / (50 pi) = 2.43 teeth is refused by name
+    (gear, tooth count, module) with exit 2, nothing written."""
+    import time
+
+    from plantmech.interfaces.cli import main
+    from tests.conftest import EXAMPLES
+
+    for module in ("200", "0.001"):
+        with pytest.raises(SystemExit) as exc:
+            main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out",
+                  str(tmp_path / "g"), "--module", module])
+        assert exc.value.code == 2 and "at least 0.5 and at most 50" in capsys.readouterr().err
+    t0 = time.perf_counter()
+    rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out",
+               str(tmp_path / "g"), "--module", "50"])
+    err = capsys.readouterr().err
+    assert rc == 2 and time.perf_counter() - t0 < 20
+    assert "gear gear2" in err and "module 50" in err and "2.426 teeth" in err
+    assert "6..500" in err
+    assert not (tmp_path / "g").exists()
 
 
 def test_undercut_is_flagged_below_17_teeth():
@@ -182,7 +230,11 @@ def test_dxf_is_closed_and_in_mm_and_stl_is_watertight(tmp_path):
     assert (tmp_path / "g.svg").read_text().startswith("<svg")
 
 
-def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path):
+def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsys):
+    """The published Table 4 gears: every file written (each STL one body), the pairs turn
+    without interference, and the verdict is "not manufacturable" with exit 4, naming
+    what cannot be cut: gear 3's concave span (radius of curvature 3.6 mm) against the
+    shaper's 32.1 mm pitch radius, working pressure angles of 83 deg, undercut."""
     import json
 
     from plantmech.interfaces.cli import main
@@ -190,24 +242,41 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path):
 
     out = tmp_path / "g"
     rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out)])
+    printed = capsys.readouterr().out
     rec = json.loads((out / "verification.json").read_text())
-    # the paper's final train meshes: each mate is cut by its partner, with stations
-    # spaced by the relative motion and the partial sun's last position included (before:
-    # 0.043 mm at the end of the sun's meshing arc, 0.046 mm on gear 3's 83 deg span;
-    # both shaper-cut 0.08 / 0.10 mm, docs/validation.md)
-    assert rc == 0 and rec["all_pairs_mesh"]
+    # each mate is cut by its partner, with stations spaced by the relative motion and
+    # the partial sun's last position included (docs/validation.md)
+    assert rec["all_pairs_mesh"]
     worst = {m["pair"]: m["max_interference_mm"] for m in rec["mesh"]}
     assert worst["gear2_sun"] < 0.005 and worst["gear3_planet"] < 0.015
+    assert rc == 4 and rec["verdict"] == "not manufacturable"
+    assert printed.strip().splitlines()[-1].startswith("verdict: NOT MET - not manufacturable")
+    assert "ok   gear3" not in printed and "FAIL gear3" in printed
+    found = {(f["gear"], f["check"]): f for f in rec["findings"]}
+    cut = found[("gear3", "cutter_fit")]
+    assert cut["value"] < 5.0 < 30.0 < cut["limit"] and cut["unit"] == "mm"
+    assert set(cut["where"]) >= {"body_angle_deg", "tooth"} and cut["why"]
+    assert found[("gear3", "working_pressure_angle")]["value"] > 80
+    assert ("planet", "undercut") in found
+    # the gouged gear 3 and the planet's toothless bump (mesh PNG): teeth lost
+    lost = found[("gear3", "tooth_count")]
+    assert lost["limit"] == 21 and lost["value"] < 21
+    assert found[("planet", "tooth_count")]["value"] < 21
+    for f in rec["findings"]:
+        assert set(f) == {"gear", "check", "value", "limit", "unit", "where", "why"}
+        assert f"{f['gear']}: {f['check']}" in printed
     assert {g["name"] for g in rec["gears"]} == {"gear2", "sun", "gear3", "planet"}
     for g in rec["gears"]:
         for key in ("teeth", "module_mm", "perimeter_mm", "min_curvature_radius_mm",
                     "undercut", "pointed", "max_pressure_angle_deg"):
             assert key in g
+        assert g["stl"]["written"] and g["stl"]["bodies"] == 1  # before: gear 3 4, planet 6
         for ext in ("dxf", "svg", "stl"):
             assert (out / f"{g['name']}.{ext}").stat().st_size > 1000
     assert {m["pair"] for m in rec["mesh"]} == {"gear2_sun", "gear3_planet"}
     for m in rec["mesh"]:
-        assert set(m) >= {"pair", "max_interference_mm", "max_backlash_mm", "ok"}
+        assert set(m) >= {"pair", "max_interference_mm", "min_circumferential_backlash_mm",
+                          "max_circumferential_backlash_mm", "max_normal_gap_mm", "ok"}
     # the sun has a toothless sector: fewer teeth than its perimeter would carry
     sun = next(g for g in rec["gears"] if g["name"] == "sun")
     assert sun["perimeter_mm"] / (np.pi * sun["module_mm"]) > sun["teeth"] + 1
@@ -278,10 +347,42 @@ def test_toothed_transplanter_example_meets_every_objective_but_cannot_be_cut():
     assert margin == pytest.approx(1.27 - 2.567, abs=0.02)
 
 
+def test_toothed_transplanter_gears_mesh_but_are_undercut(tmp_path):
+    """Its generated ring and planet turn through a full cycle without interference with the
+    free play asked for; each STL one body. Its pitch curves bend like spur gears of 8.5
+    (ring) and 9.6 (planet) teeth, under the rack's undercut limit of 17.1 at 20 deg
+    full-depth teeth: "not manufacturable" (exit 4); the findings are the two undercuts and
+    the pitch-curve rule that says the same (cuttable module margin)."""
+    import json
+
+    from plantmech.interfaces.cli import main
+    from tests.conftest import EXAMPLES
+
+    path = EXAMPLES / "rice_transplanter_toothed.toml"
+    out = tmp_path / "g"
+    assert main(["gears", str(path), "--out", str(out)]) == 4
+    rec = json.loads((out / "verification.json").read_text())
+    (mesh,) = rec["mesh"]
+    assert mesh["ok"] and mesh["max_interference_mm"] < 0.01 * rec["gears"][0]["module_mm"]
+    assert 0.05 < mesh["min_circumferential_backlash_mm"] <= \
+        mesh["max_circumferential_backlash_mm"] < 0.25
+    assert 0 < mesh["max_normal_gap_mm"] < 0.1
+    assert all(g["stl"]["written"] and g["stl"]["bodies"] == 1 for g in rec["gears"])
+    assert [g["teeth"] for g in rec["gears"]] == [80, 20]
+    assert [g["teeth_on_outline"] for g in rec["gears"]] == [80, 20]
+    assert rec["verdict"] == "not manufacturable"
+    assert sorted((f["gear"], f["check"]) for f in rec["findings"]) == [
+        ("internal", "undercut"), ("pitch curves", "cuttable_module_margin"),
+        ("planet", "undercut")]
+    z_eq = {f["gear"]: f["value"] for f in rec["findings"] if f["check"] == "undercut"}
+    assert z_eq["internal"] == pytest.approx(8.5, abs=0.1)
+    assert z_eq["planet"] == pytest.approx(9.6, abs=0.1)
+
+
 def test_manufacturable_transplanter_example_meets_everything_and_meshes(tmp_path):
-    """The same design optimized with manufacturability required (stub 25 deg teeth):
-    every objective and check met, and its generated ring and planet turn through a full
-    cycle without interference."""
+    """The same design optimized with manufacturability required (stub 25 deg teeth, its
+    [manufacturing] table): every objective and check met, and `plantmech gears` cuts it with
+    no finding (exit 0): no undercut at the stub limit 1.6 / sin^2 25 deg = 8.96."""
     import json
 
     from plantmech.design import load_design
@@ -293,30 +394,43 @@ def test_manufacturable_transplanter_example_meets_everything_and_meshes(tmp_pat
     objs = run_transplanter(load_design(path)).summary["objectives"]
     assert len(objs) == 16 and all(o["ok"] for o in objs), [o for o in objs if not o["ok"]]
     out = tmp_path / "g"
-    assert main(["gears", str(path), "--out", str(out)]) == 0
+    rc = main(["gears", str(path), "--out", str(out)])
     rec = json.loads((out / "verification.json").read_text())
+    assert rc == 0, rec["findings"]
+    assert rec["verdict"] == "ok" and rec["findings"] == []
+    assert rec["tooth"] == {"pressure_angle_deg": 25.0, "addendum": 0.8, "dedendum": 1.0}
     (mesh,) = rec["mesh"]
     assert mesh["ok"] and mesh["max_interference_mm"] < 0.01 * rec["gears"][0]["module_mm"]
-    assert all(g["stl_watertight"] for g in rec["gears"])
+    assert all(g["stl"]["written"] and g["stl"]["bodies"] == 1 for g in rec["gears"])
     assert [g["teeth"] for g in rec["gears"]] == [80, 20]
 
 
-def test_step_solids_match_the_stl_volume(tmp_path):
-    """STEP (optional extra): splines per smooth run of the outline, a valid solid whose
-    volume matches the watertight STL. Skipped where build123d is not installed."""
+def test_step_solid_follows_the_outline_within_its_tolerance_and_sits_like_the_stl(tmp_path):
+    """STEP (optional extra, ``--step``): one valid solid over z = 0..face width (before:
+    -12..0), its outline within the stated 2 um of the cut outline (before: splines
+    overshooting by 2.06 mm), volume = area x face width. Skipped where build123d is not
+    installed (CI installs only .[dev])."""
     bd = pytest.importorskip("build123d")
-    import trimesh
 
-    from plantmech.interfaces.cli import main
-    from tests.conftest import EXAMPLES
+    from plantmech.outputs.gear_files import STEP_TOLERANCE_MM, write_step
 
-    out = tmp_path / "g"
-    main(["gears", str(EXAMPLES / "rice_transplanter_khv.toml"), "--out", str(out)])
-    for name in ("sun", "middle", "planet"):
-        (solid,) = bd.import_step(str(out / f"{name}.step")).solids()
-        assert solid.is_valid
-        stl = trimesh.load(out / f"{name}.stl")
-        assert solid.volume == pytest.approx(stl.volume, rel=0.02)
+    # a ring with a wavy outer edge: 240 vertices, curvature everywhere
+    t = np.linspace(0, 2 * np.pi, 240, endpoint=False)
+    r = 20 + 1.5 * np.cos(12 * t)
+    poly = shapely.Polygon(np.c_[r * np.cos(t), r * np.sin(t)],
+                           [shapely.Point(0, 0).buffer(5.0, 32).exterior.coords])
+    rec = write_step(tmp_path / "g.step", poly, 8.0)
+    assert rec["written"], rec
+    (solid,) = bd.import_step(str(tmp_path / "g.step")).solids()
+    assert solid.is_valid
+    bb = solid.bounding_box()
+    assert bb.min.Z == pytest.approx(0.0, abs=1e-9) and bb.max.Z == pytest.approx(8.0)
+    assert solid.volume == pytest.approx(poly.area * 8.0, rel=1e-3)
+    # independent of the writer's own check: every vertex of the solid lies on the outline
+    pts = np.array([[v.X, v.Y] for v in solid.vertices()])
+    d = shapely.distance(poly.boundary, shapely.points(pts))
+    assert d.max() < 1e-6
+    assert rec["max_deviation_mm"] <= STEP_TOLERANCE_MM * 1.01
 
 
 def test_tooth_proportions_are_parameters_checked_and_recorded(tmp_path):

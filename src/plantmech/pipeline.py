@@ -122,11 +122,12 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         gdir.mkdir()
         gears = run_gears(final, gdir, module=module)
         written += [gdir / f for f in gears["files"]] + [gdir / "verification.json"]
-        gv = gears.get("verdict")
-        gears_ok = gv["ok"] if isinstance(gv, dict) else gears.get("all_pairs_mesh", False)
+        from plantmech.gears.findings import VERDICT_OK
+
+        gears_ok = gears["verdict"] == VERDICT_OK
         stage("gears", ok=gears_ok, files=len(gears["files"]))
         if not gears_ok:
-            failed.append("gears: see gears/verification.json")
+            failed += [f"gears: {f['gear']} {f['check']}" for f in gears["findings"]]
     else:
         say("[3/3] teeth not cut: the pitch curves fail the manufacturability checks")
         stage("gears", ok=False, skipped="the pitch curves fail the manufacturability checks")

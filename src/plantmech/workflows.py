@@ -824,6 +824,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
     from plantmech.gears.teeth import (
         PitchPolyline,
         ToothSpec,
+        check_tooth_counts,
         make_pair,
         standard_module,
         teeth_count,
@@ -846,7 +847,10 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             r = curve(th)
             P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
             m0 = module or standard_module(P, min_teeth)
+            names = name.split("_")
+            check_tooth_counts(m0, {names[0]: P})
             z, m = teeth_count(P, m0)
+            check_tooth_counts(m, {names[1]: _mate_perimeter(th, r, a, False, samples)})
             spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
             bore = _bore(r.min(), spec)
             out.append((make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
@@ -861,10 +865,15 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
         if g.teeth and module is None:
             z, m = g.teeth, P / (np.pi * g.teeth)
+            check_tooth_counts(m, {"internal": P}, "internal_gear.teeth")
         else:
-            z, m = teeth_count(P, module or standard_module(P, min_teeth * g.lobes), g.lobes)
-        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
+            m0 = module or standard_module(P, min_teeth * g.lobes)
+            check_tooth_counts(m0, {"internal": P})
+            z, m = teeth_count(P, m0, g.lobes)
         a = float(pair.a[0])
+        check_tooth_counts(m, {"planet": _mate_perimeter(th, r, a, True, samples)},
+                           "internal_gear.teeth" if g.teeth and module is None else "--module")
+        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
         out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
                               samples=samples, rim=g.rim_mm + 3.0,
                               bore_b=_bore((r - a).min(), spec)), spec))
@@ -880,21 +889,40 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         th, r = np.r_[th, th[0] + 2 * np.pi], np.r_[r, r[0]]
         a = float(kp.a[0])
         P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+        source = "sun_gear.teeth" if design.sun_gear.teeth and module is None else "--module"
         if design.sun_gear.teeth and module is None:
             m = P / (np.pi * design.sun_gear.teeth)
         else:
-            z, m = teeth_count(P, module or standard_module(P, min_teeth))
+            m0 = module or standard_module(P, min_teeth)
+            check_tooth_counts(m0, {"sun": P})
+            z, m = teeth_count(P, m0)
+        check_tooth_counts(m, {"sun": P, "middle": _mate_perimeter(th, r, a, False, samples)},
+                           source)
         spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
         p1 = make_pair("sun_middle", th, r, a, spec, samples=samples,
                        bore_a=_bore(r.min(), spec), bore_b=_bore((a - r).min(), spec))
         # the middle meets the planet half a middle turn from the sun contact
         middle = RadiusCurve.from_samples(p1.phi_b[:-1], (a - r)[:-1], kind="spline")
         th2 = p1.phi_b[0] + np.pi + np.linspace(0.0, 2 * np.pi, len(th))
+        check_tooth_counts(m, {"planet": _mate_perimeter(th2, middle(th2), a, False, samples)},
+                           source)
         p2 = make_pair("middle_planet", th2, middle(th2), a, p1.spec, samples=samples,
                        gear_a=p1.gear_b, pitch_a=p1.pitch_b, tooth_at_a=p1.tooth_at_b,
                        bore_b=_bore((a - middle(th2)).min(), spec))
         out += [(p1, spec), (p2, spec)]
     return out
+
+
+def _mate_perimeter(theta, r, a: float, internal: bool, samples: int) -> float:
+    """Pitch perimeter (mm) of the gear rolling on the polar curve (theta, r) at centre
+    distance a (its contact radii a - r, or r - a inside an internal gear)."""
+    from plantmech.gears.teeth import PitchPolyline, polar_contacts
+
+    phib, rb = polar_contacts(theta, r, a, internal)
+    span = abs(phib[-1] - phib[0])
+    if span < 2 * np.pi * (1 - 1e-4):  # a partial mate: the arc it turns through, closed
+        return float(np.sum(np.hypot(np.diff(rb * np.cos(phib)), np.diff(rb * np.sin(phib)))))
+    return PitchPolyline.from_polar(phib[:-1], rb[:-1], samples).perimeter
 
 
 def _bore(min_pitch_radius: float, spec) -> float | None:
@@ -903,17 +931,70 @@ def _bore(min_pitch_radius: float, spec) -> float | None:
     return float(min(d, 30.0)) if d >= 3.0 else None
 
 
+def pitch_curve_findings(design) -> list[dict]:
+    """The failing manufacturability rows of the design's pitch curves
+    (``gears.manufacturability`` through the full-resolution model: the seeder's
+    cuttable module and working pressure angle of both pairs, the transplanter's tooth fit
+    and cuttable-module margin) as ``gears.findings`` findings, so that ``plantmech gears``
+    and ``plantmech design`` judge the same rules."""
+    import re
+
+    from plantmech.gears.findings import finding
+
+    if design.mechanism == "sugarcane_seeder":
+        rows = run_seeder_forward(design).summary["objectives"]
+    else:
+        rows = run_transplanter(design).summary["objectives"]
+    names = ("cuttable_module", "working_pressure_angle", "equivalent_teeth",
+             "internal_teeth_difference")
+    out = []
+    for c in rows:
+        if c["name"].startswith(names) and not c["ok"]:
+            limit = float(re.search(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?", c["limit"]).group())
+            out.append(finding("pitch curves", c["name"], c["value"], limit,
+                               c.get("unit", ""), {}, c.get("note", "") or
+                               "the pitch curves fail this manufacturability rule "
+                               "(docs/manufacturability.md)"))
+    return out
+
+
+def cut_limits(design):
+    """The limits the cut gears of ``design`` must meet (``gears.findings.CutLimits``):
+    defaults, with the working pressure angle limit the design file gives
+    (seeder ``[gear_checks]``, transplanter ``[limits]``)."""
+    from plantmech.gears.findings import CutLimits
+
+    src = getattr(design, "gear_checks", None) or getattr(design, "limits", None)
+    wpa = getattr(src, "max_working_pressure_angle_deg", None)
+    return CutLimits() if wpa is None else CutLimits(max_working_pressure_angle_deg=wpa)
+
+
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
-              backlash: float = 0.1, steps: int = 360, tooth: dict | None = None) -> dict:
-    """Generate, check and write every gear of ``design`` into ``out``; returns the
-    verification record (also written as verification.json)."""
+              backlash: float = 0.1, steps: int = 360, tooth: dict | None = None,
+              step: bool = False) -> dict:
+    """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
+    STEP files, build123d, slow: minutes per gear, docs/manufacturing.md); returns the
+    verification record (also written as verification.json) with its ``verdict`` ("ok" /
+    "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
+    pitch curves, the cut outlines, the mesh and the written files."""
+    from dataclasses import asdict
+
+    from plantmech.gears import findings as fnd
+    from plantmech.gears.outline import fold_backs, teeth_on_outline
     from plantmech.gears.teeth import gear_checks, mesh_check, placed
     from plantmech.outputs import gear_files as gf
     from plantmech.outputs.files import write_json
 
-    tooth = tooth_proportions(**(tooth or {}))
-    record = {"gears": [], "mesh": [], "files": [], "face_width_mm": face_width,
-              "backlash_mm": backlash, "tooth": tooth}
+    if tooth is None:  # the design's tooth system ([manufacturing], else the standard one)
+        rules = rules_for(design)
+        tooth = {"pressure_angle_deg": rules.pressure_angle_deg, "addendum": rules.addendum,
+                 "dedendum": rules.dedendum}
+    tooth = tooth_proportions(**tooth)
+    limits = cut_limits(design)
+    record = {"verdict": None, "findings": [], "gears": [], "mesh": [], "files": [],
+              "face_width_mm": face_width, "backlash_mm": backlash, "tooth": tooth,
+              "limits": asdict(limits)}
+    findings = record["findings"]
     for pair, spec in gear_pairs(design, module, backlash, tooth=tooth):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
@@ -925,22 +1006,51 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
             if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
                 continue
             c = gear_checks(gname, pitch, spec, z, internal, cut_by)
+            teeth = teeth_on_outline(poly, pitch.xy, spec.module, spec.addendum, internal)
+            c["teeth_on_outline"] = int(len(teeth["angle_deg"]))
+            c["min_tip_land_mm"] = float(teeth["tip_land_mm"].min()) \
+                if len(teeth["tip_land_mm"]) else None
+            findings += fnd.gear_findings(c, teeth, limits)
+            spikes = fold_backs(poly)
+            c["outline_fold_backs"] = int(len(spikes))
+            if len(spikes):
+                p0 = spikes[0]
+                findings.append(fnd.finding(
+                    gname, "fragmented_outline", len(spikes), 0, "fold-back vertices",
+                    {"body_angle_deg": round(float(np.degrees(np.mod(np.arctan2(
+                        p0[1], p0[0]), 2 * np.pi))), 2)},
+                    "the outline folds back on itself (a zero-width spike or slit)"))
             for ext, writer in (("dxf", lambda p, g=poly, n=gname: gf.write_dxf(p, {n: g})),
                                 ("svg", lambda p, g=poly, n=gname: gf.write_svg(p, g, n))):
                 writer(out / f"{gname}.{ext}")
                 record["files"].append(f"{gname}.{ext}")
-            c["stl_watertight"] = gf.write_stl(out / f"{gname}.stl", poly, face_width)
-            record["files"].append(f"{gname}.stl")
-            why = gf.write_step(out / f"{gname}.step", poly, face_width)
-            if why is None:
-                record["files"].append(f"{gname}.step")
+            stl = gf.write_stl(out / f"{gname}.stl", poly, face_width)
+            c["stl"] = stl
+            c["stl_watertight"] = bool(stl["written"])
+            if stl["written"]:
+                record["files"].append(f"{gname}.stl")
             else:
-                record["step"] = why
+                findings.append(fnd.finding(gname, "stl_one_body", stl["bodies"], 1, "bodies",
+                                            {}, stl["why"]))
+            if step:
+                st = gf.write_step(out / f"{gname}.step", poly, face_width)
+                c["step"] = st
+                if st["written"]:
+                    record["files"].append(f"{gname}.step")
+                elif st.get("skipped"):
+                    record["step"] = st["why"]
+                else:
+                    findings.append(fnd.finding(gname, "step_file", st.get("max_deviation_mm"),
+                                                st["tolerance_mm"], "mm", {}, st["why"]))
             record["gears"].append(c)
-        record["mesh"].append(mesh_check(pair, steps))
+        mesh = mesh_check(pair, steps)
+        record["mesh"].append(mesh)
+        findings += fnd.mesh_findings(mesh, spec.module, backlash, limits)
         ga, gb = placed(pair, pair.phi_a[0], pair.phi_b[0])
-        gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb)
+        gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb, names)
         record["files"].append(f"{pair.name}_mesh.png")
     record["all_pairs_mesh"] = all(m["ok"] for m in record["mesh"])
+    findings += pitch_curve_findings(design)
+    record["verdict"] = fnd.verdict(findings)
     write_json(out / "verification.json", record)
     return record

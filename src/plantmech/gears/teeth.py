@@ -51,6 +51,26 @@ def teeth_count(perimeter: float, module: float, multiple: int = 1) -> tuple[int
     return z, perimeter / (np.pi * z)
 
 
+MIN_TEETH, MAX_TEETH = 6, 500  # a gear outside these is refused before any cutting
+
+
+def check_tooth_counts(module: float, perimeters: dict, source: str = "--module") -> None:
+    """Refuse a module that leaves any gear with fewer than ``MIN_TEETH`` or more than
+    ``MAX_TEETH`` teeth (a 1-tooth "gear", or minutes of cutting and gigabytes for
+    thousands of teeth). ``perimeters``: gear name -> pitch-curve perimeter (mm);
+    ``source``: where the module came from, for the message. Raises ValueError naming the
+    gear, its tooth count and the module."""
+    for name, perimeter in perimeters.items():
+        z = perimeter / (np.pi * module)
+        if not MIN_TEETH <= round(z) <= MAX_TEETH:
+            lo, hi = perimeter / (np.pi * MAX_TEETH), perimeter / (np.pi * MIN_TEETH)
+            raise ValueError(
+                f"{source}: module {module:.4g} mm leaves gear {name} (pitch perimeter "
+                f"{perimeter:.1f} mm) with {z:.4g} teeth; gears are cut with "
+                f"{MIN_TEETH}..{MAX_TEETH} teeth: choose a module between {lo:.3g} and "
+                f"{hi:.3g} mm for it")
+
+
 def standard_module(perimeter: float, min_teeth: int = 12, multiple: int = 1) -> float:
     """The largest standard module that leaves at least ``min_teeth`` teeth."""
     ok = [m for m in STANDARD_MODULES if perimeter / (np.pi * m) >= min_teeth]
@@ -270,20 +290,11 @@ def _toothless_wedge(pitch: PitchPolyline, toothless: tuple[float, float], base,
 
 
 def _largest(geom):
-    """The largest polygon of a (multi)polygon, Boolean crumbs dropped: holes under
-    0.01 mm^2 removed, vertices closer than 1 um merged."""
-    import shapely
+    """The largest polygon of a (multi)polygon, cleaned of Boolean debris: zero-width
+    spikes and slits and holes under 0.01 mm^2 removed (``outline.clean_outline``)."""
+    from plantmech.gears.outline import clean_outline
 
-    if geom.geom_type == "GeometryCollection":
-        geom = shapely.union_all([g for g in geom.geoms if g.geom_type in (
-            "Polygon", "MultiPolygon")])
-    if geom.geom_type == "MultiPolygon":
-        geom = max(geom.geoms, key=lambda g: g.area)
-    holes = [h for h in geom.interiors if shapely.Polygon(h).area > 1e-2]
-    geom = shapely.Polygon(geom.exterior, holes).simplify(1e-3)
-    if geom.geom_type == "MultiPolygon" or not geom.is_valid:
-        geom = _largest(shapely.make_valid(geom))
-    return geom
+    return clean_outline(geom)
 
 
 @dataclass
@@ -574,8 +585,11 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     inside a window of +-``window_pitches`` pitches around the line of centres (external
     pairs) or over the planet's whole reach (internal pairs).
     Interference depth is estimated per overlap sliver as 2 x area / perimeter (a thin
-    sliver), the deepest counting; backlash as the smallest distance between the
-    outlines' boundaries within 2.5 pitches of the contact point."""
+    sliver), the deepest counting. Backlash as a designer means it: the circumferential
+    free play (mm) on B's pitch curve, B's turn between its two flank contacts with A held
+    times B's pitch radius at the contact, min and max over the cycle; beside it the normal
+    gap (mm), the smallest distance between the outlines' boundaries within 2.5 pitches of
+    the contact point (about play / 2 x cos alpha at the nominal position)."""
     import shapely
     import shapely.affinity
 
@@ -616,18 +630,61 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     # the gap between the outlines within 2.5 pitches of the contact point (the teeth in
     # and about to come into mesh), where there is no overlap
     free = area <= 1e-6
-    gap = np.zeros(len(inter))
+    gap = np.full(len(inter), np.nan)
     discs = shapely.buffer(shapely.points(r_contact[free], np.zeros(free.sum())),
                            2.5 * np.pi * pair.module, quad_segs=16)
     gap[free] = shapely.distance(shapely.intersection(shapely.boundary(ga[free]), discs),
                                  shapely.intersection(shapely.boundary(gb[free]), discs))
+    # circumferential free play: B turned about its centre each way from its nominal
+    # position until its flanks touch A's; (turn forward + turn back) x B's pitch radius at
+    # the contact (external a - r_A, internal r_A - a)
+    # (stations where the outlines overlap have no free play: the interference check
+    # speaks for them)
+    r_b = np.abs(pair.a - r_contact)
+    play = np.full(len(inter), np.nan)
+    play[free] = r_b[free] * (
+        _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, +1)
+        + _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, -1))
     worst = int(np.argmax(depth))
+    lo = int(np.nanargmin(play)) if free.any() else None
+    hi = int(np.nanargmax(play)) if free.any() else None
     return {"pair": pair.name, "max_interference_mm": float(depth.max()),
             "worst_at_contact_angle_deg": float(np.degrees(pa[worst])) if depth.max() > 0
             else None,
-            "max_backlash_mm": float(np.nanmax(gap)) if np.isfinite(gap).any() else None,
-            "min_backlash_mm": float(np.nanmin(gap)) if np.isfinite(gap).any() else None,
+            "backlash_stations": int(free.sum()),
+            "min_circumferential_backlash_mm": None if lo is None else float(play[lo]),
+            "min_circumferential_backlash_at_deg": None if lo is None
+            else float(np.degrees(pa[lo])),
+            "max_circumferential_backlash_mm": None if hi is None else float(play[hi]),
+            "max_circumferential_backlash_at_deg": None if hi is None
+            else float(np.degrees(pa[hi])),
+            # the names readers of this record used before (the app): now the free play
+            "min_backlash_mm": None if lo is None else float(play[lo]),
+            "max_backlash_mm": None if hi is None else float(play[hi]),
+            "max_normal_gap_mm": float(np.nanmax(gap)) if free.any() else None,
+            "min_normal_gap_mm": float(np.nanmin(gap)) if free.any() else None,
             "ok": bool(depth.max() < 0.01 * pair.module), "steps": steps}
+
+
+def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
+                     resolution: float = 1e-4):
+    """Angle (rad, >= 0, per station) by which B (placed outlines ``gb``, centre at
+    (centre_x, 0)) turns about its centre in ``sense`` (+1 counter-clockwise, -1
+    clockwise) before it touches A (``ga``), found by bisection to ``resolution`` mm of
+    arc at B's pitch radius ``r_b`` (mm, per station); capped at one pitch of arc."""
+    import shapely
+
+    ga = np.asarray(ga, dtype=object)
+    shapely.prepare(ga)
+    moved = shapely.transform(np.asarray(gb, dtype=object), lambda xy: xy - [centre_x, 0.0])
+    lo = np.zeros(len(ga))
+    hi = np.full(len(ga), np.pi * module) / r_b
+    for _ in range(int(np.ceil(np.log2(np.pi * module / resolution)))):
+        mid = 0.5 * (lo + hi)
+        hit = shapely.intersects(ga, _turn_each(moved, sense * mid, dx=centre_x))
+        hi = np.where(hit, mid, hi)
+        lo = np.where(hit, lo, mid)
+    return 0.5 * (lo + hi)
 
 
 def smooth_curvature(pitch: PitchPolyline, internal: bool = False, samples: int = 2880):
@@ -697,6 +754,16 @@ def gear_checks(name: str, pitch: PitchPolyline, spec: ToothSpec, teeth: int,
         "pointed_at_deg": _spans(ang, pointed),
         "max_pressure_angle_deg": float(press.max()),
         "max_pressure_angle_at_deg": float(ang[int(np.argmax(press))]),
+        "undercut_limit_teeth": float(z_lim),
+        "min_equivalent_teeth": float(z_eq.min()) if convex.any() else None,
+        "min_equivalent_teeth_at_deg": float(ang[int(np.argmin(z_eq))]) if convex.any()
+        else None,
+        "min_equivalent_top_land_mm": float(np.nanmin(np.where(convex, top, np.nan)))
+        if convex.any() else None,
+        "min_equivalent_top_land_at_deg": float(ang[int(np.nanargmin(np.where(
+            convex, top, np.nan)))]) if convex.any() else None,
+        "min_concave_curvature_at_deg": float(ang[concave][int(np.argmax(rho[concave]))])
+        if concave.any() else None,
     }
 
 

@@ -327,7 +327,8 @@ def _optimize_body(args, design, run) -> int:
 
 
 def _gears(args) -> int:
-    if args.dedendum <= args.addendum:
+    if args.dedendum is not None and args.addendum is not None \
+            and args.dedendum <= args.addendum:
         print(f"error: --dedendum {args.dedendum:g} must be above --addendum "
               f"{args.addendum:g} (root clearance)", file=sys.stderr)
         return EXIT_INPUT
@@ -335,40 +336,54 @@ def _gears(args) -> int:
 
 
 def _gears_body(args, design, run) -> int:
+    from plantmech.gears.findings import VERDICT_OK, describe
+    from plantmech.gears.manufacturability import rules_for
     from plantmech.workflows import run_gears
 
     out = run.path
     try:
+        rules = rules_for(design, {"pressure_angle_deg": args.pressure_angle,
+                                   "addendum": args.addendum, "dedendum": args.dedendum})
         rec = run_gears(design, out, module=args.module, face_width=args.face_width,
                         backlash=args.backlash,
-                        tooth={"pressure_angle_deg": args.pressure_angle,
-                               "addendum": args.addendum, "dedendum": args.dedendum})
+                        tooth={"pressure_angle_deg": rules.pressure_angle_deg,
+                               "addendum": rules.addendum, "dedendum": rules.dedendum},
+                        step=args.step)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    failed = {f["gear"] for f in rec["findings"]}
     for g in rec["gears"]:
-        flags = [k for k in ("undercut", "pointed") if g[k]]
         rc = g["cutter_pitch_radius_mm"]
         cutter = (g["cutter"] if rc is None else f"shaper r {rc:.2f} mm")
-        if not g["cutter_fits"]:
-            flags.append(f"concave radius {g['min_concave_curvature_radius_mm']:.2f} mm < "
-                         f"{cutter}")
-        print(f"  {g['name']:<9} z = {g['teeth']:>3}, m = {g['module_mm']:.4f} mm, {cutter}, "
-              f"max pressure angle {g['max_pressure_angle_deg']:.1f} deg"
-              + (f"  WARNING: {', '.join(flags)}" if flags else ""))
+        stl = g["stl"]
+        print(f"  {'FAIL' if g['name'] in failed else 'ok  '} {g['name']:<9} z = "
+              f"{g['teeth']:>3}, m = {g['module_mm']:.4f} mm, {cutter}, max working pressure "
+              f"angle {g['max_pressure_angle_deg']:.1f} deg, STL "
+              + ("one watertight body" if stl["written"] else f"refused ({stl['bodies']} bodies)"))
     for mm in rec["mesh"]:
-        bl = mm["max_backlash_mm"]
-        print(f"  {'ok  ' if mm['ok'] else 'FAIL'} mesh {mm['pair']}: interference "
-              f"{mm['max_interference_mm']:.4f} mm, backlash up to "
-              + ("n/a" if bl is None else f"{bl:.4f} mm"))
+        play = ("none (the outlines overlap everywhere)"
+                if mm["min_circumferential_backlash_mm"] is None else
+                f"{mm['min_circumferential_backlash_mm']:.3f}..."
+                f"{mm['max_circumferential_backlash_mm']:.3f} mm (asked "
+                f"{rec['backlash_mm']:g}), normal gap {mm['min_normal_gap_mm']:.3f}..."
+                f"{mm['max_normal_gap_mm']:.3f} mm")
+        print(f"  {'FAIL' if mm['pair'] in failed else 'ok  '} mesh {mm['pair']}: interference "
+              f"{mm['max_interference_mm']:.4f} mm, circumferential backlash {play}")
     if "step" in rec:
-        print(f"  STEP skipped: {rec['step']}")
+        print(f"  STEP not written: {rec['step']}")
     print(f"wrote {len(rec['files'])} files and verification.json to {run.final(out)}")
     if args.report:
         from plantmech.interfaces.report_cli import gears_report
 
         gears_report(args, out, design, rec)
-    return EXIT_OK if rec["all_pairs_mesh"] else EXIT_NOT_MET
+    for f in rec["findings"]:
+        print(f"  NOT OK {describe(f)}")
+    ok = rec["verdict"] == VERDICT_OK
+    print("verdict: ok - every gear can be cut, the pairs mesh, every file is what it claims"
+          if ok else f"verdict: NOT MET - {rec['verdict']}: {len(rec['findings'])} findings on "
+          f"{len(failed)} gears or pairs")
+    return EXIT_OK if ok else EXIT_NOT_MET
 
 
 def _print_forward(s: dict) -> None:
@@ -497,12 +512,17 @@ def build_parser() -> argparse.ArgumentParser:
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),
                        default=0.1, help="circumferential backlash per pair, mm (0-5)")
     gears.add_argument("--pressure-angle", type=_number(float, 0.0, maximum=35.0, least=5.0),
-                       default=20.0, help="tool pressure angle, deg (5-35)")
+                       default=None, help="tool pressure angle, deg (5-35); default: the "
+                       "design's (manufacturing.pressure_angle_deg, else 20)")
     gears.add_argument("--addendum", type=_number(float, 0.0, maximum=2.0),
-                       default=1.0, help="addendum, x module (up to 2)")
+                       default=None, help="addendum, x module (up to 2); default: the "
+                       "design's manufacturing.addendum (1.0)")
     gears.add_argument("--dedendum", type=_number(float, 0.0, maximum=3.0),
-                       default=1.25, help="dedendum, x module (above the addendum: root "
-                       "clearance; up to 3)")
+                       default=None, help="dedendum, x module (above the addendum: root "
+                       "clearance; up to 3); default: the design's manufacturing.dedendum "
+                       "(1.25)")
+    gears.add_argument("--step", action="store_true",
+                       help="also write STEP solids (needs plantmech[step]; minutes per gear)")
     add_report_option(gears)
     gears.set_defaults(func=_gears)
     from plantmech.optimize import PROBLEMS

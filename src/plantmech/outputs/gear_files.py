@@ -1,5 +1,8 @@
 """Files a workshop can use for generated gears: DXF (closed outlines in mm, one layer
-per gear), SVG, STL (extruded, watertight) and STEP (build123d, optional extra)."""
+per gear), SVG, STL (extruded over z = 0..face width, written only as one watertight body
+and checked again after reading the file back) and STEP (build123d, optional extra:
+straight-edge outline within a stated tolerance, z = 0..face width, checked after
+import)."""
 
 from __future__ import annotations
 
@@ -47,74 +50,145 @@ def write_svg(path: Path, poly, name: str = "gear") -> None:
     path.write_text(svg, encoding="utf-8")
 
 
-def write_stl(path: Path, poly, face_width: float) -> bool:
-    """Extrude to ``face_width`` mm and write an STL; returns watertightness."""
+def solid_check(mesh) -> dict:
+    """What an extruded mesh is: {"bodies", "watertight", "volume_mm3"} (trimesh: bodies
+    from ``split`` over every face, so zero-volume fragments count)."""
+    return {"bodies": int(len(mesh.split(only_watertight=False))),
+            "watertight": bool(mesh.is_watertight), "volume_mm3": float(mesh.volume)}
+
+
+def _one_body(check: dict) -> bool:
+    return check["bodies"] == 1 and check["watertight"] and check["volume_mm3"] > 0
+
+
+def write_stl(path: Path, poly, face_width: float) -> dict:
+    """Extrude ``poly`` (mm) over z = 0..``face_width`` mm and write it as STL, only if it
+    is one watertight body of positive volume; the written file is read back and checked
+    again (a file that is not what it claims is removed). Returns {"written", "bodies",
+    "watertight", "volume_mm3", "why"} (why: None, or the reason nothing was written)."""
     import trimesh
 
     mesh = trimesh.creation.extrude_polygon(poly, height=face_width)
+    check = solid_check(mesh)
+    if not _one_body(check):
+        return check | {"written": False, "why": (
+            f"the extruded outline is {check['bodies']} bodies (watertight "
+            f"{check['watertight']}, volume {check['volume_mm3']:.1f} mm^3): refused, "
+            "not written")}
     mesh.export(path)
-    return bool(mesh.is_watertight)
+    back = solid_check(trimesh.load(path, force="mesh"))
+    if not _one_body(back):
+        path.unlink()
+        return back | {"written": False, "why": (
+            f"the written STL read back as {back['bodies']} bodies (watertight "
+            f"{back['watertight']}): removed")}
+    return back | {"written": True, "why": None}
 
 
-def write_step(path: Path, poly, face_width: float) -> str | None:
-    """STEP through build123d (``pip install plantmech[step]``): outlines as B-spline
-    edges through the outline points, extruded. Returns None, or why it was skipped."""
+STEP_TOLERANCE_MM = 2e-3  # the STEP outline's largest distance from the cut outline
+
+
+def write_step(path: Path, poly, face_width: float,
+               tolerance: float = STEP_TOLERANCE_MM) -> dict:
+    """STEP through build123d (``pip install plantmech[step]``): the cut outline reduced
+    to the fewest vertices within ``tolerance`` mm (Douglas-Peucker), its rings as closed
+    straight-edge polygons, extruded over z = 0..``face_width`` mm like the STL. The file
+    is imported back and checked: one valid solid, z range, volume against the outline's
+    area x face width, and the largest distance between its outline (the solid's bottom
+    face) and the cut outline (measured, recorded as ``max_deviation_mm``). Returns
+    {"written", "why", ...measurements}; why is None, or why nothing was written."""
+    import time
+
     try:
         import build123d as bd
     except ImportError:
-        return "build123d is not installed (pip install 'plantmech[step]')"
+        return {"written": False, "skipped": True,
+                "why": "build123d is not installed (pip install 'plantmech[step]')"}
+    import shapely
+
+    simple = poly.simplify(tolerance, preserve_topology=True)
 
     def face_of(ring):
-        # one spline per smooth run of the outline (a flank, a tip land, a root fillet),
-        # split where the direction turns by more than 25 deg: a single spline through a
-        # toothed outline loops at the corners (its face came out 70 % too large)
-        xy = np.asarray(ring, dtype=float)[:, :2]
-        xy = xy[:-1] if np.allclose(xy[0], xy[-1]) else xy
-        d = np.diff(np.vstack([xy, xy[:1]]), axis=0)
-        keep = np.hypot(*d.T) > 1e-3
-        xy = xy[keep]
-        d = np.diff(np.vstack([xy, xy[:1]]), axis=0)
-        heading = np.arctan2(d[:, 1], d[:, 0])
-        turn = np.abs(np.angle(np.exp(1j * (heading - np.roll(heading, 1)))))
-        corners = np.flatnonzero(turn > np.radians(25.0))
-        if len(corners) == 0:
-            corners = np.array([0])
-        xy = np.roll(xy, -corners[0], axis=0)
-        corners = np.r_[corners - corners[0], len(xy)]
-        edges = []
-        for a, b in zip(corners[:-1], corners[1:], strict=True):
-            run = [bd.Vector(float(x), float(y), 0.0) for x, y in xy[a:b + 1]] if b < len(xy) \
-                else [bd.Vector(float(x), float(y), 0.0) for x, y in np.vstack([xy[a:], xy[:1]])]
-            edges.append(bd.Edge.make_spline(run) if len(run) > 3 else
-                         bd.Edge.make_line(run[0], run[-1]) if len(run) == 2 else
-                         bd.Edge.make_spline(run))
-        return bd.Face(bd.Wire(edges))
+        xy = np.asarray(ring.coords)[:-1, :2]
+        return bd.Face(bd.Wire.make_polygon([bd.Vector(float(x), float(y), 0.0)
+                                             for x, y in xy], close=True))
 
-    rings = list(_rings(poly))
-    face = face_of(rings[0])
-    for hole in rings[1:]:
+    face = face_of(simple.exterior)
+    for hole in simple.interiors:
         face = face - face_of(hole)
-    solid = bd.extrude(face, amount=face_width)
+    solid = bd.extrude(face, amount=face_width, dir=(0, 0, 1), clean=False)
     bd.export_step(solid, str(path))
-    return None
+    t0 = time.perf_counter()
+    solids = bd.import_step(str(path)).solids()
+    import_s = time.perf_counter() - t0
+    rec = {"tolerance_mm": tolerance, "import_s": round(import_s, 3),
+           "size_bytes": path.stat().st_size, "solids": len(solids)}
+    why = None
+    if len(solids) != 1 or not solids[0].is_valid:
+        why = f"the STEP file read back as {len(solids)} solids (valid: " \
+              f"{[s.is_valid for s in solids]})"
+    else:
+        s = solids[0]
+        bb = s.bounding_box()
+        rec |= {"z_mm": [round(bb.min.Z, 6), round(bb.max.Z, 6)],
+                "volume_mm3": float(s.volume)}
+        bottom = min(s.faces(), key=lambda f: f.center().Z)
+        # each ring rebuilt from its edges in order (an imported wire's vertex list is
+        # not ordered)
+        rings = [_ordered_ring(w) for w in [bottom.outer_wire(), *bottom.inner_wires()]]
+        back = shapely.Polygon(rings[0], rings[1:])
+        dev = float(shapely.hausdorff_distance(back.boundary, poly.boundary, densify=0.25))
+        rec["max_deviation_mm"] = dev
+        if abs(bb.min.Z) > 1e-6 or abs(bb.max.Z - face_width) > 1e-6:
+            why = f"the STEP solid spans z {bb.min.Z:.3f}..{bb.max.Z:.3f} mm, not 0..{face_width}"
+        elif abs(s.volume - poly.area * face_width) > 1e-3 * poly.area * face_width:
+            why = (f"the STEP solid's volume {s.volume:.1f} mm^3 differs from the outline's "
+                   f"{poly.area * face_width:.1f} mm^3")
+        elif dev > 1.5 * tolerance:
+            why = f"the STEP outline deviates {dev:.4f} mm from the cut outline (> {tolerance})"
+    if why is not None:
+        path.unlink()
+    return rec | {"written": why is None, "why": why}
 
 
-def plot_pair(path: Path, pair, placed_a, placed_b) -> None:
+def _ordered_ring(wire) -> np.ndarray:
+    """(N, 2) vertices of a closed build123d wire in edge order."""
+    return np.array([[e.start_point().X, e.start_point().Y] for e in wire.order_edges()])
+
+
+def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
+    """The pair in mesh at the start of the cycle: gear A (blue, centre at the origin) and
+    gear B (orange, centre at (a, 0)), each named in the legend with its tooth count."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch, PathPatch
+    from matplotlib.path import Path as MplPath
 
     fig, ax = plt.subplots(figsize=(8, 6))
-    for poly, colour in ((placed_a, "tab:blue"), (placed_b, "tab:orange")):
+    handles = []
+    for poly, colour, name, z, centre in (
+            (placed_a, "tab:blue", names[0], pair.teeth_a, "(0, 0)"),
+            (placed_b, "tab:orange", names[1], pair.teeth_b, f"({pair.a:.1f}, 0)")):
         geoms = getattr(poly, "geoms", [poly])
         for g in geoms:
             if g.geom_type != "Polygon":
                 continue
-            for ring in _rings(g):
-                ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.35, lw=0)
+            rings = list(_rings(g))
+            # one compound path per polygon, so a bore or an internal gear's toothed hole
+            # stays a hole
+            outline = MplPath.make_compound_path(*[MplPath(r[:, :2], closed=True)
+                                                for r in rings])
+            ax.add_patch(PathPatch(outline, facecolor=colour, alpha=0.35, lw=0))
+            for ring in rings:
                 ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=0.5)
+        kind = " (internal gear)" if pair.internal and colour == "tab:blue" \
+            and name != "internal" else ""
+        handles.append(Patch(color=colour, alpha=0.5,
+                             label=f"{name}{kind}: {z} teeth, centre {centre} mm"))
     ax.plot([0, pair.a], [0, 0], "k+-", lw=0.5, ms=10)
+    ax.legend(handles=handles, loc="upper right", fontsize=8)
     ax.set_aspect("equal")
     ax.set_xlabel("x / mm")
     ax.set_ylabel("y / mm")
