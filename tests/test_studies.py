@@ -247,6 +247,7 @@ def test_stopped_study_resumes_without_recomputing(seeder, tmp_path):
         first = run_study(seeder, spec, tmp_path / "a", "fp", scheduler=cluster.scheduler_address,
                           progress=False, max_chunks=1)
         assert first.stats.stopped_early and first.stats.evaluations == 30
+        assert first.summary["complete"] is False and first.summary["samples"] == 30
         assert len(done_chunks(tmp_path / "a")) == 1
         again = run_study(seeder, spec, tmp_path / "a", "fp",
                           scheduler=cluster.scheduler_address, progress=False)
@@ -262,6 +263,7 @@ def test_stopped_study_resumes_without_recomputing(seeder, tmp_path):
     for k in b:
         assert np.array_equal(a[k], b[k], equal_nan=True), k
     assert again.summary["probability_all_ok"] == whole.summary["probability_all_ok"]
+    assert again.summary["complete"] is True
 
 
 def test_chunk_outputs_of_the_nominal_are_zero(seeder):

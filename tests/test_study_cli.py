@@ -69,9 +69,17 @@ high = 0.4
 levels = 2
 """)
     out = tmp_path / "out"
+    # stopped after one chunk: exit 4, the finished chunk summarised and marked partial
+    assert main(["study", SEEDER, "--spec", spec, "--out", str(out), "--workers", "1",
+                 "--quiet", "--max-chunks", "1"]) == 4
+    s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] is False and s["samples"] == 3
+    assert "INCOMPLETE" in capsys.readouterr().err
     assert main(["study", SEEDER, "--spec", spec, "--out", str(out), "--workers", "1",
                  "--quiet"]) == 0
+    assert "1 computed, 1 already done" in capsys.readouterr().out
     s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] is True
     assert s["samples"] == 6 and (out / "sweep.png").stat().st_size > 10000
     assert sorted({round(v["low"], 3) for v in s["parameters"]}) == [0.0, 485.0]
     # the same command again resumes: nothing left to compute

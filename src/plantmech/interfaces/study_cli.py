@@ -107,16 +107,19 @@ def _report(args, spec, design, out: Path, outcome) -> int:
           f"{st.workers} workers (cluster start {st.cluster_start_s:.1f} s)"
           + (f", {run['designs_per_s']:.1f} designs/s" if spec.kind != "multi-start"
              and run["designs_per_s"] else ""))
+    s = outcome.summary
     if not st.complete:
-        write_json(out / "run_incomplete.json", outcome.summary)
         for c, msg in st.failed:
             print(f"chunk {c} failed: {msg}", file=sys.stderr)
-        print(f"INCOMPLETE: rerun the same command to resume ({out / 'chunks'})",
+        print(f"INCOMPLETE: {st.total_chunks - st.skipped_chunks - st.computed_chunks} "
+              f"chunk(s) not done; rerun the same command to resume ({out / 'chunks'})",
               file=sys.stderr)
-        return EXIT_NOT_MET
-    (out / "run_incomplete.json").unlink(missing_ok=True)
+        if "complete" not in s:  # nothing finished yet: nothing to summarise
+            write_json(out / "summary.json", s)
+            return EXIT_NOT_MET
+        print("the summary and plots below cover the finished chunks only "
+              "(summary.json: complete = false)", file=sys.stderr)
     written = [out / "summary.json"]
-    s = outcome.summary
     if spec.kind == "tolerance":
         written += _tolerance_files(args, design, out, s)
         code = EXIT_OK
@@ -151,7 +154,7 @@ def _report(args, spec, design, out: Path, outcome) -> int:
         code = EXIT_OK if s["successes"] else EXIT_NOT_MET
     write_json(out / "summary.json", s)
     print("wrote: " + ", ".join(str(p) for p in written) + f", {out / 'chunks'}/ (Parquet)")
-    return code
+    return code if st.complete else EXIT_NOT_MET
 
 
 def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:

@@ -9,7 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
-from plantmech.studies.engine import RunStats, claim_out_dir, read_results, run_chunks
+from plantmech.studies.engine import (
+    RunStats,
+    claim_out_dir,
+    done_chunks,
+    read_results,
+    run_chunks,
+)
 from plantmech.studies.spec import MultiStartSpec
 
 
@@ -54,7 +60,7 @@ def run_multistart(design, spec: MultiStartSpec, out: Path, fingerprint: str,
     stats: RunStats = run_chunks(out, start_task, (design, spec, design_input), chunks,
                                  scheduler, workers, progress, max_chunks, label="starts")
     summary = {}
-    if stats.complete:
+    if done_chunks(out):  # a stopped study still summarises the starts it finished
         data = read_results(out)
         n = len(data["seed"])
         ok = data["feasible"].astype(bool)
@@ -78,6 +84,6 @@ def run_multistart(design, spec: MultiStartSpec, out: Path, fingerprint: str,
                    "seeds_succeeded": [int(s) for s in data["seed"][ok]],
                    "first_feasible_s_median": float(np.median(ffs)) if len(ffs) else None,
                    "evaluations_total": int(data["evaluations"].sum()),
-                   "best": best}
+                   "best": best, "complete": stats.complete}
     summary["run"] = stats.as_dict()
     return StudyOutcome(stats, summary)

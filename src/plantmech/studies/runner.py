@@ -73,7 +73,7 @@ def run_study(design, spec, out: Path, fingerprint: str, scheduler: str | None =
             chunks.append((c, (c, start, n, spec.seed, dists), n))
         stats = run_chunks(out, tolerance_chunk, model, chunks, scheduler, workers, progress,
                            max_chunks)
-        summary = tolerance_summary(model, spec, out) if stats.complete else {}
+        summary = tolerance_summary(model, spec, out) if _rows(out) else {}
     else:
         values = sweep_values(spec)
         chunks = [(c, (start, values[start:start + spec.chunk]),
@@ -81,9 +81,17 @@ def run_study(design, spec, out: Path, fingerprint: str, scheduler: str | None =
                   for c, start in enumerate(range(0, len(values), spec.chunk))]
         stats = run_chunks(out, sweep_chunk, model, chunks, scheduler, workers, progress,
                            max_chunks)
-        summary = sweep_summary(model, spec, out) if stats.complete else {}
+        summary = sweep_summary(model, spec, out) if _rows(out) else {}
+    if summary:  # a stopped study still summarises the chunks it finished
+        summary["complete"] = stats.complete
     summary["run"] = stats.as_dict()
     return StudyOutcome(stats, summary)
+
+
+def _rows(out: Path) -> int:
+    from plantmech.studies.engine import done_chunks
+
+    return len(done_chunks(out))
 
 
 # --- summaries ---------------------------------------------------------------------------
