@@ -133,8 +133,40 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         stage("gears", ok=False, skipped="the pitch curves fail the manufacturability checks")
         rec["gears_skipped"] = True
     rec["final_checks"] = check["objectives"]
-    rec["wall_s"] = round(time.perf_counter() - t0, 2)
     rec["verdict"] = verdict(problems=failed)
+    say("      writing the report (report.html, mechanism.gif)")
+    written += _report(final, out, rec, gears)
+    rec["wall_s"] = round(time.perf_counter() - t0, 2)
     write_json(out / "summary.json", rec)
     written.append(out / "summary.json")
     return DesignOutcome(rec, written)
+
+
+def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
+    """report.html (and mechanism.gif): the final design's objectives, plots and animation,
+    the gears' findings and drawings, and the job's verdict."""
+    from plantmech.outputs.report import (
+        findings_rows,
+        job_animation,
+        job_figures,
+        write_report,
+    )
+    from plantmech.outputs.verdict import verdict_line
+    from plantmech.workflows import run_seeder_forward, run_transplanter
+
+    job = (run_seeder_forward(final) if final.mechanism == "sugarcane_seeder"
+           else run_transplanter(final))
+    figures, drawings = list(job_figures(job)), []
+    summary = dict(job.summary, stages=rec["stages"])
+    if gears is not None:
+        gdir = out / "gears"
+        summary["gear_checks"] = findings_rows(gears)
+        figures += [(f, gdir / f) for f in gears["files"] if f.endswith(".png")]
+        drawings = [(f, gdir / f) for f in gears["files"] if f.endswith(".svg")]
+    v = rec["verdict"]
+    return write_report(out / "report.html", summary, figures, job_animation(job),
+                        gear_drawings=drawings, title=f"{final.name}: plantmech design",
+                        command="plantmech design",
+                        verdict=(v["ok"], verdict_line(v, "every objective and "
+                                                          "manufacturability check met, the "
+                                                          "gears cut and checked")))

@@ -97,25 +97,14 @@ def _optimize_verdict(outcome) -> str:
 def gears_report(args, out: Path, design, rec: dict) -> list[Path]:
     """Report of ``plantmech gears``: checks per gear, mesh checks, the mesh PNGs and
     every gear's SVG drawing, and the mechanism animated."""
-    from plantmech.outputs.report import write_report
+    from plantmech.outputs.report import findings_rows, write_report
 
     figures = [(f, out / f) for f in rec["files"] if f.endswith(".png")]
     drawings = [(f, out / f) for f in rec["files"] if f.endswith(".svg")]
-    checks = []
-    for g in rec["gears"]:
-        rc = g.get("cutter_pitch_radius_mm")
-        checks += [
-            {"name": f"{g['name']}: cutter fits the concave spans", "ok": bool(g["cutter_fits"]),
-             "value": g.get("min_concave_curvature_radius_mm"), "unit": "mm",
-             "limit": "smallest concave radius of curvature above the cutter's"
-                      + (f" ({rc:.2f} mm)" if rc else "")},
-            {"name": f"{g['name']}: no undercut", "ok": not g["undercut"], "value": g["teeth"],
-             "unit": "teeth", "limit": "equivalent spur gear not undercut"},
-            {"name": f"{g['name']}: no pointed teeth", "ok": not g["pointed"], "value": None,
-             "unit": "", "limit": "equivalent spur gear teeth not pointed"},
-            {"name": f"{g['name']}: max pressure angle", "ok": True, "required": False,
-             "value": g["max_pressure_angle_deg"], "unit": "deg", "limit": "reported"}]
-    summary = dict(rec, name=design.name, gear_checks=checks)
-    # the verdict counts the meshes and every gear check (the exit status: the meshes)
+    summary = dict(rec, name=design.name, gear_checks=findings_rows(rec))
+    ok = rec["verdict"] == "ok"
+    verdict = (ok, "every gear can be cut, the pairs mesh, every file is what it claims" if ok
+               else f"NOT MET: {rec['verdict']}, {len(rec['findings'])} findings")
     return _finish(write_report(out / REPORT_NAME, summary, figures, design_animation(design),
+                                verdict=verdict,
                                 gear_drawings=drawings, command=_command(args)))

@@ -159,14 +159,12 @@ def _ordered_ring(wire) -> np.ndarray:
 def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
     """The pair in mesh at the start of the cycle: gear A (blue, centre at the origin) and
     gear B (orange, centre at (a, 0)), each named in the legend with its tooth count."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # no pyplot: the caller's backend is left alone
     from matplotlib.patches import Patch, PathPatch
     from matplotlib.path import Path as MplPath
 
-    fig, ax = plt.subplots(figsize=(8, 6))
+    fig = Figure(figsize=(8, 6))
+    ax = fig.subplots()
     handles = []
     for poly, colour, name, z, centre in (
             (placed_a, "tab:blue", names[0], pair.teeth_a, "(0, 0)"),
@@ -197,4 +195,3 @@ def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
-    plt.close(fig)

@@ -515,6 +515,22 @@ def write_report(path: str | Path, summary: dict, figures=(), animation: Animati
     return [path] + written
 
 
+def findings_rows(rec: dict) -> list[dict]:
+    """The gears record's findings (``gears.findings``) as report rows, one failed check
+    each, and one passed row per gear and pair without a finding."""
+    from plantmech.gears.findings import describe
+
+    rows = [{"name": f"{f['gear']}: {f['check']}", "ok": False, "value": f["value"],
+             "unit": f["unit"], "limit": f["limit"], "note": describe(f)}
+            for f in rec["findings"]]
+    failed = {f["gear"] for f in rec["findings"]}
+    for name in [g["name"] for g in rec["gears"]] + [m["pair"] for m in rec["mesh"]]:
+        if name not in failed:
+            rows.append({"name": f"{name}: every check", "ok": True, "value": None,
+                         "unit": "", "limit": "no finding"})
+    return rows
+
+
 # --- a job's figures and animation (for the API and the reports) ----------------------
 
 
