@@ -54,6 +54,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
+# the examples the cases mutate, fixed so that a new example does not change the seeded
+# corpus (the cases' numbers in the regression tests stay the same designs)
+CORPUS_EXAMPLES = ("rice_transplanter", "rice_transplanter_khv", "rice_transplanter_toothed",
+                   "sugarcane_seeder", "sugarcane_seeder_dwell", "sugarcane_seeder_g",
+                   "sugarcane_seeder_optimized", "sugarcane_table2_as_printed",
+                   "sugarcane_table4")
 COMMANDS = ("inverse", "forward", "gears", "optimize")
 
 
@@ -359,7 +365,7 @@ def make_case(index: int, seed: int, full: bool = False) -> Case:
     import tomli_w
 
     rng = random.Random(f"{seed}:{index}")
-    examples = sorted(EXAMPLES.glob("*.toml"))
+    examples = [EXAMPLES / f"{n}.toml" for n in CORPUS_EXAMPLES]
     ex = rng.choice(examples)
     doc = tomllib.loads(ex.read_text(encoding="utf-8"))
     command = rng.choices(COMMANDS, weights=(40, 40, 6, 14))[0]
