@@ -282,26 +282,21 @@ def shape_pair(t, r, r1, r2, a, names=("gear", "mate")) -> tuple[tuple[GearShape
 def choose_module(perimeter, low, high) -> np.ndarray:
     """The largest standard module in [low, high] (ISO 54 first choice) turned into a whole
     tooth count on ``perimeter`` (m = P / (pi z), z = ceil(P / (pi m_std)), so m <= m_std);
-    where no standard module fits, the window's largest whole-tooth module; nan if none."""
+    where no standard module fits, the window's largest whole-tooth module; nan if none.
+    Vectorised over designs (P,)."""
     P = np.atleast_1d(np.asarray(perimeter, dtype=float))
-    low, high = np.broadcast_to(low, P.shape), np.broadcast_to(high, P.shape)
+    low = np.broadcast_to(np.asarray(low, dtype=float), P.shape)
+    high = np.broadcast_to(np.asarray(high, dtype=float), P.shape)
     std = np.asarray(STANDARD_MODULES)
-    out = np.full(P.shape, np.nan)
-    for k in range(P.size):
-        lo, hi = low[k], high[k]
-        if not hi >= lo:
-            continue
-        cands = std[(std <= hi) & (std >= lo)]
-        m0 = cands.max() if cands.size else min(hi, P[k] / np.pi)
-        z = np.ceil(P[k] / (np.pi * m0) - 1e-9)
-        m = P[k] / (np.pi * z)
-        if m < lo:  # the whole tooth count pushed m below the window: take the largest fit
-            z = np.floor(P[k] / (np.pi * lo) + 1e-9)
-            m = P[k] / (np.pi * z) if z >= 1 else np.nan
-            if not (lo <= m <= hi):
-                m = np.nan
-        out[k] = m
-    return out
+    fits = (std[None, :] <= high[:, None]) & (std[None, :] >= low[:, None])
+    m0 = np.where(fits.any(axis=1), np.where(fits, std[None, :], -np.inf).max(axis=1),
+                  np.minimum(high, P / np.pi))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        m = P / (np.pi * np.ceil(P / (np.pi * m0) - 1e-9))
+        # the whole tooth count pushed m below the window: take the largest fit
+        z = np.floor(P / (np.pi * low) + 1e-9)
+        m = np.where(m < low, np.where(z >= 1, P / (np.pi * z), np.nan), m)
+    return np.where((high >= low) & (m >= low) & (m <= high), m, np.nan)
 
 
 def violation(v: PairVerdict, rules: CuttingRules, margin: float = 0.0) -> np.ndarray:
