@@ -79,7 +79,7 @@ def table4_floor():
 
 
 def table4_phase_grid(step_deg: float = 10.0):
-    from plantmech.workflows import run_seeder_forward, trajectory_deviation
+    from plantmech.workflows import run_seeder_forward
 
     base = load_design(EX / "sugarcane_table4.toml")
     rows = []
@@ -121,13 +121,12 @@ def table4_phase_grid_population(step_deg: float = 10.0, samples: int = 720):
     """The same grid on the population model (``evaluate_seeder_population``, 720 samples per
     turn, the optimizer's resolution): seeding peak and static return minimum per pair, and
     the RMS distance of the path from the plan."""
+    from plantmech.geometry.trajectory import ClosedTrajectory
     from plantmech.workflows import (
         evaluate_seeder_population,
         section_reference_psi,
         trajectory_deviation,
     )
-
-    from plantmech.geometry.trajectory import ClosedTrajectory
 
     base = load_design(EX / "sugarcane_table4.toml")
     grid = np.arange(0.0, 360.0, step_deg)

@@ -303,7 +303,53 @@ def test_layer1_of_a_dwell_design_checks_each_candidate_alone():
     for k in range(2):
         ref = seeder_inverse_checks(p.decode(X[k]), p.samples, LAYER1_PITCH_MARGIN_MM)
         assert b.values[k, 0] == ref["infeasible"]
-        assert np.array_equal(b.values[k, 1:], ref["values"], equal_nan=True)
+        assert np.array_equal(b.values[k, 1:14], ref["values"], equal_nan=True)
+        assert np.array_equal(b.values[k, 14:], ref["pitch_tangent_angle"], equal_nan=True)
+
+
+def test_layer1_pitch_tangent_angle_is_the_gears_working_pressure_angle_less_the_tool():
+    """Layer 1's mu of each pair (from the ratio law, h = a1 / r2 - 1, on the carrier grid)
+    is what the manufacturability model measures on the pitch curves themselves
+    (``gears.manufacturability``: working pressure angle = tool alpha + max mu)."""
+    from plantmech.optimize.problems import SeederLayer1
+    from plantmech.workflows import run_seeder_inverse
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml").model_copy(
+        update={"train": None})
+    p = SeederLayer1(d, workers=1, samples=720)
+    b = p.evaluate_batch(np.zeros((1, p.n_var)))
+    mu = b.values[0, [b.names.index("pitch_tangent_angle_sun_gear2"),
+                      b.names.index("pitch_tangent_angle_gear3_planet")]]
+    d720 = p.decode(np.zeros(p.n_var))
+    d720.trajectory.samples = 720
+    job = run_seeder_inverse(d720, manufacturability=True)
+    rows = {o["name"]: o["value"] for o in job.summary["manufacturing_checks"]}
+    alpha = d.gear_checks.tool_pressure_angle_deg
+    assert mu[0] + alpha == pytest.approx(rows["working_pressure_angle_sun_gear2"], abs=0.5)
+    assert mu[1] + alpha == pytest.approx(rows["working_pressure_angle_gear3_planet"], abs=0.5)
+    assert mu.min() > 40.0  # this path's gears cannot be cut at 45 deg (docs/manufacturability)
+
+
+def test_layer1_pitch_tangent_angle_is_required_only_with_gear_shape():
+    """Reported (no violation, not required) by default, with its graded violation kept for
+    the trade-off archive; a constraint with ``gear_shape``."""
+    from plantmech.optimize.problems import SeederLayer1
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml").model_copy(
+        update={"train": None})
+    k = None
+    for gear_shape in (False, True):
+        p = SeederLayer1(d, workers=1, gear_shape=gear_shape)
+        b = p.evaluate_batch(np.zeros((1, p.n_var)))
+        k = b.names.index("pitch_tangent_angle_sun_gear2")
+        mu = b.values[0, k]
+        assert p.max_pitch_tangent_angle_deg == 45.0 - 20.0
+        expect = (mu - 25.0) / 25.0  # relative violation of mu < 25 deg
+        assert b.required[k] == gear_shape
+        assert b.G[0, k] == pytest.approx(expect if gear_shape else 0.0)
+        assert b.extra["graded_violation"][0, k] == pytest.approx(expect)
+        p.remember(np.zeros((1, p.n_var)), b)
+        assert p.tradeoff["manufacturing"][0] >= expect  # graded, not a 0/1 count
 
 
 def test_time_budget_stops_every_run_inside_it_and_says_so():

@@ -101,10 +101,21 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         stage("optimize", problem=name, feasible=outcome.feasible, stopped_by_time_limit=cut,
               evaluations=outcome.record.get("evaluations"),
               failed=_failed(check), tradeoff=outcome.record.get("tradeoff", {}).get(
+                  "conflict"), path_tradeoff=outcome.record.get("layer1_tradeoff", {}).get(
                   "conflict"))
         say(f"      {'met' if outcome.feasible else 'NOT met'} after "
             f"{outcome.record.get('evaluations')} evaluations"
             + ("" if outcome.feasible else f": {', '.join(_failed(check)) or 'see run.json'}"))
+        if not outcome.feasible:
+            for key, what in (("tradeoff", "trade-off (optimize/tradeoff.csv)"),
+                              ("layer1_tradeoff", "the planned path's own trade-off "
+                                                  "(optimize/layer1/tradeoff.csv)")):
+                t = outcome.record.get(key)
+                if t is not None:
+                    say(f"      {what}: {t['conflict']}")
+            if name == "seeder-layered":
+                say("      why a seeder path can force uncuttable gears: "
+                    "docs/manufacturability.md")
     header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
               "see summary.json")
     (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")

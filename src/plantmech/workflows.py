@@ -550,7 +550,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
         return {"names": names, "units": [""] * len(names), "limits": [""] * len(names),
                 "values": [np.nan] * len(names), "ok": [False] * len(names),
                 "violation": [10.0] * len(names), "infeasible": float(max(n_err, 1.0)),
-                "objectives": [1e3, 1e3, 1e3]}
+                "objectives": [1e3, 1e3, 1e3], "pitch_tangent_angle": [np.nan, np.nan]}
     res = job.result
     checks = [c for c in job.summary["trajectory_checks"]]
     checks += job.summary["objectives"]
@@ -578,7 +578,21 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     objectives = [values[names.index(n)] for n in ("picking_swing", "seeding_swing",
                                                    "sowing_angle")]
     return {"names": names, "units": units, "limits": limits, "values": values, "ok": ok,
-            "violation": viol, "infeasible": 0.0, "objectives": objectives}
+            "violation": viol, "infeasible": 0.0, "objectives": objectives,
+            "pitch_tangent_angle": _pitch_tangent_angle_deg(res)}
+
+
+def _pitch_tangent_angle_deg(res) -> list[float]:
+    """Largest pitch tangent angle mu (deg) of the sun-gear 2 and gear 3-planet pairs of a
+    single inverse design, as ``seeder_inverse_batch.pitch_tangent_angle`` (samples in a
+    toothless dwell, where the radii are NaN, are left out)."""
+    from plantmech.mechanisms.seeder_inverse_batch import pitch_tangent_angle
+
+    radii = np.stack([res.r1, res.r2, res.r3, res.r4])[None]
+    with np.errstate(invalid="ignore"):
+        mu = pitch_tangent_angle(radii, np.array([res.a1]), 2 * np.pi / len(res.r1),
+                                 nan_ok=bool(np.isnan(radii).any()))
+    return [round(float(np.degrees(v)), 6) for v in mu[0]]
 
 
 def _span_deg(diagnostic) -> float:
@@ -720,10 +734,11 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
     bad = ~inv.feasible
     values[bad], ok[bad], viol[bad] = np.nan, False, 10.0
     objectives = np.where(bad[:, None], 1e3, values[:, 7:10])
+    mu = np.where(bad[:, None], np.nan, np.round(np.degrees(inv.pitch_tangent_angle), 6))
     return {"names": list(LAYER1_NAMES), "units": [b[3] for b in bounds],
             "limits": [limit_text(b[1], b[2], b[3]) for b in bounds], "values": values,
             "ok": ok, "violation": viol, "infeasible": inv.error_score,
-            "objectives": objectives}
+            "objectives": objectives, "pitch_tangent_angle": mu}
 
 
 def trajectory_deviation_batch(design: SeederDesign, tips: np.ndarray,

@@ -187,18 +187,23 @@ def _split_and_close(g, split_exponent, a1, a2, step):
     return radii, planet_train, closure
 
 
-def pitch_tangent_angle(radii: np.ndarray, a1: np.ndarray, step: float) -> np.ndarray:
+def pitch_tangent_angle(radii: np.ndarray, a1: np.ndarray, step: float,
+                        nan_ok: bool = False) -> np.ndarray:
     """Largest angle mu (rad) between the pitch tangent and the normal to the radius vector
     of each pair, (P, 2), from the pitch radii r1..r4 (P, 4, n) on the uniform carrier grid:
     gears 2 and 3 share a shaft turning d theta / d psi = h = a1 / r2 - 1 relative to the
     carrier, so tan mu = abs(dr / d psi) / (h r) along gear 2 (sun pair) and gear 3 (planet
-    pair); the working pressure angle is the tool's plus mu (``gears.manufacturability``)."""
+    pair); the working pressure angle is the tool's plus mu (``gears.manufacturability``).
+    ``nan_ok``: samples with NaN radii (a toothless dwell) are left out of the maximum; the
+    slopes are then central differences (local: a spline's would be NaN everywhere)."""
     r2, r3 = radii[:, 1], radii[:, 2]
     h = a1[:, None] / r2 - 1.0
     out = []
     for r in (r2, r3):
-        dr = _node_slopes(r, step)
-        out.append(np.arctan(np.abs(dr) / (np.abs(h) * r)).max(axis=1))
+        dr = ((np.roll(r, -1, axis=1) - np.roll(r, 1, axis=1)) / (2 * step) if nan_ok
+              else _node_slopes(r, step))
+        mu = np.arctan(np.abs(dr) / (np.abs(h) * r))
+        out.append(np.nanmax(mu, axis=1) if nan_ok else mu.max(axis=1))
     return np.stack(out, axis=1)
 
 

@@ -126,7 +126,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
         if name == "seeder-layer1":
             _needs_trajectory(design, name)
             problem, res, extra["stages"] = layer1_staged(
-                design, algorithm, seed, generations, pop, progress, shifts=seeding_shifts)
+                design, algorithm, seed, generations, pop, progress, shifts=seeding_shifts,
+                gear_shape=manufacturability)
         elif name == "transplanter" and manufacturability:
             problem, res, extra["stages"] = transplanter_tooth_fit_staged(
                 design, algorithm, seed, generations, pop, progress)
@@ -189,6 +190,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     }
     if "tradeoff" in rec2:
         rec["tradeoff"] = rec2["tradeoff"]
+    if "tradeoff" in rec1:  # the path's own conflict: agronomic vs the pitch tangent angles
+        rec["layer1_tradeoff"] = rec1["tradeoff"]
     rec["verdict"] = run_verdict(rec)
     write_json(out / "run.json", rec)
     for f in ("history.csv", "pareto.csv"):
@@ -255,14 +258,17 @@ class _Tally:
 
 
 def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
-                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = 0, hook=None):
+                  progress: bool = True, stages=LAYER1_STAGES, shifts: int = 0, hook=None,
+                  gear_shape: bool = False):
     """Seed 000's layer 1: scout ``shifts`` + 1 places of the seeding point
     (``LAYER1_SCOUT``; none when 0), then staged runs (``LAYER1_STAGES``) from the best
-    design so far. Stops at the first design meeting every objective."""
+    design so far. Stops at the first design meeting every objective. ``gear_shape``: the
+    pitch tangent angles of both pairs are constraints (else reported, and in the
+    trade-off archive)."""
     from plantmech.optimize.problems import SeederLayer1, shift_seeding_point
 
     def build(d, stage):
-        return SeederLayer1(d, bound_mm=stage[0])
+        return SeederLayer1(d, bound_mm=stage[0], gear_shape=gear_shape)
 
     best, records, tally = None, [], _Tally()
     for k in range(shifts + 1 if shifts else 0):
@@ -437,6 +443,8 @@ def summary_lines(record: dict) -> list[str]:
     t = record.get("tradeoff")
     if t is not None and not record["feasible"]:
         lines.append("trade-off (tradeoff.csv): " + t["conflict"])
-    return lines
+    t1 = record.get("layer1_tradeoff")
+    if t1 is not None and not record["feasible"]:
+        lines.append("trade-off of the path itself (layer1/tradeoff.csv): " + t1["conflict"])
     return lines
 

@@ -134,7 +134,11 @@ class DesignProblem(Problem):
         gear = np.array([is_gear_shape_check(nm) for nm in b.names[:n]])
         if not gear.any():
             return
-        raw = np.where(b.ok[:, :n], 0.0, 1.0)  # reported-only columns carry no violation
+        # reported-only columns carry no violation in G: their graded one if the problem
+        # kept it, else failed = 1
+        graded = b.extra.get("graded_violation")
+        raw = (np.where(np.isfinite(graded[:, :n]), graded[:, :n], 10.0) if graded is not None
+               else np.where(b.ok[:, :n], 0.0, 1.0))
         G = np.where(np.isfinite(b.G[:, :n]), np.maximum(b.G[:, :n], 0.0), 10.0)
         req = b.required[:n] if b.required is not None else np.ones(n, bool)
         G = np.where(gear & ~req, raw, G)
@@ -315,10 +319,18 @@ class SeederLayer1(DesignProblem):
 
     def __init__(self, design: SeederDesign, points: list[int] | None = None,
                  bound_mm: float = 40.0, samples: int = 360, workers: int | None = None,
-                 speed_constraints: bool = True):
+                 speed_constraints: bool = True, gear_shape: bool = False):
         import os
 
+        from plantmech.gears.manufacturability import rules_for
+
         self.speed_constraints = speed_constraints
+        self.gear_shape = gear_shape
+        rules = rules_for(design)
+        # the path fixes the ratio law, hence mu of both pairs (seed 000 places its type-
+        # value points with "the degree of concavity and convexity" of the gears in mind)
+        self.max_pitch_tangent_angle_deg = (rules.max_working_pressure_angle_deg
+                                            - rules.pressure_angle_deg)
         self.points = default_layer1_points(design) if points is None else list(points)
         self.samples = samples
         self.workers = (os.cpu_count() or 1) if workers is None else workers
@@ -333,7 +345,7 @@ class SeederLayer1(DesignProblem):
                 variables.append(Variable(f"q{i}_d{label}", 0.0, -bound_mm, bound_mm, "mm",
                                           apply))
         self.check_names = None
-        super().__init__(design, variables, n_constr=1 + 7 + 3 + 3)
+        super().__init__(design, variables, n_constr=1 + 7 + 3 + 3 + 2)
 
     def points_of(self, X) -> np.ndarray:
         """Type-value points (P, N, 2) mm of the candidates X (P, n_var)."""
@@ -356,29 +368,44 @@ class SeederLayer1(DesignProblem):
                         **{k: np.array([r[k] for r in rows], dtype=float if k != "ok"
                                        else bool)
                            for k in ("values", "ok", "violation", "infeasible",
-                                     "objectives")})
+                                     "objectives", "pitch_tangent_angle")})
         pts = self.points_of(X)
         parts = np.array_split(np.arange(len(pts)), min(self.workers, len(pts)))
         out = _split_map(_layer1_population, [(self.design, pts[k], self.samples)
                                               for k in parts])
         return dict({k: out[0][k] for k in ("names", "units", "limits")},
                     **{k: np.concatenate([o[k] for o in out]) for k in
-                       ("values", "ok", "violation", "infeasible", "objectives")})
+                       ("values", "ok", "violation", "infeasible", "objectives",
+                        "pitch_tangent_angle")})
 
     def evaluate_batch(self, X):
         c = self.checks(X)
         names, units, limits = c["names"], c["units"], c["limits"]
         values, ok, viol, infeasible, F = (c[k] for k in ("values", "ok", "violation",
                                                           "infeasible", "objectives"))
-        limits = list(limits)
+        # mu of both pairs: the working pressure angle less the tool's, which the path fixes
+        mu = np.asarray(c["pitch_tangent_angle"], float)
+        lim = self.max_pitch_tangent_angle_deg
+        mu_ok = np.isfinite(mu) & (mu < lim)
+        names = list(names) + [f"pitch_tangent_angle_{p}" for p in ("sun_gear2",
+                                                                    "gear3_planet")]
+        units = list(units) + ["deg", "deg"]
+        limits = list(limits) + [f"< {lim:g} deg"] * 2
+        values, ok = np.c_[values, mu], np.c_[ok, mu_ok]
+        viol = np.c_[viol, _violations(mu, None, lim, lim)]
         required = np.ones(len(names), bool)
+        cols = [k for k, n in enumerate(names) if is_gear_shape_check(n)] \
+            if not self.gear_shape else []
         if not self.speed_constraints:  # the paper's layer 1: attitude and planning only
-            viol, required, limits = _reported_only(
-                viol, limits, [k for k, n in enumerate(names) if "speed" in n])
+            cols += [k for k, n in enumerate(names) if "speed" in n]
+        graded = viol
+        if cols:
+            viol, required, limits = _reported_only(viol, limits, cols)
         G = np.c_[infeasible, viol]
-        return Batch(F, G, ["feasible_inverse"] + names, [""] + list(units),
+        return Batch(F, G, ["feasible_inverse"] + names, [""] + units,
                      ["= 0 errors"] + limits, np.c_[infeasible, values],
-                     np.c_[infeasible == 0, ok], required=np.r_[True, required])
+                     np.c_[infeasible == 0, ok], required=np.r_[True, required],
+                     extra={"graded_violation": np.c_[infeasible, graded]})
 
 
 # --- seeder, layer 2: interpolation radii of gears 2 and 3 -> speeds (§4.4) ---------------
@@ -387,7 +414,8 @@ class SeederLayer1(DesignProblem):
 def is_gear_shape_check(name: str) -> bool:
     """Pitch-curve manufacturability checks (cuttable module, working pressure angle, tooth
     fit): required by the optimizers unless ``--no-manufacturability``, always reported."""
-    return (name.startswith(("convex_", "working_pressure_angle", "cuttable_module"))
+    return (name.startswith(("convex_", "working_pressure_angle", "cuttable_module",
+                             "pitch_tangent_angle"))
             or name in Transplanter.TOOTH_FIT)
 
 
