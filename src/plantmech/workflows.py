@@ -978,10 +978,11 @@ def cut_limits(design):
     defaults, with the working pressure angle limit the design file gives
     (seeder ``[gear_checks]``, transplanter ``[limits]``)."""
     from plantmech.gears.findings import CutLimits
+    from plantmech.gears.manufacturability import rules_for
 
-    src = getattr(design, "gear_checks", None) or getattr(design, "limits", None)
-    wpa = getattr(src, "max_working_pressure_angle_deg", None)
-    return CutLimits() if wpa is None else CutLimits(max_working_pressure_angle_deg=wpa)
+    # one source for the limit: the pitch-curve rules' (gears.manufacturability.rules_for)
+    return CutLimits(max_working_pressure_angle_deg=rules_for(design)
+                     .max_working_pressure_angle_deg)
 
 
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from plantmech.gears.manufacturability import CuttingRules
 from plantmech.gears.outline import tooth_number
 
 VERDICT_OK, VERDICT_NOT_OK = "ok", "not manufacturable"
@@ -35,7 +36,8 @@ class CutLimits:
     x module (B the backlash asked for, mm)."""
 
     min_tip_land: float = 0.2
-    max_working_pressure_angle_deg: float = 45.0
+    # the default of the pitch-curve rules; run_gears passes the design's (cut_limits)
+    max_working_pressure_angle_deg: float = CuttingRules.max_working_pressure_angle_deg
     max_interference: float = 0.01
     min_backlash_fraction: float = 0.5
     max_backlash_factor: float = 2.0
