@@ -36,6 +36,7 @@ def run(args) -> int:
 
 def _body(args, design, run) -> int:
     from plantmech.interfaces.cli import _wrote
+    from plantmech.outputs.files import check_line
     from plantmech.outputs.verdict import EXIT_INPUT, verdict_line
     from plantmech.pipeline import run_design
 
@@ -50,8 +51,7 @@ def _body(args, design, run) -> int:
     print(f"{rec['name']}: {rec['wall_s']:.1f} s")
     for c in rec["final_checks"]:
         if not c["ok"] and c.get("required", True):
-            print(f"  FAIL {c['name']}: {c.get('value')} {c.get('unit', '')} "
-                  f"(limit {c.get('limit')})")
+            print(check_line(c, 36, 2, 12))
     print(_wrote(run, [p for p in outcome.written if p.parent == run.path]))
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
