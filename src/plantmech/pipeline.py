@@ -168,6 +168,12 @@ def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
     job = (run_seeder_forward(final) if final.mechanism == "sugarcane_seeder"
            else run_transplanter(final))
     figures, drawings = list(job_figures(job)), []
+    # why an optimization fell short: its trade-off fronts (layer 2's, and the path's own)
+    layered = (out / "optimize" / "layer2").is_dir()
+    for name in (("optimize/layer2/tradeoff.png", "optimize/layer1/tradeoff.png") if layered
+                 else ("optimize/tradeoff.png",)):
+        if not rec["verdict"]["ok"] and (out / name).is_file():
+            figures.append((name, out / name))
     summary = dict(job.summary, stages=rec["stages"])
     if gears is not None:
         gdir = out / "gears"

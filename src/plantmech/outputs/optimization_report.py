@@ -163,7 +163,11 @@ def write_tradeoff(out: Path, t: dict, problem, rec: dict | None = None) -> list
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     ax.plot(t["agronomic"], t["manufacturing"], "o", ms=5, color="tab:red",
             label=f"non-dominated designs ({len(t['agronomic'])})")
-    ax.plot([0], [0], "*", ms=12, color="tab:green", label="every objective and check met")
+    found = bool(np.any((t["agronomic"] <= 0) & (t["manufacturing"] <= 0)))
+    ax.plot([0], [0], "*", ms=12, color="tab:green" if found else "none",
+            markeredgecolor="tab:green",
+            label="every objective and check met" + ("" if found else
+                                                    " (the goal: no design found)"))
     for key, label, align in (("best_agronomic", "closest to every objective", "left"),
                               ("best_manufacturing", "most manufacturable", "right")):
         end = (rec or {}).get(key)
