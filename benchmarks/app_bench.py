@@ -147,12 +147,17 @@ def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str
         pg.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending",
                              timeout=60000)
         times = pg.evaluate("performance.getEntriesByName('drag-redraw').map(e => e.duration)")
+        parts = pg.evaluate("window.__dragBreakdown")
         b.close()
     a = np.array(times)
     if not len(a):
         return "no drag answer was drawn"
+    keys = ("queued", "server", "network", "body", "parse", "draw", "bytes")
+    median = {k: float(np.median([p[k] for p in parts if p[k] is not None] or [np.nan]))
+              for k in keys}
     return {"samples": len(a), "p50_ms": float(np.percentile(a, 50)),
-            "p95_ms": float(np.percentile(a, 95)), "max_ms": float(a.max())}
+            "p95_ms": float(np.percentile(a, 95)), "max_ms": float(a.max()),
+            "median_parts_ms": median}
 
 
 def drag_cpu_ms(repeat: int = 20) -> tuple[float, float]:

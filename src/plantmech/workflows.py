@@ -581,6 +581,34 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
             "violation": viol, "infeasible": 0.0, "objectives": objectives}
 
 
+def inverse_speed_objectives(job: SeederInverseJob) -> dict:
+    """Section 4.1 objectives 4-5 of a feasible inverse design (seed 000): the tip velocity
+    of the realized train (the periodic spline's slopes over the uniform carrier angle
+    psi, m/s at the design's carrier speed, deg/s clockwise), the static and dynamic
+    (Eq. 17) speed v_A (m/s) per sample, the travel speed v_c (m/s; Eq. 18's zero-speed
+    seeding at e when the design gives none) and the three speed checks. The same
+    evaluation as ``seeder_inverse_checks`` (the optimizer's layer 1), kept apart so the
+    app can show the speed objectives live while a type-value point is dragged."""
+    from plantmech.geometry.periodic import periodic_spline_node_slopes
+    from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
+
+    res, d = job.result, job.design
+    if not res.feasible or res.tip_realized is None:
+        raise ValueError("speed objectives need a feasible inverse design")
+    psi = res.carrier_angle
+    vel = periodic_spline_node_slopes(res.tip_realized, 2 * np.pi / len(psi)) * np.radians(
+        d.operation.carrier_speed_deg_s) / 1000.0
+    sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
+    sowing = job.summary["attitude_deg"]["sowing_angle"]
+    zero = zero_speed_travel(psi, vel, sowing, sec["e"])
+    travel = (zero["zero_speed_travel_m_s"] if d.operation.travel_speed_m_s is None
+              else d.operation.travel_speed_m_s)
+    speeds = speed_by_section(psi, vel, travel, sec)
+    return {"velocity_m_s": vel, "static_m_s": np.hypot(vel[:, 0], vel[:, 1]),
+            "dynamic_m_s": np.hypot(vel[:, 0] - travel, vel[:, 1]), "travel_m_s": travel,
+            "speeds": speeds, "checks": speed_checks(speeds, d.speed)}
+
+
 def _span_deg(diagnostic) -> float:
     """Carrier angle (deg) a diagnostic covers: the backward turn of a carrier that would
     have to turn back, else the clockwise span from its first to its last sample."""

@@ -153,6 +153,16 @@ def seeder_forward_scene(job, frames: int = 360, detail: int = 720) -> dict:
     return out
 
 
+def speed_plots(psi, speeds: dict, detail: int = 720) -> dict:
+    """Speed plot data of an inverse design (``workflows.inverse_speed_objectives``):
+    static and dynamic (Eq. 17) tip speed (m/s) over the carrier angle (deg)."""
+    ks = frame_index(len(psi), detail)
+    return {"speed_carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "speed_static_m_s": _r(speeds["static_m_s"][ks], 4),
+            "speed_dynamic_m_s": _r(speeds["dynamic_m_s"][ks], 4),
+            "travel_m_s": float(speeds["travel_m_s"])}
+
+
 def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a seeder inverse design (``SeederInverseJob``): the realized
     train of the inverse result (carrier, gears 1-4 on their pitch curves, arm, tip),

@@ -19,6 +19,7 @@ const state = {
 };
 window.__plantmech = state; // for the tests and the benchmark
 window.__dragTimes = [];
+window.__dragBreakdown = []; // per drawn drag answer: where the milliseconds went
 
 // ---------------------------------------------------------------- server calls
 async function api(path, body) {
@@ -68,13 +69,29 @@ function redo() {
 }
 
 // ---------------------------------------------------------------- evaluation
-// One request in flight; during a drag the newest design waits and replaces older ones.
+// One request in flight; during a drag the newest design waits and replaces older ones
+// (coalescing: the pointer moves faster than answers come, only the latest is computed).
 async function evaluate(quality, t0 = null) {
-  if (state.inflight) { state.pending = { quality, t0 }; return; }
+  if (state.inflight) {
+    // a move replaced before it was answered is measured from its own time: the latency
+    // of the oldest move still waiting counts, not only of the newest
+    const older = state.pending && state.pending.t0 !== null && t0 !== null ? state.pending.t0 : t0;
+    state.pending = { quality, t0: older };
+    return;
+  }
   state.inflight = true;
   const seq = ++state.seq;
   try {
-    const res = await api("/api/evaluate", { design: state.design, quality });
+    const tSend = performance.now();
+    const r = await fetch("/api/evaluate", { method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ design: state.design, quality }) });
+    const tHead = performance.now();
+    const text = await r.text();
+    const tBody = performance.now();
+    let res;
+    try { res = JSON.parse(text); } catch { res = { error: `${r.status} ${r.statusText}` }; }
+    const tParsed = performance.now();
+    if (!r.ok) { const e = new Error(res.error || r.statusText); e.data = res; e.status = r.status; throw e; }
     state.fieldErrors = [];
     state.result = res;
     if (quality === "full") state.fullResult = res;
@@ -82,10 +99,16 @@ async function evaluate(quality, t0 = null) {
     setStatus(quality === "drag" ? "live (working resolution)" : "up to date");
     render();
     if (t0 !== null) {
-      // drag -> redraw of the mechanism and the objectives, measured in the browser
+      // drag -> redraw of the mechanism and the objectives, measured in the browser:
+      // from the pointer move to the drawn answer, and where that time went
       const t1 = performance.now();
       performance.measure("drag-redraw", { start: t0, end: t1 });
       window.__dragTimes.push(t1 - t0);
+      const st = (r.headers.get("Server-Timing") || "").match(/dur=([0-9.]+)/);
+      const server = st ? +st[1] : null;
+      window.__dragBreakdown.push({ total: t1 - t0, queued: tSend - t0, server,
+        network: tHead - tSend - (server || 0), body: tBody - tHead, parse: tParsed - tBody,
+        draw: t1 - tParsed, bytes: text.length });
     }
   } catch (e) {
     state.fieldErrors = (e.data && e.data.fields) || [];
