@@ -152,7 +152,7 @@ def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str
     a = np.array(times)
     if not len(a):
         return "no drag answer was drawn"
-    keys = ("queued", "server", "network", "body", "parse", "draw", "bytes")
+    keys = ("queued", "compute", "server", "browser_http", "body", "parse", "draw", "bytes")
     median = {k: float(np.median([p[k] for p in parts if p[k] is not None] or [np.nan]))
               for k in keys}
     return {"samples": len(a), "p50_ms": float(np.percentile(a, 50)),

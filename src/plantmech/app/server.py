@@ -18,6 +18,7 @@ from __future__ import annotations
 import asyncio
 import re
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +33,7 @@ from plantmech.app import scene
 STATIC = Path(__file__).parent / "static"
 MAX_BODY_BYTES = 512 * 1024
 COMPUTE_TIMEOUT_S = 20.0
-MAX_COMPUTE = 4
+MAX_COMPUTE = 2
 DRAG_SAMPLES = 360  # the app's working resolution during a drag (samples per carrier turn)
 FRAMES = 360  # animation frames per carrier turn
 DRAG_FRAMES, DRAG_DETAIL = 180, 360  # during a drag: frames, points per curve and plot
@@ -291,7 +292,21 @@ class BodyLimit:
                 await JSONResponse({"error": error[1]}, status_code=error[0])(
                     scope, receive, send)
                 return
-        await self.app(scope, receive, send)
+        if scope["type"] != "http" or scope["path"] != "/api/evaluate":
+            await self.app(scope, receive, send)
+            return
+        t0 = time.perf_counter()
+
+        async def timed_send(message):
+            # the whole request inside the server (body, validation, queue, compute,
+            # JSON) as a second Server-Timing entry beside the computation's own
+            if message["type"] == "http.response.start":
+                dur = (time.perf_counter() - t0) * 1e3
+                message = {**message, "headers": [*message.get("headers", []), (
+                    b"server-timing", f"server;dur={dur:.2f}".encode())]}
+            await send(message)
+
+        await self.app(scope, receive, timed_send)
 
 
 # --- the application ----------------------------------------------------------------------
@@ -333,13 +348,22 @@ def create_app(initial: Path | None = None) -> FastAPI:
         return JSONResponse({"error": exc.message, "fields": exc.fields},
                             status_code=exc.status)
 
+    admission = asyncio.Semaphore(MAX_COMPUTE)  # first come, first served
+
     async def compute(fn, *args):
-        """Run ``fn`` in a worker thread under the compute time limit."""
+        """Run ``fn`` in a worker thread under the compute time limit. Requests are let in
+        in their order of arrival (an asyncio semaphore queues fairly; the threads'
+        semaphore alone let some edit requests wait behind many later ones); the
+        threads' semaphore keeps the bound when a timed-out computation runs on."""
         def guarded():
             with compute_slots:
                 return fn(*args)
+
+        async def admitted():
+            async with admission:
+                return await run_in_threadpool(guarded)
         try:
-            return await asyncio.wait_for(run_in_threadpool(guarded), COMPUTE_TIMEOUT_S)
+            return await asyncio.wait_for(admitted(), COMPUTE_TIMEOUT_S)
         except TimeoutError:
             raise AppError(503, f"computation exceeded the {COMPUTE_TIMEOUT_S:g} s limit "
                            "(lower the samples per turn)") from None
@@ -402,8 +426,6 @@ def create_app(initial: Path | None = None) -> FastAPI:
         if quality not in ("drag", "full"):
             raise AppError(400, "field 'quality': expected 'drag' or 'full'")
         def answer():
-            import time
-
             t0 = time.perf_counter()
             design = validate_design(data.get("design"))
             result = evaluate(design, quality)

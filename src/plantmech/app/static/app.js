@@ -104,10 +104,10 @@ async function evaluate(quality, t0 = null) {
       const t1 = performance.now();
       performance.measure("drag-redraw", { start: t0, end: t1 });
       window.__dragTimes.push(t1 - t0);
-      const st = (r.headers.get("Server-Timing") || "").match(/dur=([0-9.]+)/);
-      const server = st ? +st[1] : null;
-      window.__dragBreakdown.push({ total: t1 - t0, queued: tSend - t0, server,
-        network: tHead - tSend - (server || 0), body: tBody - tHead, parse: tParsed - tBody,
+      const timing = (name) => { const m = (r.headers.get("Server-Timing") || "").match(new RegExp(`${name};dur=([0-9.]+)`)); return m ? +m[1] : null; };
+      const compute = timing("compute"), server = timing("server");
+      window.__dragBreakdown.push({ total: t1 - t0, queued: tSend - t0, compute, server,
+        browser_http: tHead - tSend - (server || 0), body: tBody - tHead, parse: tParsed - tBody,
         draw: t1 - tParsed, bytes: text.length });
     }
   } catch (e) {
