@@ -226,6 +226,44 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     return out
 
 
+def khv_middles_and_planets(pair, m, carrier0: float, k, detail: int = 720) -> list[dict]:
+    """The middle gear and the planet of every arm of a K-H-V train (seed 001 Fig. 1;
+    docs/conventions.md), placed from the engine's results: ``pair`` (KHVPair: sun radius
+    r_s(sigma) mm, centre distance a mm, middle turn M(sigma) rad relative to the carrier
+    over the contact progress sigma) and ``m`` (TransplanterMotion: planet axes and
+    absolute planet angles phi_2 per arm), frames ``k``, carrier start ``carrier0`` (rad).
+
+    Arm j's carrier direction is phi_H = carrier0 - 2 pi j / J - psi, its middle gear
+    sits at a e^(i phi_H) and turns by -M(sigma) relative to the carrier (sigma = psi +
+    2 pi j / J), so its absolute rotation is phi_H - M. Its pitch curve in its body frame:
+    radius a - r_s(sigma) at body angle pi + M(sigma) (the sun contact, towards O). The
+    planet (at 2a, absolute angle phi_2) meets the middle at sigma' with M(sigma') =
+    M(sigma) + pi: radius r_s(sigma') at body angle phi_H + pi - phi_2, towards the
+    middle. Arm 0's samples give the planet's body curve (all arms share it)."""
+    two_pi = 2 * np.pi
+    sg, r_sun, a, M = pair.sigma, pair.r_sun[0], float(pair.a[0]), pair.M[0]
+    psi = m.carrier_angle
+    J = m.centre.shape[1]
+    middle_body = (a - r_sun[:-1]) * np.exp(1j * (np.pi + M[:-1]))
+    # the planet's body curve from arm 0 (sigma = psi)
+    target = np.mod(np.interp(psi, sg, M) + 0.5 * M[-1], M[-1])
+    r_planet = np.interp(np.interp(target, M, sg), sg, r_sun)
+    phi_h0 = carrier0 - psi
+    planet_body = r_planet * np.exp(1j * (phi_h0 + np.pi - m.planet_angle[0, 0]))
+    out = []
+    for j in range(J):
+        offset = two_pi * j / J
+        phi_h = carrier0 - offset - psi[k]
+        x = psi[k] + offset
+        wraps = np.floor(x / two_pi)
+        turn = np.interp(x - wraps * two_pi, sg, M) + M[-1] * wraps
+        out.append(_gear(f"middle {j + 1}", middle_body, a * np.exp(1j * phi_h),
+                         phi_h - turn, "middle", detail))
+        out.append(_gear(f"planet {j + 1}", planet_body, m.centre[0, j, k],
+                         m.planet_angle[0, j, k], "planet", detail))
+    return out
+
+
 def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a transplanting mechanism (``TransplanterJob``): internal gear
     (or fixed sun) and planets on their pitch curves, the arms (planet axis -> break
@@ -254,6 +292,7 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     else:
         z = pair.r_sun[0] * np.exp(1j * (c0 - pair.sigma))
         gears.append(_gear("sun (fixed)", z, 0.0, np.zeros(len(k)), "sun", detail))
+        gears += khv_middles_and_planets(pair, m, c0, k, detail)
     for j in range(J):
         links.append({"name": f"carrier {j + 1}",
                       "points": _xy(np.c_[np.zeros(len(k)), m.centre[0, j, k]])})

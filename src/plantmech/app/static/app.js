@@ -9,6 +9,7 @@ const SECTION_COLOURS = { picking: "rgba(22,163,74,0.13)", transport: "rgba(37,9
 const ARM_COLOURS = ["#2563eb", "#ea580c", "#16a34a", "#dc2626", "#7c3aed", "#92400e"];
 const GEAR_STYLE = { sun: ["#374151", "rgba(55,65,81,0.10)"], gear2: ["#b45309", "rgba(245,158,11,0.18)"],
   gear3: ["#0f766e", "rgba(20,184,166,0.18)"], planet: ["#7c3aed", "rgba(139,92,246,0.15)"],
+  middle: ["#b45309", "rgba(245,158,11,0.18)"],
   internal: ["#374151", "rgba(0,0,0,0)"] };
 
 const state = {
