@@ -999,12 +999,14 @@ def cut_limits(design):
 
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
               backlash: float = 0.1, steps: int = 360, tooth: dict | None = None,
-              step: bool = False) -> dict:
+              step: bool = False, outlines: dict | None = None) -> dict:
     """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
     STEP files, build123d, slow: minutes per gear, docs/manufacturing.md); returns the
     verification record (also written as verification.json) with its ``verdict`` ("ok" /
     "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
-    pitch curves, the cut outlines, the mesh and the written files."""
+    pitch curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
+    to receive each gear's cut outline and pitch polyline, {name: (polygon, (n, 2) mm)},
+    both in the gear's body frame about its centre (the app draws the teeth with them)."""
     from dataclasses import asdict
 
     from plantmech.gears import findings as fnd
@@ -1033,6 +1035,8 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                  names[0] if pair.b_cut_by_a else None)):
             if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
                 continue
+            if outlines is not None:
+                outlines[gname] = (poly, np.asarray(pitch.xy, dtype=float))
             c = gear_checks(gname, pitch, spec, z, internal, cut_by)
             teeth = teeth_on_outline(poly, pitch.xy, spec.module, spec.addendum, internal)
             c["teeth_on_outline"] = int(len(teeth["angle_deg"]))

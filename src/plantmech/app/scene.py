@@ -323,3 +323,82 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
         },
         "samples": int(n),
     }
+
+
+# --- teeth --------------------------------------------------------------------------------
+
+
+def _polar_on_grid(xy: np.ndarray, n: int) -> np.ndarray:
+    """Radius (mm) of a closed curve around the origin at n uniform polar angles."""
+    xy = np.asarray(xy, dtype=float)
+    th = np.mod(np.arctan2(xy[:, 1], xy[:, 0]), 2 * np.pi)
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    order = np.argsort(th, kind="stable")
+    th, r = th[order], r[order]
+    grid = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    return np.interp(grid, th, r, period=2 * np.pi)
+
+
+def _circular_corr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """c[k] = sum_i a[i] b[i - k] (circular), for every k."""
+    return np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(b)), len(a))
+
+
+def align_pitch_curve(drawn_xy, cut_xy, n: int = 1440, keep: float = 0.8
+                      ) -> tuple[float, float]:
+    """Rotation delta (rad) that carries a cut gear's pitch curve ``cut_xy`` (its body
+    frame, mm) onto the drawn pitch curve ``drawn_xy`` (the scene's body frame, mm) of the
+    same gear, both about the gear's centre, and the RMS radial residual (mm) left over the
+    best-fitting ``keep`` of the turn: weighted least squares of the polar radii over every
+    rotation (circular correlations), refitted without the worst-fitting angles (three times) (a
+    sun's toothless dwell sector is drawn as the arc the gear 2 rests on, cut as the
+    mate's own curve), refined between grid steps by a parabola."""
+    rd, rc = _polar_on_grid(drawn_xy, n), _polar_on_grid(cut_xy, n)
+    grid = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    w = np.ones(n)
+    for _ in range(4):
+        # ssd[k] = sum_i w[i] (rd[i] - rc[i - k])^2: the cut curve turned by k grid steps
+        ssd = (w * rd**2).sum() + _circular_corr(w, rc**2) - 2.0 * _circular_corr(w * rd, rc)
+        k = int(np.argmin(ssd))
+        y0, y1, y2 = ssd[(k - 1) % n], ssd[k], ssd[(k + 1) % n]
+        den = y0 - 2.0 * y1 + y2
+        frac = 0.5 * (y0 - y2) / den if den > 0 else 0.0
+        delta = (k + float(np.clip(frac, -0.5, 0.5))) * 2 * np.pi / n
+        err = np.abs(np.interp(grid - delta, grid, rc, period=2 * np.pi) - rd)
+        w = (err <= np.quantile(err, keep)).astype(float)
+    return float(np.mod(delta, 2 * np.pi)), float(np.sqrt((w * err**2).sum() / w.sum()))
+
+
+def teeth_for_scene(gears: list[dict], outlines: dict, tolerance: float = 0.005) -> dict:
+    """The cut outlines of ``outlines`` ({gear name: (polygon, pitch polyline)}, from
+    ``workflows.run_gears``) turned into the body frames of the drawn ``gears`` (scene
+    gears whose role is the cut gear's name: sun, gear2, gear3, planet, internal,
+    middle), so the page draws the teeth where the pitch curve was. A gear is drawn with
+    teeth only if its cut pitch curve fits the drawn one to ``tolerance`` x its mean
+    radius (RMS over the best-fitting 80 % of the turn, ``align_pitch_curve``); otherwise
+    the reason is given. Returns {role: {...}}."""
+    by_role = {g["role"]: g for g in gears}
+    out = {}
+    for name, (poly, pitch_xy) in outlines.items():
+        g = by_role.get(name)
+        if g is None:
+            out[name] = {"drawn": False, "reason": "no drawn gear of that name"}
+            continue
+        body = np.asarray(g["body"], dtype=float)
+        delta, residual = align_pitch_curve(body, pitch_xy)
+        mean_r = float(np.hypot(body[:, 0], body[:, 1]).mean())
+        entry = {"delta_deg": round(float(np.degrees(delta)), 4),
+                 "residual_mm": round(residual, 4), "drawn": residual <= tolerance * mean_r}
+        if not entry["drawn"]:
+            entry["reason"] = (f"its cut pitch curve differs from the drawn one by "
+                               f"{residual:.3g} mm RMS over the best-fitting 80 % of the "
+                               f"turn (limit {tolerance * mean_r:.3g} mm)")
+        else:
+            c, s = np.cos(delta), np.sin(delta)
+            rot = np.array([[c, -s], [s, c]])
+            rings = [poly.exterior, *poly.interiors] if hasattr(poly, "exterior") else [
+                ring for p in poly.geoms for ring in (p.exterior, *p.interiors)]
+            entry["rings"] = [_r(np.asarray(ring.coords)[:-1, :2] @ rot.T).tolist()
+                              for ring in rings]
+        out[name] = entry
+    return out

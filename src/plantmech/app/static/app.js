@@ -202,13 +202,26 @@ function drawMechanism() {
   const f = n ? state.frame % n : 0;
   // gears on their pitch curves at this frame
   if (n && $("show-gears").checked) {
+    const teeth = currentTeeth();
     for (const g of res.gears || []) {
       const [cx, cy] = g.centre[Math.min(f, g.centre.length - 1)], a = g.rot[Math.min(f, g.rot.length - 1)];
       const c = Math.cos(a), s = Math.sin(a);
-      const pts = g.body.map(([x, y]) => [cx + c * x - s * y, cy + s * x + c * y]);
+      const place = ([x, y]) => [cx + c * x - s * y, cy + s * x + c * y];
+      const pts = g.body.map(place);
       const [stroke, fill] = GEAR_STYLE[g.role] || ["#111", "rgba(0,0,0,0.05)"];
       ctx.fillStyle = fill; ctx.strokeStyle = stroke; ctx.lineWidth = 1.3;
-      poly(ctx, v, pts, true); ctx.fill(); ctx.stroke();
+      const cut = teeth && teeth[g.role] && teeth[g.role].drawn ? teeth[g.role] : null;
+      if (cut) {
+        // the cut outline (teeth, bore) rolling with the gear; the pitch curve dashed
+        ctx.beginPath();
+        for (const ring of cut.rings) {
+          ring.forEach((p, i) => { const [px, py] = v.toPx(...place(p)); if (i) ctx.lineTo(px, py); else ctx.moveTo(px, py); });
+          ctx.closePath();
+        }
+        ctx.fill("evenodd"); ctx.lineWidth = 0.8; ctx.stroke();
+        ctx.setLineDash([3, 3]); ctx.lineWidth = 0.7; poly(ctx, v, pts, true); ctx.stroke(); ctx.setLineDash([]);
+        ctx.lineWidth = 1.3;
+      } else { poly(ctx, v, pts, true); ctx.fill(); ctx.stroke(); }
       // a body-fixed spoke shows the rotation
       const [p0x, p0y] = v.toPx(cx, cy), [p1x, p1y] = v.toPx(...pts[0]);
       ctx.beginPath(); ctx.moveTo(p0x, p0y); ctx.lineTo(p1x, p1y); ctx.stroke();
@@ -249,6 +262,23 @@ function drawMechanism() {
     ctx.fillText(`✖ ${d.message.slice(0, 95)}`, 10, 16 + 15 * i);
   });
   if (n) $("angle").textContent = `carrier ${res.frames.carrier_angle_deg[f].toFixed(1)}° (clockwise from start)`;
+}
+
+// teeth of the last cut, drawn while the design is the one that was cut
+function currentTeeth() {
+  const t = state.teeth;
+  if (!t || !state.design) return null;
+  return t.key === JSON.stringify(state.design) ? t.gears : null;
+}
+
+function teethNote() {
+  const t = state.teeth, el = $("teeth-note");
+  if (!el) return;
+  if (!t) { el.textContent = "Gears drawn as pitch curves: cut the teeth (Make) to see them in mesh."; return; }
+  const missing = Object.entries(t.gears || {}).filter(([, e]) => !e.drawn).map(([k, e]) => `${k} (${e.reason || e.error || "not placed"})`);
+  if (t.gears && t.gears.error) { el.textContent = `Teeth not drawn: ${t.gears.error}`; return; }
+  if (currentTeeth()) el.textContent = `Teeth as cut (module ${t.module}) rolling on the pitch curves (dashed)${missing.length ? "; pitch curve only for " + missing.join(", ") : ""}.`;
+  else el.textContent = "Teeth hidden: the design changed since they were cut (cut again to see them).";
 }
 
 function redSpans(res) {
@@ -540,6 +570,7 @@ function render() {
     $("scrub").max = Math.max(0, n - 1);
   }
   drawMechanism();
+  teethNote();
   renderChecks();
   renderPlots();
   if (!state.drag && !document.activeElement.closest?.("#edit")) renderEdit();
@@ -645,7 +676,7 @@ async function startGears() {
   $("g-files").innerHTML = ""; $("g-images").innerHTML = "";
   try {
     const r = await api("/api/gears", body);
-    state.gearTask = r.task; $("g-start").disabled = true;
+    state.gearTask = r.task; state.gearKey = JSON.stringify(body.design); $("g-start").disabled = true;
     pollGears();
   } catch (e) {
     $("g-status").innerHTML = `<span class="field-error">${e.message}</span>`;
@@ -659,6 +690,11 @@ async function pollGears() {
   $("g-start").disabled = false;
   if (st.state === "failed") { $("g-status").innerHTML = `<span class="field-error">${st.error}</span>`; return; }
   const rec = st.result.record;
+  if (st.result.teeth) {
+    const m = rec.gears.length ? rec.gears[0].module_mm.toFixed(3) + " mm" : "?";
+    state.teeth = { key: state.gearKey, gears: st.result.teeth, module: m };
+    teethNote(); drawMechanism();
+  }
   let html = `<table><tr><th>gear</th><th>teeth</th><th>module / mm</th><th>max pressure angle / deg</th><th>undercut</th><th>pointed</th><th>cutter fits</th></tr>`;
   for (const g of rec.gears) html += `<tr><td>${g.name}</td><td class="num">${g.teeth}</td><td class="num">${g.module_mm.toFixed(4)}</td><td class="num">${g.max_pressure_angle_deg.toFixed(1)}</td><td class="${g.undercut ? "fail" : "ok"}">${g.undercut ? "yes" : "no"}</td><td class="${g.pointed ? "fail" : "ok"}">${g.pointed ? "yes" : "no"}</td><td class="${g.cutter_fits ? "ok" : "fail"}">${g.cutter_fits ? "yes" : "no"}</td></tr>`;
   html += `</table><table><tr><th>pair in mesh</th><th>interference / mm</th><th>max backlash / mm</th><th></th></tr>`;
