@@ -465,7 +465,7 @@ function renderEdit() {
   if (!d) return;
   const hint = $("hint");
   if (d.mechanism === "sugarcane_seeder" && !d.train) {
-    hint.textContent = "Drag a type-value point q_i (white; section points amber) — live inverse design at the working resolution, full resolution on release.";
+    hint.textContent = "Drag a type-value point q_i (white; section points amber) — live inverse design at the working resolution (360 samples per turn: Table 1, attitude and speed objectives update as you drag; gear checks, greyed, and the forward simulation at the design's own resolution follow on release).";
     const t = document.createElement("table");
     t.innerHTML = "<tr><th>point</th><th>x / mm</th><th>y / mm</th></tr>";
     d.trajectory.points.forEach((_, i) => {
