@@ -186,3 +186,14 @@ def test_optimize_and_make(page):
     assert "SECTION" in text and "ENTITIES" in text
     status = page.locator("#g-status").inner_text()
     assert status.count("meshes") + status.count("FAIL") == 2  # both pairs judged
+    # the teeth belong to the design that was cut: hidden for the optimized point,
+    # drawn on the animated gears again once the cut design is back
+    assert "design changed" in page.locator("#teeth-note").inner_text()
+    page.click("#undo")
+    page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.undo.length"
+                           " === 0 && window.__plantmech.result.quality === 'full'")
+    note = page.locator("#teeth-note").inner_text()
+    assert "Teeth as cut" in note, note
+    drawn = page.evaluate("Object.entries(window.__plantmech.teeth.gears)"
+                          ".filter(([, e]) => e.drawn).map(([k]) => k).sort()")
+    assert drawn == ["gear2", "gear3", "planet", "sun"], note

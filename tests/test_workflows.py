@@ -53,3 +53,42 @@ def test_section_location_between_samples():
     x = np.arange(10.0)
     off, low = refine_minimum(((x - 4.3) ** 2 + 2.0)[None], np.array([[4]]), 1.0)
     assert off[0, 0] == pytest.approx(0.3) and low[0, 0] == pytest.approx(2.0)
+
+
+def test_inverse_speed_objectives_integrate_to_the_path_length():
+    """The static tip speed v_A integrated over one carrier turn is the length of the
+    realized tip path (mm), and with no travel the dynamic speed (Eq. 17) is the static
+    one; with zero-speed seeding (Eq. 18) the dynamic speed at e is the vertical one."""
+    from plantmech.workflows import inverse_speed_objectives, run_seeder_inverse
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    d.trajectory.samples = 1440
+    job = run_seeder_inverse(d, manufacturability=False)
+    sp = inverse_speed_objectives(job)
+    tip = job.result.tip_realized
+    perimeter = np.hypot(*(np.roll(tip, -1, axis=0) - tip).T).sum()
+    omega = np.radians(d.operation.carrier_speed_deg_s)  # rad/s
+    travelled = sp["static_m_s"].sum() * (2 * np.pi / len(tip)) / omega * 1000.0
+    assert travelled == pytest.approx(perimeter, rel=2e-3)
+    e = job.sections["e"]
+    k = int(np.argmin(np.abs(np.angle(np.exp(1j * (job.result.carrier_angle
+                                                   - job.result.point_carrier_angle[e]))))))
+    vx, vy = sp["velocity_m_s"][k]
+    assert sp["travel_m_s"] == pytest.approx(vx, abs=0.02)
+    assert sp["dynamic_m_s"][k] == pytest.approx(abs(vy), abs=0.02)
+    assert [c.name for c in sp["checks"]] == ["seeding_peak_speed", "return_min_speed_static",
+                                              "return_min_speed_dynamic"]
+    d.operation.travel_speed_m_s = 0.0
+    still = inverse_speed_objectives(run_seeder_inverse(d, manufacturability=False))
+    assert np.allclose(still["dynamic_m_s"], still["static_m_s"])
+    assert still["travel_m_s"] == 0.0
+
+
+def test_inverse_speed_objectives_refuse_an_infeasible_design():
+    from plantmech.workflows import inverse_speed_objectives, run_seeder_inverse
+
+    d = load_design(EXAMPLES / "sugarcane_table2_as_printed.toml")
+    job = run_seeder_inverse(d, manufacturability=False)
+    assert not job.result.feasible
+    with pytest.raises(ValueError, match="feasible inverse design"):
+        inverse_speed_objectives(job)

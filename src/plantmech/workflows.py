@@ -595,6 +595,34 @@ def _pitch_tangent_angle_deg(res) -> list[float]:
     return [round(float(np.degrees(v)), 6) for v in mu[0]]
 
 
+def inverse_speed_objectives(job: SeederInverseJob) -> dict:
+    """Section 4.1 objectives 4-5 of a feasible inverse design (seed 000): the tip velocity
+    of the realized train (the periodic spline's slopes over the uniform carrier angle
+    psi, m/s at the design's carrier speed, deg/s clockwise), the static and dynamic
+    (Eq. 17) speed v_A (m/s) per sample, the travel speed v_c (m/s; Eq. 18's zero-speed
+    seeding at e when the design gives none) and the three speed checks. The same
+    evaluation as ``seeder_inverse_checks`` (the optimizer's layer 1), kept apart so the
+    app can show the speed objectives live while a type-value point is dragged."""
+    from plantmech.geometry.periodic import periodic_spline_node_slopes
+    from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
+
+    res, d = job.result, job.design
+    if not res.feasible or res.tip_realized is None:
+        raise ValueError("speed objectives need a feasible inverse design")
+    psi = res.carrier_angle
+    vel = periodic_spline_node_slopes(res.tip_realized, 2 * np.pi / len(psi)) * np.radians(
+        d.operation.carrier_speed_deg_s) / 1000.0
+    sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
+    sowing = job.summary["attitude_deg"]["sowing_angle"]
+    zero = zero_speed_travel(psi, vel, sowing, sec["e"])
+    travel = (zero["zero_speed_travel_m_s"] if d.operation.travel_speed_m_s is None
+              else d.operation.travel_speed_m_s)
+    speeds = speed_by_section(psi, vel, travel, sec)
+    return {"velocity_m_s": vel, "static_m_s": np.hypot(vel[:, 0], vel[:, 1]),
+            "dynamic_m_s": np.hypot(vel[:, 0] - travel, vel[:, 1]), "travel_m_s": travel,
+            "speeds": speeds, "checks": speed_checks(speeds, d.speed)}
+
+
 def _span_deg(diagnostic) -> float:
     """Carrier angle (deg) a diagnostic covers: the backward turn of a carrier that would
     have to turn back, else the clockwise span from its first to its last sample."""
@@ -987,12 +1015,14 @@ def cut_limits(design):
 
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
               backlash: float = 0.1, steps: int = 360, tooth: dict | None = None,
-              step: bool = False) -> dict:
+              step: bool = False, outlines: dict | None = None) -> dict:
     """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
     STEP files, build123d, slow: minutes per gear, docs/manufacturing.md); returns the
     verification record (also written as verification.json) with its ``verdict`` ("ok" /
     "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
-    pitch curves, the cut outlines, the mesh and the written files."""
+    pitch curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
+    to receive each gear's cut outline and pitch polyline, {name: (polygon, (n, 2) mm)},
+    both in the gear's body frame about its centre (the app draws the teeth with them)."""
     from dataclasses import asdict
 
     from plantmech.gears import findings as fnd
@@ -1021,6 +1051,8 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                  names[0] if pair.b_cut_by_a else None)):
             if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
                 continue
+            if outlines is not None:
+                outlines[gname] = (poly, np.asarray(pitch.xy, dtype=float))
             c = gear_checks(gname, pitch, spec, z, internal, cut_by)
             teeth = teeth_on_outline(poly, pitch.xy, spec.module, spec.addendum, internal)
             c["teeth_on_outline"] = int(len(teeth["angle_deg"]))

@@ -153,6 +153,16 @@ def seeder_forward_scene(job, frames: int = 360, detail: int = 720) -> dict:
     return out
 
 
+def speed_plots(psi, speeds: dict, detail: int = 720) -> dict:
+    """Speed plot data of an inverse design (``workflows.inverse_speed_objectives``):
+    static and dynamic (Eq. 17) tip speed (m/s) over the carrier angle (deg)."""
+    ks = frame_index(len(psi), detail)
+    return {"speed_carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "speed_static_m_s": _r(speeds["static_m_s"][ks], 4),
+            "speed_dynamic_m_s": _r(speeds["dynamic_m_s"][ks], 4),
+            "travel_m_s": float(speeds["travel_m_s"])}
+
+
 def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a seeder inverse design (``SeederInverseJob``): the realized
     train of the inverse result (carrier, gears 1-4 on their pitch curves, arm, tip),
@@ -216,6 +226,44 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     return out
 
 
+def khv_middles_and_planets(pair, m, carrier0: float, k, detail: int = 720) -> list[dict]:
+    """The middle gear and the planet of every arm of a K-H-V train (seed 001 Fig. 1;
+    docs/conventions.md), placed from the engine's results: ``pair`` (KHVPair: sun radius
+    r_s(sigma) mm, centre distance a mm, middle turn M(sigma) rad relative to the carrier
+    over the contact progress sigma) and ``m`` (TransplanterMotion: planet axes and
+    absolute planet angles phi_2 per arm), frames ``k``, carrier start ``carrier0`` (rad).
+
+    Arm j's carrier direction is phi_H = carrier0 - 2 pi j / J - psi, its middle gear
+    sits at a e^(i phi_H) and turns by -M(sigma) relative to the carrier (sigma = psi +
+    2 pi j / J), so its absolute rotation is phi_H - M. Its pitch curve in its body frame:
+    radius a - r_s(sigma) at body angle pi + M(sigma) (the sun contact, towards O). The
+    planet (at 2a, absolute angle phi_2) meets the middle at sigma' with M(sigma') =
+    M(sigma) + pi: radius r_s(sigma') at body angle phi_H + pi - phi_2, towards the
+    middle. Arm 0's samples give the planet's body curve (all arms share it)."""
+    two_pi = 2 * np.pi
+    sg, r_sun, a, M = pair.sigma, pair.r_sun[0], float(pair.a[0]), pair.M[0]
+    psi = m.carrier_angle
+    J = m.centre.shape[1]
+    middle_body = (a - r_sun[:-1]) * np.exp(1j * (np.pi + M[:-1]))
+    # the planet's body curve from arm 0 (sigma = psi)
+    target = np.mod(np.interp(psi, sg, M) + 0.5 * M[-1], M[-1])
+    r_planet = np.interp(np.interp(target, M, sg), sg, r_sun)
+    phi_h0 = carrier0 - psi
+    planet_body = r_planet * np.exp(1j * (phi_h0 + np.pi - m.planet_angle[0, 0]))
+    out = []
+    for j in range(J):
+        offset = two_pi * j / J
+        phi_h = carrier0 - offset - psi[k]
+        x = psi[k] + offset
+        wraps = np.floor(x / two_pi)
+        turn = np.interp(x - wraps * two_pi, sg, M) + M[-1] * wraps
+        out.append(_gear(f"middle {j + 1}", middle_body, a * np.exp(1j * phi_h),
+                         phi_h - turn, "middle", detail))
+        out.append(_gear(f"planet {j + 1}", planet_body, m.centre[0, j, k],
+                         m.planet_angle[0, j, k], "planet", detail))
+    return out
+
+
 def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a transplanting mechanism (``TransplanterJob``): internal gear
     (or fixed sun) and planets on their pitch curves, the arms (planet axis -> break
@@ -244,6 +292,7 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     else:
         z = pair.r_sun[0] * np.exp(1j * (c0 - pair.sigma))
         gears.append(_gear("sun (fixed)", z, 0.0, np.zeros(len(k)), "sun", detail))
+        gears += khv_middles_and_planets(pair, m, c0, k, detail)
     for j in range(J):
         links.append({"name": f"carrier {j + 1}",
                       "points": _xy(np.c_[np.zeros(len(k)), m.centre[0, j, k]])})
@@ -274,3 +323,82 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
         },
         "samples": int(n),
     }
+
+
+# --- teeth --------------------------------------------------------------------------------
+
+
+def _polar_on_grid(xy: np.ndarray, n: int) -> np.ndarray:
+    """Radius (mm) of a closed curve around the origin at n uniform polar angles."""
+    xy = np.asarray(xy, dtype=float)
+    th = np.mod(np.arctan2(xy[:, 1], xy[:, 0]), 2 * np.pi)
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    order = np.argsort(th, kind="stable")
+    th, r = th[order], r[order]
+    grid = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    return np.interp(grid, th, r, period=2 * np.pi)
+
+
+def _circular_corr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """c[k] = sum_i a[i] b[i - k] (circular), for every k."""
+    return np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(b)), len(a))
+
+
+def align_pitch_curve(drawn_xy, cut_xy, n: int = 1440, keep: float = 0.8
+                      ) -> tuple[float, float]:
+    """Rotation delta (rad) that carries a cut gear's pitch curve ``cut_xy`` (its body
+    frame, mm) onto the drawn pitch curve ``drawn_xy`` (the scene's body frame, mm) of the
+    same gear, both about the gear's centre, and the RMS radial residual (mm) left over the
+    best-fitting ``keep`` of the turn: weighted least squares of the polar radii over every
+    rotation (circular correlations), refitted without the worst-fitting angles (three times) (a
+    sun's toothless dwell sector is drawn as the arc the gear 2 rests on, cut as the
+    mate's own curve), refined between grid steps by a parabola."""
+    rd, rc = _polar_on_grid(drawn_xy, n), _polar_on_grid(cut_xy, n)
+    grid = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    w = np.ones(n)
+    for _ in range(4):
+        # ssd[k] = sum_i w[i] (rd[i] - rc[i - k])^2: the cut curve turned by k grid steps
+        ssd = (w * rd**2).sum() + _circular_corr(w, rc**2) - 2.0 * _circular_corr(w * rd, rc)
+        k = int(np.argmin(ssd))
+        y0, y1, y2 = ssd[(k - 1) % n], ssd[k], ssd[(k + 1) % n]
+        den = y0 - 2.0 * y1 + y2
+        frac = 0.5 * (y0 - y2) / den if den > 0 else 0.0
+        delta = (k + float(np.clip(frac, -0.5, 0.5))) * 2 * np.pi / n
+        err = np.abs(np.interp(grid - delta, grid, rc, period=2 * np.pi) - rd)
+        w = (err <= np.quantile(err, keep)).astype(float)
+    return float(np.mod(delta, 2 * np.pi)), float(np.sqrt((w * err**2).sum() / w.sum()))
+
+
+def teeth_for_scene(gears: list[dict], outlines: dict, tolerance: float = 0.005) -> dict:
+    """The cut outlines of ``outlines`` ({gear name: (polygon, pitch polyline)}, from
+    ``workflows.run_gears``) turned into the body frames of the drawn ``gears`` (scene
+    gears whose role is the cut gear's name: sun, gear2, gear3, planet, internal,
+    middle), so the page draws the teeth where the pitch curve was. A gear is drawn with
+    teeth only if its cut pitch curve fits the drawn one to ``tolerance`` x its mean
+    radius (RMS over the best-fitting 80 % of the turn, ``align_pitch_curve``); otherwise
+    the reason is given. Returns {role: {...}}."""
+    by_role = {g["role"]: g for g in gears}
+    out = {}
+    for name, (poly, pitch_xy) in outlines.items():
+        g = by_role.get(name)
+        if g is None:
+            out[name] = {"drawn": False, "reason": "no drawn gear of that name"}
+            continue
+        body = np.asarray(g["body"], dtype=float)
+        delta, residual = align_pitch_curve(body, pitch_xy)
+        mean_r = float(np.hypot(body[:, 0], body[:, 1]).mean())
+        entry = {"delta_deg": round(float(np.degrees(delta)), 4),
+                 "residual_mm": round(residual, 4), "drawn": residual <= tolerance * mean_r}
+        if not entry["drawn"]:
+            entry["reason"] = (f"its cut pitch curve differs from the drawn one by "
+                               f"{residual:.3g} mm RMS over the best-fitting 80 % of the "
+                               f"turn (limit {tolerance * mean_r:.3g} mm)")
+        else:
+            c, s = np.cos(delta), np.sin(delta)
+            rot = np.array([[c, -s], [s, c]])
+            rings = [poly.exterior, *poly.interiors] if hasattr(poly, "exterior") else [
+                ring for p in poly.geoms for ring in (p.exterior, *p.interiors)]
+            entry["rings"] = [_r(np.asarray(ring.coords)[:-1, :2] @ rot.T).tolist()
+                              for ring in rings]
+        out[name] = entry
+    return out

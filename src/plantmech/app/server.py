@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import asyncio
 import re
-import tempfile
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +33,7 @@ from plantmech.app import scene
 STATIC = Path(__file__).parent / "static"
 MAX_BODY_BYTES = 512 * 1024
 COMPUTE_TIMEOUT_S = 20.0
-MAX_COMPUTE = 4
+MAX_COMPUTE = 2
 DRAG_SAMPLES = 360  # the app's working resolution during a drag (samples per carrier turn)
 FRAMES = 360  # animation frames per carrier turn
 DRAG_FRAMES, DRAG_DETAIL = 180, 360  # during a drag: frames, points per curve and plot
@@ -87,14 +87,12 @@ def validate_design(raw: Any, label: str = "design"):
         text = tomli_w.dumps(raw)
     except (TypeError, ValueError) as exc:
         raise AppError(422, f"{label}: cannot be written as TOML: {exc}") from None
-    with tempfile.TemporaryDirectory(prefix="plantmech-app-") as tmp:
-        path = Path(tmp) / f"{label}.toml"
-        path.write_text(text, encoding="utf-8")
-        try:
-            return load_design(path)
-        except DesignError as exc:
-            msg = str(exc).replace(str(path), label)
-            raise AppError(422, msg, field_errors(msg)) from None
+    del text  # written only to prove the tables are a design file's (TOML) content
+    try:  # the parsed tables themselves: the same validation as a file, without its I/O
+        return load_design(raw, name=label)
+    except DesignError as exc:
+        msg = str(exc)
+        raise AppError(422, msg, field_errors(msg)) from None
 
 
 def design_json(design) -> dict:
@@ -145,11 +143,11 @@ def _seeder_trajectory(design, drag: bool) -> dict:
     from plantmech.geometry.trajectory import TrajectoryError
     from plantmech.workflows import run_seeder_inverse
 
-    d = design.model_copy(deep=True)
-    if drag:
-        d.trajectory.samples = DRAG_SAMPLES
-    try:
-        job = run_seeder_inverse(d)
+    d = design.model_copy()  # a copy of the one table changed (a deep copy costs ~2 ms)
+    d.trajectory = design.trajectory.model_copy(
+        update={"samples": DRAG_SAMPLES} if drag else {})
+    try:  # during a drag the pitch curves' manufacturability waits for the release
+        job = run_seeder_inverse(d, manufacturability=not drag)
     except TrajectoryError as exc:
         raise AppError(422, f"design: field 'trajectory.points': {exc}",
                        [{"field": "trajectory.points", "message": str(exc)}]) from None
@@ -159,9 +157,14 @@ def _seeder_trajectory(design, drag: bool) -> dict:
     if not job.result.feasible:
         out["checks"] = scene.checks_list(checks)
         return out
-    if drag:  # live: the inverse design, Table 1 and the attitude objectives
-        out["checks"] = scene.checks_list(checks)
-        out["pending"] = "speed objectives and gear checks follow on release"
+    if drag:  # live: the inverse design, Table 1, the attitude and the speed objectives
+        from plantmech.workflows import inverse_speed_objectives
+
+        sp = inverse_speed_objectives(job)
+        out["plots"].update(scene.speed_plots(job.result.carrier_angle, sp, DRAG_DETAIL))
+        out["checks"] = scene.checks_list(checks + sp["checks"])
+        out["pending"] = ("speeds of the inverse design's train; the forward simulation of "
+                          "the resampled train and the gear checks follow on release")
         return out
     from plantmech.workflows import InfeasibleDesign, run_seeder_forward
 
@@ -269,6 +272,43 @@ def editable_parameters(design) -> list[dict]:
     return out
 
 
+class BodyLimit:
+    """ASGI middleware: a POST, PUT or PATCH needs a Content-Length of at most
+    ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise). Plain ASGI rather than
+    ``@app.middleware("http")``: that wrapper costs every edit request a task and a stream."""
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] == "http" and scope["method"] in ("POST", "PUT", "PATCH"):
+            length = dict(scope["headers"]).get(b"content-length")
+            error = None
+            if length is None:
+                error = (411, "a request body needs a Content-Length")
+            elif not length.isdigit() or int(length) > MAX_BODY_BYTES:
+                error = (413, f"request body over the {MAX_BODY_BYTES} byte limit")
+            if error is not None:
+                await JSONResponse({"error": error[1]}, status_code=error[0])(
+                    scope, receive, send)
+                return
+        if scope["type"] != "http" or scope["path"] != "/api/evaluate":
+            await self.app(scope, receive, send)
+            return
+        t0 = time.perf_counter()
+
+        async def timed_send(message):
+            # the whole request inside the server (body, validation, queue, compute,
+            # JSON) as a second Server-Timing entry beside the computation's own
+            if message["type"] == "http.response.start":
+                dur = (time.perf_counter() - t0) * 1e3
+                message = {**message, "headers": [*message.get("headers", []), (
+                    b"server-timing", f"server;dur={dur:.2f}".encode())]}
+            await send(message)
+
+        await self.app(scope, receive, timed_send)
+
+
 # --- the application ----------------------------------------------------------------------
 
 
@@ -301,30 +341,29 @@ def create_app(initial: Path | None = None) -> FastAPI:
         design = load_design(initial)  # DesignError goes to the CLI, before the server
         initial_payload = {"name": initial.name, "design": design_json(design)}
 
-    @app.middleware("http")
-    async def limit_body(request: Request, call_next):
-        if request.method in ("POST", "PUT", "PATCH"):
-            length = request.headers.get("content-length")
-            if length is None:
-                return JSONResponse({"error": "a request body needs a Content-Length"},
-                                    status_code=411)
-            if not length.isdigit() or int(length) > MAX_BODY_BYTES:
-                return JSONResponse({"error": f"request body over the {MAX_BODY_BYTES} byte "
-                                     "limit"}, status_code=413)
-        return await call_next(request)
+    app.add_middleware(BodyLimit)
 
     @app.exception_handler(AppError)
     async def _app_error(request: Request, exc: AppError):
         return JSONResponse({"error": exc.message, "fields": exc.fields},
                             status_code=exc.status)
 
+    admission = asyncio.Semaphore(MAX_COMPUTE)  # first come, first served
+
     async def compute(fn, *args):
-        """Run ``fn`` in a worker thread under the compute time limit."""
+        """Run ``fn`` in a worker thread under the compute time limit. Requests are let in
+        in their order of arrival (an asyncio semaphore queues fairly; the threads'
+        semaphore alone let some edit requests wait behind many later ones); the
+        threads' semaphore keeps the bound when a timed-out computation runs on."""
         def guarded():
             with compute_slots:
                 return fn(*args)
+
+        async def admitted():
+            async with admission:
+                return await run_in_threadpool(guarded)
         try:
-            return await asyncio.wait_for(run_in_threadpool(guarded), COMPUTE_TIMEOUT_S)
+            return await asyncio.wait_for(admitted(), COMPUTE_TIMEOUT_S)
         except TimeoutError:
             raise AppError(503, f"computation exceeded the {COMPUTE_TIMEOUT_S:g} s limit "
                            "(lower the samples per turn)") from None
@@ -386,11 +425,19 @@ def create_app(initial: Path | None = None) -> FastAPI:
         quality = data.get("quality", "full")
         if quality not in ("drag", "full"):
             raise AppError(400, "field 'quality': expected 'drag' or 'full'")
-        design = await compute(validate_design, data.get("design"))
-        result = await compute(evaluate, design, quality)
-        result["design"] = design_json(design)
-        result["parameters"] = editable_parameters(design) if quality == "full" else None
-        return fast_json(result)
+        def answer():
+            t0 = time.perf_counter()
+            design = validate_design(data.get("design"))
+            result = evaluate(design, quality)
+            result["design"] = design_json(design)
+            result["parameters"] = editable_parameters(design) if quality == "full" else None
+            response = fast_json(result)
+            # the page splits its drag latency into server compute and the rest
+            response.headers["Server-Timing"] = (
+                f"compute;dur={(time.perf_counter() - t0) * 1e3:.2f}")
+            return response
+
+        return await compute(answer)
 
     @app.post("/api/toml")
     async def toml(request: Request):

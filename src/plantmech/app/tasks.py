@@ -144,9 +144,18 @@ def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
         files_dir = out / "gears"
         files_dir.mkdir()
         q.put(("progress", {"stage": "cutting teeth", "t": time.time()}))
-        rec = run_gears(design, files_dir, **opts)
+        outlines: dict = {}
+        rec = run_gears(design, files_dir, outlines=outlines, **opts)
+        q.put(("progress", {"stage": "placing the teeth on the drawn gears", "t": time.time()}))
+        try:  # the cut outlines in the body frames of the gears the page animates
+            from plantmech.app import scene, server
+
+            drawn = server.evaluate(design, "full").get("gears", [])
+            teeth = scene.teeth_for_scene(drawn, outlines)
+        except Exception as exc:  # noqa: BLE001 - the page then draws pitch curves only
+            teeth = {"error": f"{type(exc).__name__}: {exc}"}
         q.put(("done", {"record": rec, "files": list(rec["files"]) + ["verification.json"],
-                        "all_pairs_mesh": bool(rec["all_pairs_mesh"])}))
+                        "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth}))
     except Exception as exc:  # noqa: BLE001
         q.put(("error", f"{type(exc).__name__}: {exc}"))
 

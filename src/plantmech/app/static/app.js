@@ -9,6 +9,7 @@ const SECTION_COLOURS = { picking: "rgba(22,163,74,0.13)", transport: "rgba(37,9
 const ARM_COLOURS = ["#2563eb", "#ea580c", "#16a34a", "#dc2626", "#7c3aed", "#92400e"];
 const GEAR_STYLE = { sun: ["#374151", "rgba(55,65,81,0.10)"], gear2: ["#b45309", "rgba(245,158,11,0.18)"],
   gear3: ["#0f766e", "rgba(20,184,166,0.18)"], planet: ["#7c3aed", "rgba(139,92,246,0.15)"],
+  middle: ["#b45309", "rgba(245,158,11,0.18)"],
   internal: ["#374151", "rgba(0,0,0,0)"] };
 
 const state = {
@@ -19,6 +20,7 @@ const state = {
 };
 window.__plantmech = state; // for the tests and the benchmark
 window.__dragTimes = [];
+window.__dragBreakdown = []; // per drawn drag answer: where the milliseconds went
 
 // ---------------------------------------------------------------- server calls
 async function api(path, body) {
@@ -68,13 +70,29 @@ function redo() {
 }
 
 // ---------------------------------------------------------------- evaluation
-// One request in flight; during a drag the newest design waits and replaces older ones.
+// One request in flight; during a drag the newest design waits and replaces older ones
+// (coalescing: the pointer moves faster than answers come, only the latest is computed).
 async function evaluate(quality, t0 = null) {
-  if (state.inflight) { state.pending = { quality, t0 }; return; }
+  if (state.inflight) {
+    // a move replaced before it was answered is measured from its own time: the latency
+    // of the oldest move still waiting counts, not only of the newest
+    const older = state.pending && state.pending.t0 !== null && t0 !== null ? state.pending.t0 : t0;
+    state.pending = { quality, t0: older };
+    return;
+  }
   state.inflight = true;
   const seq = ++state.seq;
   try {
-    const res = await api("/api/evaluate", { design: state.design, quality });
+    const tSend = performance.now();
+    const r = await fetch("/api/evaluate", { method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ design: state.design, quality }) });
+    const tHead = performance.now();
+    const text = await r.text();
+    const tBody = performance.now();
+    let res;
+    try { res = JSON.parse(text); } catch { res = { error: `${r.status} ${r.statusText}` }; }
+    const tParsed = performance.now();
+    if (!r.ok) { const e = new Error(res.error || r.statusText); e.data = res; e.status = r.status; throw e; }
     state.fieldErrors = [];
     state.result = res;
     if (quality === "full") state.fullResult = res;
@@ -82,10 +100,16 @@ async function evaluate(quality, t0 = null) {
     setStatus(quality === "drag" ? "live (working resolution)" : "up to date");
     render();
     if (t0 !== null) {
-      // drag -> redraw of the mechanism and the objectives, measured in the browser
+      // drag -> redraw of the mechanism and the objectives, measured in the browser:
+      // from the pointer move to the drawn answer, and where that time went
       const t1 = performance.now();
       performance.measure("drag-redraw", { start: t0, end: t1 });
       window.__dragTimes.push(t1 - t0);
+      const timing = (name) => { const m = (r.headers.get("Server-Timing") || "").match(new RegExp(`${name};dur=([0-9.]+)`)); return m ? +m[1] : null; };
+      const compute = timing("compute"), server = timing("server");
+      window.__dragBreakdown.push({ total: t1 - t0, queued: tSend - t0, compute, server,
+        browser_http: tHead - tSend - (server || 0), body: tBody - tHead, parse: tParsed - tBody,
+        draw: t1 - tParsed, bytes: text.length });
     }
   } catch (e) {
     state.fieldErrors = (e.data && e.data.fields) || [];
@@ -178,13 +202,26 @@ function drawMechanism() {
   const f = n ? state.frame % n : 0;
   // gears on their pitch curves at this frame
   if (n && $("show-gears").checked) {
+    const teeth = currentTeeth();
     for (const g of res.gears || []) {
       const [cx, cy] = g.centre[Math.min(f, g.centre.length - 1)], a = g.rot[Math.min(f, g.rot.length - 1)];
       const c = Math.cos(a), s = Math.sin(a);
-      const pts = g.body.map(([x, y]) => [cx + c * x - s * y, cy + s * x + c * y]);
+      const place = ([x, y]) => [cx + c * x - s * y, cy + s * x + c * y];
+      const pts = g.body.map(place);
       const [stroke, fill] = GEAR_STYLE[g.role] || ["#111", "rgba(0,0,0,0.05)"];
       ctx.fillStyle = fill; ctx.strokeStyle = stroke; ctx.lineWidth = 1.3;
-      poly(ctx, v, pts, true); ctx.fill(); ctx.stroke();
+      const cut = teeth && teeth[g.role] && teeth[g.role].drawn ? teeth[g.role] : null;
+      if (cut) {
+        // the cut outline (teeth, bore) rolling with the gear; the pitch curve dashed
+        ctx.beginPath();
+        for (const ring of cut.rings) {
+          ring.forEach((p, i) => { const [px, py] = v.toPx(...place(p)); if (i) ctx.lineTo(px, py); else ctx.moveTo(px, py); });
+          ctx.closePath();
+        }
+        ctx.fill("evenodd"); ctx.lineWidth = 0.8; ctx.stroke();
+        ctx.setLineDash([3, 3]); ctx.lineWidth = 0.7; poly(ctx, v, pts, true); ctx.stroke(); ctx.setLineDash([]);
+        ctx.lineWidth = 1.3;
+      } else { poly(ctx, v, pts, true); ctx.fill(); ctx.stroke(); }
       // a body-fixed spoke shows the rotation
       const [p0x, p0y] = v.toPx(cx, cy), [p1x, p1y] = v.toPx(...pts[0]);
       ctx.beginPath(); ctx.moveTo(p0x, p0y); ctx.lineTo(p1x, p1y); ctx.stroke();
@@ -225,6 +262,23 @@ function drawMechanism() {
     ctx.fillText(`✖ ${d.message.slice(0, 95)}`, 10, 16 + 15 * i);
   });
   if (n) $("angle").textContent = `carrier ${res.frames.carrier_angle_deg[f].toFixed(1)}° (clockwise from start)`;
+}
+
+// teeth of the last cut, drawn while the design is the one that was cut
+function currentTeeth() {
+  const t = state.teeth;
+  if (!t || !state.design) return null;
+  return t.key === JSON.stringify(state.design) ? t.gears : null;
+}
+
+function teethNote() {
+  const t = state.teeth, el = $("teeth-note");
+  if (!el) return;
+  if (!t) { el.textContent = "Gears drawn as pitch curves: cut the teeth (Make) to see them in mesh."; return; }
+  const missing = Object.entries(t.gears || {}).filter(([, e]) => !e.drawn).map(([k, e]) => `${k} (${e.reason || e.error || "not placed"})`);
+  if (t.gears && t.gears.error) { el.textContent = `Teeth not drawn: ${t.gears.error}`; return; }
+  if (currentTeeth()) el.textContent = `Teeth as cut (module ${t.module}) rolling on the pitch curves (dashed)${missing.length ? "; pitch curve only for " + missing.join(", ") : ""}.`;
+  else el.textContent = "Teeth hidden: the design changed since they were cut (cut again to see them).";
 }
 
 function redSpans(res) {
@@ -411,7 +465,7 @@ function renderEdit() {
   if (!d) return;
   const hint = $("hint");
   if (d.mechanism === "sugarcane_seeder" && !d.train) {
-    hint.textContent = "Drag a type-value point q_i (white; section points amber) — live inverse design at the working resolution, full resolution on release.";
+    hint.textContent = "Drag a type-value point q_i (white; section points amber) — live inverse design at the working resolution (360 samples per turn: Table 1, attitude and speed objectives update as you drag; gear checks, greyed, and the forward simulation at the design's own resolution follow on release).";
     const t = document.createElement("table");
     t.innerHTML = "<tr><th>point</th><th>x / mm</th><th>y / mm</th></tr>";
     d.trajectory.points.forEach((_, i) => {
@@ -516,6 +570,7 @@ function render() {
     $("scrub").max = Math.max(0, n - 1);
   }
   drawMechanism();
+  teethNote();
   renderChecks();
   renderPlots();
   if (!state.drag && !document.activeElement.closest?.("#edit")) renderEdit();
@@ -621,7 +676,7 @@ async function startGears() {
   $("g-files").innerHTML = ""; $("g-images").innerHTML = "";
   try {
     const r = await api("/api/gears", body);
-    state.gearTask = r.task; $("g-start").disabled = true;
+    state.gearTask = r.task; state.gearKey = JSON.stringify(body.design); $("g-start").disabled = true;
     pollGears();
   } catch (e) {
     $("g-status").innerHTML = `<span class="field-error">${e.message}</span>`;
@@ -635,6 +690,11 @@ async function pollGears() {
   $("g-start").disabled = false;
   if (st.state === "failed") { $("g-status").innerHTML = `<span class="field-error">${st.error}</span>`; return; }
   const rec = st.result.record;
+  if (st.result.teeth) {
+    const m = rec.gears.length ? rec.gears[0].module_mm.toFixed(3) + " mm" : "?";
+    state.teeth = { key: state.gearKey, gears: st.result.teeth, module: m };
+    teethNote(); drawMechanism();
+  }
   let html = `<table><tr><th>gear</th><th>teeth</th><th>module / mm</th><th>max pressure angle / deg</th><th>undercut</th><th>pointed</th><th>cutter fits</th></tr>`;
   for (const g of rec.gears) html += `<tr><td>${g.name}</td><td class="num">${g.teeth}</td><td class="num">${g.module_mm.toFixed(4)}</td><td class="num">${g.max_pressure_angle_deg.toFixed(1)}</td><td class="${g.undercut ? "fail" : "ok"}">${g.undercut ? "yes" : "no"}</td><td class="${g.pointed ? "fail" : "ok"}">${g.pointed ? "yes" : "no"}</td><td class="${g.cutter_fits ? "ok" : "fail"}">${g.cutter_fits ? "yes" : "no"}</td></tr>`;
   html += `</table><table><tr><th>pair in mesh</th><th>interference / mm</th><th>max backlash / mm</th><th></th></tr>`;
