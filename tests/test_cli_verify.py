@@ -86,3 +86,57 @@ def test_sun_turned_by_half_a_tooth_fails(gear_dir, tmp_path, capsys):
     te = next(c for c in rec["checks"] if c["name"].startswith("transmission error"))
     assert te["ok"] is False
     assert "FAIL transmission error" in capsys.readouterr().out
+
+
+def test_sun_toothless_arc_is_where_the_train_dwells(gear_dir):
+    """The sun's uncut (locking) arc on the written outline sits where gear 2 is held.
+    Frame-free: the sun's pitch radius along its rolling arc, measured from the middle of
+    the outline's toothless gap, must be the design's a1 - r2 rolled from gear 2's body
+    angle in the dwell (the forward model's, integrated here by the trapezoid rule). With
+    the gap placed at gear 2's theta0 instead, this profile was 43 deg off (8.6 mm rms)."""
+    from plantmech.contact.outlines import read_gear_dxf
+    from plantmech.design import load_design
+    from plantmech.mechanisms.seeder_forward import simulate
+    from plantmech.workflows import train_from_design
+
+    tr, _ = train_from_design(load_design(SEEDER))
+    f = simulate(tr, samples=7200)
+    g_d = tr.gear2_contact0 + f.gear2_angle[f.in_dwell][0]  # gear 2 held here
+    theta1 = tr.dwell_theta1
+    # the sun's rolling arc: contact body angle -integral r2 / (a1 - r2) from g_d
+    th = np.linspace(0.0, 2 * np.pi, 20001)
+    r2 = tr.gear2(g_d + th)
+    rate = r2 / (tr.a1 - r2)
+    beta = -np.r_[0.0, np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(th))]
+    assert abs(beta[-1] + (2 * np.pi - theta1)) < 1e-3  # the pair closes over 360 - theta1
+    # the gap lies between the arc's end and its start (body angle 0): centre theta1 / 2
+    v_exp, r_exp = beta - theta1 / 2, tr.a1 - r2
+
+    sun = read_gear_dxf(gear_dir / "sun.dxf", "sun")
+    tips = np.sort(sun.tip_angles)
+    gaps = np.diff(np.r_[tips, tips[0] + 2 * np.pi])
+    k = int(np.argmax(gaps))
+    pitch = float(np.median(gaps))
+    # the toothless arc spans the dwell's carrier turn theta1 (the sun is fixed, gear 2
+    # held): tip to tip, theta1 less about one tooth (the teeth at its ends)
+    assert abs(gaps[k] - (theta1 - pitch)) < 0.5 * pitch
+    centre = tips[k] + gaps[k] / 2
+    # measured: the outline's radius averaged over one tooth angle, against body angle
+    ang = np.mod(np.arctan2(sun.ring[:, 1], sun.ring[:, 0]), 2 * np.pi)
+    o = np.argsort(ang)
+    fine = np.radians(np.arange(0.0, 360.0, 0.05))
+    rf = np.interp(fine, ang[o], np.hypot(*sun.ring[o].T), period=2 * np.pi)
+    w = int(round(pitch / np.radians(0.05)))
+    smooth = np.convolve(np.r_[rf[-w:], rf, rf[:w]], np.ones(w) / w, mode="same")[w:-w]
+    # away from the gap's ends (20 deg), up to a constant (tooth shape) offset
+    inner = (v_exp < -np.radians(20)) & (v_exp > -2 * np.pi + theta1 + np.radians(20))
+
+    def misfit(shift):
+        meas = np.interp(np.mod(centre + v_exp[inner] + shift, 2 * np.pi), fine, smooth,
+                         period=2 * np.pi)
+        return float(np.std(meas - r_exp[inner]))
+
+    shifts = np.radians(np.arange(-90.0, 90.01, 0.25))
+    best = shifts[int(np.argmin([misfit(s) for s in shifts]))]
+    assert abs(np.degrees(best)) <= 2.0
+    assert misfit(0.0) < 1.5  # mm (the radius varies 53-74 mm along the arc)
