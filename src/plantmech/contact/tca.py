@@ -292,11 +292,14 @@ def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_
     and vertices). The candidates are the midpoints between consecutive crossings within
     +-max_turn (no free interval is missed, however narrow); the free one nearest to the
     reference is taken and confirmed by a point-in-polygon test of every window vertex.
-    No free midpoint: jammed. A pick the test does not confirm (a crossing with an edge
-    outside the window) is resolved by the midpoint search (``_free_offsets_search``,
-    which tests the same midpoints nearest first). The sweep gives the search's result
-    while the window holds every crossing within +-max_turn (checked identical on the
-    Table 4 train and the tests' cases) and saves testing its candidates one by one."""
+    No free midpoint: jammed, once each midpoint has a witness (a vertex the sweep holds
+    inside there, found strictly inside by point-in-polygon: the overlap is proven). A
+    pick the test does not confirm, or a midpoint without a proven witness (a vertex
+    whose status changes on an edge outside the window: an internal gear's teeth wrap
+    round the planet beyond it) sends the step to the midpoint search
+    (``_free_offsets_search``, which tests the same midpoints nearest first): the
+    result is the search's in every case; the sweep saves testing the candidates one by
+    one (checked identical on the Table 4 train and the tests' cases)."""
     nd = len(ring_d)
     n = len(rows)
     kn = in_n.shape[1]
@@ -355,13 +358,87 @@ def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_
         f = np.flatnonzero(found)
         ok[f] = ~_overlap(pn[rows][f], ring_d[vd[rows]][f], qn[f] + off[f], c_n, qd[f], c_d,
                           poly_n, poly_d, *reach)
-    jam = ~found  # every midpoint has a window vertex inside the other gear
-    redo = np.flatnonzero(found & ~ok)
+    # no free midpoint: jammed, once every midpoint's overlap is proven by a witness (a
+    # vertex the sweep holds inside, found strictly inside by point-in-polygon)
+    jam = ~found
+    if jam.any():
+        proven = np.zeros(n, dtype=bool)
+        proven[jam] = _witnessed(np.flatnonzero(jam), st_e, dq_e, count, st, vid, dq,
+                                 order, low, after, max_turn, pn[rows], pd, kn, qn, c_n, qd,
+                                 c_d, poly_n, poly_d)
+        ok |= jam & proven
+        jam &= proven
+    redo = np.flatnonzero(~ok)
     if len(redo):
         o2, j2 = _free_offsets_search(rows[redo], pn, en1, ring_d, vd, q_n, q_d, c_n, c_d,
                                       max_turn, poly_n, poly_d, reach)
         off[redo], jam[redo] = o2, j2
     return off, jam
+
+
+def _witnessed(steps, st_e, dq_e, count, st, vid, dq, order, low, after, max_turn, pn, pd,
+               kn, qn, c_n, qd, c_d, poly_n, poly_d) -> np.ndarray:
+    """For the sweep's steps ``steps`` that it finds jammed: whether the overlap at every
+    candidate midpoint is proven by a witness, a vertex the sweep holds inside there
+    that point-in-polygon finds strictly inside the other gear (one test per midpoint).
+    A vertex is held inside over intervals of rotation: from -max_turn to its first
+    crossing when inside there (``low``), and from each crossing after which it is inside
+    (``after``, in ``order``) to its next crossing or +max_turn."""
+    import shapely
+
+    n = len(low)
+    # inside intervals of every vertex
+    st_o, vid_o, dq_o = st[order], vid[order], dq[order]
+    last = np.r_[(st_o[1:] != st_o[:-1]) | (vid_o[1:] != vid_o[:-1]), True]
+    nxt = np.where(last, max_turn, np.r_[dq_o[1:], max_turn])
+    first = np.r_[True, last[:-1]]
+    s_low, v_low = np.nonzero(low)
+    first_dq = np.full(low.shape, max_turn)
+    first_dq[st_o[first], vid_o[first]] = dq_o[first]
+    iv_s = np.r_[st_o[after], s_low]
+    iv_v = np.r_[vid_o[after], v_low]
+    iv_0 = np.r_[dq_o[after], np.full(len(s_low), -max_turn)]
+    iv_1 = np.r_[nxt[after], first_dq[s_low, v_low]]
+    # the midpoints to prove: between consecutive events of a jammed step
+    want = np.zeros(n, dtype=bool)
+    want[steps] = True
+    same = st_e[1:] == st_e[:-1]
+    gap = (dq_e[1:] - dq_e[:-1]) > 1e-12
+    pick = same & gap & want[st_e[1:]]
+    m_s = st_e[1:][pick]
+    m_x = 0.5 * (dq_e[1:] + dq_e[:-1])[pick]
+    proven = want.copy()
+    if len(iv_s) == 0:
+        proven[m_s] = False
+        return proven[steps]
+    # an interval covering each midpoint: sorted by (step, start), the running farthest
+    # end (keys offset per step so steps never mix)
+    big = 4.0 * max_turn + 1.0
+    o = np.lexsort((iv_0, iv_s))
+    k0 = iv_0[o] + iv_s[o] * big
+    k1 = iv_1[o] + iv_s[o] * big
+    run = np.maximum.accumulate(k1)
+    arg = np.maximum.accumulate(np.where(k1 >= run, np.arange(len(k1)), 0))
+    pos = np.searchsorted(k0, m_x + m_s * big, side="right") - 1
+    w = o[arg[np.maximum(pos, 0)]]
+    covered = (pos >= 0) & (iv_s[w] == m_s) & (iv_1[w] >= m_x) & (iv_0[w] <= m_x)
+    proven[m_s[~covered]] = False
+    # test each covered midpoint's witness
+    ws, wv, wx = m_s[covered], iv_v[w[covered]], m_x[covered]
+    hit = np.zeros(len(ws), dtype=bool)
+    a = wv < kn
+    if a.any():  # a driven vertex, the driven gear turned by x: in the driver's frame
+        p = pn[ws[a], wv[a]][:, None, :]
+        x = _to_driven_frame(p, qn[ws[a]] + wx[a], c_n, qd[ws[a]], c_d)[:, 0]
+        hit[a] = shapely.contains_xy(poly_d, x[:, 0], x[:, 1])
+    b = ~a
+    if b.any():  # a driver vertex (driven frame) seen from the driven gear turned by x
+        p = pd[ws[b], wv[b] - kn]
+        c, sn = np.cos(-wx[b]), np.sin(-wx[b])
+        x = np.c_[c * p[:, 0] - sn * p[:, 1], sn * p[:, 0] + c * p[:, 1]]
+        hit[b] = shapely.contains_xy(poly_n, x[:, 0], x[:, 1])
+    proven[ws[~hit]] = False
+    return proven[steps]
 
 
 def _free_offsets_search(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_n,
