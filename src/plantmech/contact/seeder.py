@@ -226,9 +226,17 @@ def seeder_record(c: SeederContact, train, limits: dict, carrier_speed_deg_s: fl
             "locked_steps": int(np.isfinite(free).sum()), "steps": int(dwell.sum()),
             "gear2_free_play_deg": {"max": float(np.nanmax(free)) if np.isfinite(free).any()
                                     else None},
-            "what_holds_the_arm": "the sun's locking arc against gear 2's concave arc (teeth "
-                                  "out of mesh): the free play above is the arm's play "
-                                  "(through gear 3 and the planet)",
+            "what_holds_the_arm": "the sun's toothless arc (turned down to its root) faces "
+                                  "gear 2, which is cut with teeth all round (no concave "
+                                  "locking arc): gear 2 is held only where a sun tooth at "
+                                  "an end of the arc touches it (locked steps); the free "
+                                  "play above is the arm's play (through gear 3 and the "
+                                  "planet)",
+            # held gear 2 against the sun's teeth at the arc's ends: interference
+            "jammed_steps": int((fp.jammed & dwell).sum()),
+            "jammed": _spans(psi_deg, fp.jammed & dwell, lambda i: {
+                "gear2_body_angle_deg": round(float(np.degrees(fp.mesh_driven_angle[i])), 2),
+                "gear2_tooth": int(fp.mesh_driven_tooth[i])}),
             # gears 2-3 stop and restart: their speed relative to the carrier jumps
             "gear2_speed_jump_rad_s": {
                 "at_start": float(c.stage1_rate[before] * omega),

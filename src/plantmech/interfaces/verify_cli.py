@@ -171,6 +171,14 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
                   f"{s['carrier_angle_deg'][1]:.1f} deg: "
                   + ", ".join(f"{k} {v}" for k, v in s.items()
                               if k not in ("carrier_angle_deg", "steps")))
+    if "dwell" in rec:
+        d = rec["dwell"]
+        print(f"  dwell at carrier {d['carrier_angle_deg'][0]:.1f}-"
+              f"{d['carrier_angle_deg'][1]:.1f} deg: gear 2 held {d['locked_steps']} of "
+              f"{d['steps']} steps, jammed {d['jammed_steps']} steps"
+              + "".join(f", at carrier {j['carrier_angle_deg'][0]:.1f}-"
+                        f"{j['carrier_angle_deg'][1]:.1f} deg (gear 2 tooth "
+                        f"{j['gear2_tooth']})" for j in d["jammed"][:3]))
     if loads is not None:
         print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
               f"input torque {loads['input_torque_N_m']['min']:.2f} to "
