@@ -12,6 +12,7 @@ from plantmech.interfaces.cli import main
 from tests.conftest import EXAMPLES
 
 SEEDER = EXAMPLES / "sugarcane_table4.toml"
+TRANSPLANTER = EXAMPLES / "rice_transplanter_manufacturable.toml"
 
 
 @pytest.fixture(scope="module")
@@ -30,9 +31,12 @@ def test_input_errors(tmp_path, capsys):
                str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert rc == 2 and "gear2.dxf: gear file not found" in err
-    rc = main(["verify", str(EXAMPLES / "rice_transplanter.toml"), "--gears",
+    rc = main(["verify", str(EXAMPLES / "rice_transplanter_khv.toml"), "--gears",
                str(tmp_path / "g"), "--out", str(tmp_path / "o")])
     assert rc == 2 and "field 'mechanism'" in capsys.readouterr().err
+    rc = main(["verify", str(TRANSPLANTER), "--gears", str(tmp_path / "g"), "--out",
+               str(tmp_path / "o")])
+    assert rc == 2 and "internal.dxf: gear file not found" in capsys.readouterr().err
     rc = main(["verify", str(SEEDER), "--gears", str(tmp_path / "g"), "--out",
                str(tmp_path / "g")])
     assert rc == 2
@@ -86,3 +90,111 @@ def test_sun_turned_by_half_a_tooth_fails(gear_dir, tmp_path, capsys):
     te = next(c for c in rec["checks"] if c["name"].startswith("transmission error"))
     assert te["ok"] is False
     assert "FAIL transmission error" in capsys.readouterr().out
+
+
+def test_sun_toothless_arc_is_where_the_train_dwells(gear_dir):
+    """The sun's uncut (locking) arc on the written outline sits where gear 2 is held.
+    Frame-free: the sun's pitch radius along its rolling arc, measured from the middle of
+    the outline's toothless gap, must be the design's a1 - r2 rolled from gear 2's body
+    angle in the dwell (the forward model's, integrated here by the trapezoid rule). With
+    the gap placed at gear 2's theta0 instead, this profile was 43 deg off (8.6 mm rms)."""
+    from plantmech.contact.outlines import read_gear_dxf
+    from plantmech.design import load_design
+    from plantmech.mechanisms.seeder_forward import simulate
+    from plantmech.workflows import train_from_design
+
+    tr, _ = train_from_design(load_design(SEEDER))
+    f = simulate(tr, samples=7200)
+    g_d = tr.gear2_contact0 + f.gear2_angle[f.in_dwell][0]  # gear 2 held here
+    theta1 = tr.dwell_theta1
+    # the sun's rolling arc: contact body angle -integral r2 / (a1 - r2) from g_d
+    th = np.linspace(0.0, 2 * np.pi, 20001)
+    r2 = tr.gear2(g_d + th)
+    rate = r2 / (tr.a1 - r2)
+    beta = -np.r_[0.0, np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(th))]
+    assert abs(beta[-1] + (2 * np.pi - theta1)) < 1e-3  # the pair closes over 360 - theta1
+    # the gap lies between the arc's end and its start (body angle 0): centre theta1 / 2
+    v_exp, r_exp = beta - theta1 / 2, tr.a1 - r2
+
+    sun = read_gear_dxf(gear_dir / "sun.dxf", "sun")
+    tips = np.sort(sun.tip_angles)
+    gaps = np.diff(np.r_[tips, tips[0] + 2 * np.pi])
+    k = int(np.argmax(gaps))
+    pitch = float(np.median(gaps))
+    # the toothless arc spans the dwell's carrier turn theta1 (the sun is fixed, gear 2
+    # held): tip to tip, theta1 less about one tooth (the teeth at its ends)
+    assert abs(gaps[k] - (theta1 - pitch)) < 0.5 * pitch
+    centre = tips[k] + gaps[k] / 2
+    # measured: the outline's radius averaged over one tooth angle, against body angle
+    ang = np.mod(np.arctan2(sun.ring[:, 1], sun.ring[:, 0]), 2 * np.pi)
+    o = np.argsort(ang)
+    fine = np.radians(np.arange(0.0, 360.0, 0.05))
+    rf = np.interp(fine, ang[o], np.hypot(*sun.ring[o].T), period=2 * np.pi)
+    w = int(round(pitch / np.radians(0.05)))
+    smooth = np.convolve(np.r_[rf[-w:], rf, rf[:w]], np.ones(w) / w, mode="same")[w:-w]
+    # away from the gap's ends (20 deg), up to a constant (tooth shape) offset
+    inner = (v_exp < -np.radians(20)) & (v_exp > -2 * np.pi + theta1 + np.radians(20))
+
+    def misfit(shift):
+        meas = np.interp(np.mod(centre + v_exp[inner] + shift, 2 * np.pi), fine, smooth,
+                         period=2 * np.pi)
+        return float(np.std(meas - r_exp[inner]))
+
+    shifts = np.radians(np.arange(-90.0, 90.01, 0.25))
+    best = shifts[int(np.argmin([misfit(s) for s in shifts]))]
+    assert abs(np.degrees(best)) <= 2.0
+    assert misfit(0.0) < 1.5  # mm (the radius varies 53-74 mm along the arc)
+
+
+@pytest.fixture(scope="module")
+def transplanter_gear_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gears_t")
+    assert main(["gears", str(TRANSPLANTER), "--out", str(out)]) == 0
+    return out
+
+
+def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsys):
+    """The shipped manufacturable transplanter's gear files (internal gear, planet),
+    every arm's planet driven by the internal gear: every figure reported per arm, the
+    verdict honest; the planet file turned by half a tooth fails on every arm."""
+    out = tmp_path / "v"
+    rc = main(["verify", str(TRANSPLANTER), "--gears", str(transplanter_gear_dir), "--out",
+               str(out), "--steps", "72"])
+    rec = json.loads((out / "verification.json").read_text())
+    assert rc == (0 if rec["ok"] else 4)
+    assert len(rec["pairs"]) == 3 and len(rec["arms"]) == 3
+    for p, a in zip(rec["pairs"], rec["arms"], strict=True):
+        assert p["transmission_error_deg"]["max_abs_mid"] is not None
+        assert p["backlash_band_deg"]["median"] > 0
+        assert a["tip_band_mm"]["max"] > 0
+    assert rec["teeth_found_on_outlines"]["internal"] >= 60
+    for png in ("transmission_error", "tip_band"):
+        assert (out / f"{png}.png").stat().st_size > 10_000
+    assert "internal -> planet (arm 3)" in capsys.readouterr().out
+
+    from plantmech.contact.outlines import read_gear_dxf
+
+    bad = tmp_path / "bad"
+    shutil.copytree(transplanter_gear_dir, bad)
+    planet = read_gear_dxf(bad / "planet.dxf")
+    _turn_dxf(bad / "planet.dxf", np.pi / planet.teeth)
+    rc = main(["verify", str(TRANSPLANTER), "--gears", str(bad), "--out",
+               str(tmp_path / "v2"), "--steps", "36", "--no-plots"])
+    assert rc == 4
+    rec = json.loads((tmp_path / "v2" / "verification.json").read_text())
+    for p in rec["pairs"]:
+        # each planet sits about half its tooth angle off the pitch-curve law
+        assert p["transmission_error_deg"]["max_abs_mid"] > 0.5 * 180.0 / planet.teeth
+    assert "FAIL transmission error" in capsys.readouterr().out
+
+
+def _turn_dxf(path, turn: float) -> None:
+    import ezdxf
+
+    doc = ezdxf.readfile(path)
+    c, s = np.cos(turn), np.sin(turn)
+    for e in doc.modelspace().query("LWPOLYLINE"):
+        pts = np.asarray(e.get_points("xy"))
+        e.set_points(np.c_[c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]],
+                     format="xy")
+    doc.saveas(path)

@@ -185,3 +185,50 @@ def test_read_gear_dxf_round_trip_and_errors(tmp_path):
     (tmp_path / "bad.dxf").write_text("not a dxf")
     with pytest.raises(GearFileError, match="bad.dxf"):
         read_gear_dxf(tmp_path / "bad.dxf")
+
+
+@pytest.mark.parametrize("turn_teeth", [0.25, 0.5, 0.9])
+def test_sweep_gives_the_midpoint_search_result(turn_teeth, monkeypatch):
+    """The parity sweep that finds the free rotation nearest an overlapping reference
+    returns what the one-by-one midpoint search (point-in-polygon at every candidate)
+    returns: the same offsets and jams, on gears turned off their phase (every step
+    overlaps) and a pair set closer than its centre distance (some steps jam)."""
+    import plantmech.contact.tca as tca
+
+    z2 = 30
+    swept, *_ = _pair(z2=z2, turn2=turn_teeth * 2 * np.pi / z2)
+    assert swept.overlapped.all()
+
+    def search_only(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_n,
+                    poly_d, reach, in_n, in_d):
+        return tca._free_offsets_search(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d,
+                                        max_turn, poly_n, poly_d, reach)
+
+    monkeypatch.setattr(tca, "_free_offsets", search_only)
+    searched, *_ = _pair(z2=z2, turn2=turn_teeth * 2 * np.pi / z2)
+    np.testing.assert_array_equal(swept.reference, searched.reference)
+    np.testing.assert_array_equal(swept.jammed, searched.jammed)
+    np.testing.assert_array_equal(swept.lo, searched.lo)
+    np.testing.assert_array_equal(swept.hi, searched.hi)
+
+
+def test_sweep_jams_where_the_search_jams(monkeypatch):
+    import plantmech.contact.tca as tca
+
+    m, z1, z2 = 2.0, 20, 30
+    g1 = outline_from_rings("g1", [involute_gear(z1, m, 0.2)])
+    g2 = outline_from_rings("g2", [involute_gear(z2, m, 0.2)])
+    th = np.linspace(0.0, 2 * np.pi / z1 * 3, 60)
+    q2 = np.pi + np.pi / z2 - th * z1 / z2
+    a = np.linspace(m * (z1 + z2) / 2 - 1.6 * m, m * (z1 + z2) / 2, 60)  # tip on root
+    results = []
+    for fn in (tca._free_offsets, None):
+        if fn is None:
+            monkeypatch.setattr(tca, "_free_offsets", lambda *a_, **k: tca._free_offsets_search(
+                *a_[:13]))
+        fps = [free_play(g2, g1, (aa, 0.0), (0.0, 0.0), q2[i:i + 1], th[i:i + 1])
+               for i, aa in enumerate(a[::6])]
+        results.append((np.r_[[f.jammed[0] for f in fps]], np.r_[[f.reference[0] for f in fps]]))
+    assert results[0][0].any() and not results[0][0].all()
+    np.testing.assert_array_equal(results[0][0], results[1][0])
+    np.testing.assert_array_equal(results[0][1], results[1][1])

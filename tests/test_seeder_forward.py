@@ -133,3 +133,22 @@ def test_assemble_train_refuses_bad_pitch_curves():
         assemble_train(240, 400, 120, 120, spiky, ok, 0, 0, tolerance=100.0, min_radius=5.0)
     with pytest.raises(ValueError, match="carrier cannot hold the shafts"):
         assemble_train(300, 400, 120, 120, ok, ok, 0, 0)
+
+
+def test_sun_rolling_start_is_where_gear2_is_held_in_the_dwell():
+    # independent: the forward model's own gear-2 angle over the dwell's samples
+    from plantmech.design import load_design
+    from plantmech.mechanisms.seeder_forward import sun_rolling_start
+    from plantmech.workflows import train_from_design
+    from tests.conftest import EXAMPLES
+
+    tr, _ = train_from_design(load_design(EXAMPLES / "sugarcane_table4.toml"))
+    f = simulate(tr, samples=7200)
+    held = np.mod(tr.gear2_contact0 + f.gear2_angle[f.in_dwell], 2 * np.pi)
+    assert np.ptp(held) < 1e-12
+    start = sun_rolling_start(tr)
+    assert abs(np.angle(np.exp(1j * (start - held[0])))) < 1e-9
+    # Table 4: gear 2 dwells at body angle 57.15 deg, not at its curve's theta0 (0 deg)
+    assert abs(np.degrees(start) - 57.15) < 0.01
+    # no dwell: the curve's theta0
+    assert sun_rolling_start(circular_train()) == circular_train().gear2.theta0

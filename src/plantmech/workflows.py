@@ -884,9 +884,13 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             if not job.result.feasible:
                 raise ValueError("the trajectory's inverse design is infeasible: no gears")
             tr = train_from_inverse(job.result)
-        for name, curve, a in (("gear2_sun", tr.gear2, tr.a1), ("gear3_planet", tr.gear3,
-                                                                  tr.a2)):
-            th = curve.theta0 + np.linspace(0.0, 2 * np.pi, samples)
+        from plantmech.mechanisms.seeder_forward import sun_rolling_start
+
+        # the sun's rolling arc starts where gear 2 is held through the toothless dwell,
+        # so the arc it never rolls on (its toothless, locking arc) faces gear 2 there
+        for name, curve, a, start in (("gear2_sun", tr.gear2, tr.a1, sun_rolling_start(tr)),
+                                      ("gear3_planet", tr.gear3, tr.a2, tr.gear3.theta0)):
+            th = start + np.linspace(0.0, 2 * np.pi, samples)
             r = curve(th)
             P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
             m0 = module or standard_module(P, min_teeth)

@@ -91,8 +91,9 @@ def outline_from_rings(name: str, rings: list, source: str = "") -> GearOutline:
 
 def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray:
     """Points (n, 2) at the teeth's middles (the tips): the radius is resampled
-    uniformly in arc length, the tooth frequency is the strongest harmonic above the 5th
-    (the slow change of the radius around a non-circular gear lies below it), the radius
+    uniformly in arc length, the tooth frequency is the strongest harmonic of its slope
+    above the 5th (the slow change of the radius around a non-circular gear lies below it,
+    and weighs less in the slope), the radius
     is smoothed over one tooth pitch, and each run above the smooth curve (below, for an
     internal gear) is a tooth whose middle is halfway along the run."""
     seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
@@ -102,7 +103,9 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
     sig = -r if internal else r
     su = np.linspace(0.0, length, m, endpoint=False)
     ru = np.interp(su, s, np.r_[sig, sig[0]])
-    spec = np.abs(np.fft.rfft(ru - ru.mean()))
+    # the spectrum of the radius's slope (harmonic k weighted by k): a lobed gear's slow
+    # radius change (a few lobes, tens of mm) would outweigh its teeth's (mm) otherwise
+    spec = np.abs(np.fft.rfft(ru - ru.mean())) * np.arange(m // 2 + 1)
     k = 5 + int(np.argmax(spec[5:m // 8]))
     w = max(3, int(round(m / k)))
     kernel = np.ones(w) / w

@@ -7,7 +7,8 @@ gear A of ``plantmech gears`` (gear 2, gear 3) at the origin, its mate (sun, pla
 (a, 0). A gear's pose is its rotation q (rad, CCW) applied to its body-frame outline;
 the DXF body frames are those of ``workflows.gear_pairs``: gears 2 and 3 share the
 train's body frame, the sun's / planet's body angle 0 is its contact at the start of
-the pair's rolling (gear 2 / gear 3 contact at the curve's ``theta0``).
+the pair's rolling (gear 3's contact at the curve's ``theta0``; gear 2's where it is held
+through the toothless dwell, ``seeder_forward.sun_rolling_start``, else its ``theta0``).
 
 The nominal poses come from the pitch-curve model (``seeder_forward.simulate``) only as
 the reference the toothed result is compared with; where the teeth touch comes from the
@@ -78,14 +79,15 @@ def seeder_train(design):
 
 def analyse_seeder(train, gears: dict[str, GearOutline], steps: int = 720) -> SeederContact:
     """Drive the toothed train through one carrier turn in ``steps`` steps."""
-    from plantmech.mechanisms.seeder_forward import simulate
+    from plantmech.mechanisms.seeder_forward import simulate, sun_rolling_start
     from plantmech.mechanisms.three_bar import tip_position
 
     nom = simulate(train, samples=steps)
     psi = nom.carrier_angle
     g2 = train.gear2_contact0 + nom.gear2_angle
     # sun: fixed, so it turns +psi relative to the carrier (mesh frames are carrier-fixed)
-    sun0 = -_rolling_turn(train.gear2, train.gear2.theta0, train.gear2_contact0, train.a1)
+    sun0 = -_rolling_turn(train.gear2, sun_rolling_start(train), train.gear2_contact0,
+                          train.a1)
     q_sun = np.pi - (sun0 - psi)
     q_gear2 = -g2
     s1 = free_play(gears["gear2"], gears["sun"], (0.0, 0.0), (train.a1, 0.0), q_gear2, q_sun)
@@ -224,9 +226,17 @@ def seeder_record(c: SeederContact, train, limits: dict, carrier_speed_deg_s: fl
             "locked_steps": int(np.isfinite(free).sum()), "steps": int(dwell.sum()),
             "gear2_free_play_deg": {"max": float(np.nanmax(free)) if np.isfinite(free).any()
                                     else None},
-            "what_holds_the_arm": "the sun's locking arc against gear 2's concave arc (teeth "
-                                  "out of mesh): the free play above is the arm's play "
-                                  "(through gear 3 and the planet)",
+            "what_holds_the_arm": "the sun's toothless arc (turned down to its root) faces "
+                                  "gear 2, which is cut with teeth all round (no concave "
+                                  "locking arc): gear 2 is held only where a sun tooth at "
+                                  "an end of the arc touches it (locked steps); the free "
+                                  "play above is the arm's play (through gear 3 and the "
+                                  "planet)",
+            # held gear 2 against the sun's teeth at the arc's ends: interference
+            "jammed_steps": int((fp.jammed & dwell).sum()),
+            "jammed": _spans(psi_deg, fp.jammed & dwell, lambda i: {
+                "gear2_body_angle_deg": round(float(np.degrees(fp.mesh_driven_angle[i])), 2),
+                "gear2_tooth": int(fp.mesh_driven_tooth[i])}),
             # gears 2-3 stop and restart: their speed relative to the carrier jumps
             "gear2_speed_jump_rad_s": {
                 "at_start": float(c.stage1_rate[before] * omega),

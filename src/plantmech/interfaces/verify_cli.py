@@ -12,13 +12,14 @@ from pathlib import Path
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_MET = 0, 2, 4
 SEEDER_GEARS = ("gear2", "sun", "gear3", "planet")
+TRANSPLANTER_GEARS = ("internal", "planet")
 
 
 def register(subparsers) -> None:
     from plantmech.interfaces.cli import _number
 
     p = subparsers.add_parser("verify", help="tooth-contact check of the written gear files "
-                              "through the whole train (seeder)")
+                              "through the whole train (seeder, differential transplanter)")
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
     p.add_argument("--out", required=True, help="output directory")
@@ -48,7 +49,7 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from plantmech.contact.outlines import GearFileError, read_gear_dxf
     from plantmech.design import DesignError, load_design
-    from plantmech.outputs.files import OutputError, check_line, prepare_out_dir, write_json
+    from plantmech.outputs.files import OutputError, prepare_out_dir
 
     gears_dir = Path(args.gears)
     try:
@@ -59,16 +60,21 @@ def run(args) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism != "sugarcane_seeder":
+    if design.mechanism not in ("sugarcane_seeder", "rice_transplanter"):
         print(f"error: {args.design}: field 'mechanism' = {design.mechanism!r}: 'plantmech "
-              "verify' drives the sugarcane seeder's train only (the transplanter trains "
-              "are not implemented yet)", file=sys.stderr)
+              "verify' drives the sugarcane seeder's and the differential rice "
+              "transplanter's trains (the K-H-V train is not implemented yet)",
+              file=sys.stderr)
         return EXIT_INPUT
+    names = SEEDER_GEARS if design.mechanism == "sugarcane_seeder" else TRANSPLANTER_GEARS
     try:
-        gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in SEEDER_GEARS}
+        gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
     except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    if design.mechanism == "rice_transplanter":
+        rec = _run_transplanter(args, design, gears, out)
+        return _report(args, design, gears, gears_dir, out, rec, None)
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
     t0 = time.perf_counter()
@@ -101,11 +107,8 @@ def run(args) -> int:
             ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
             rec["checks"].append(ch.as_dict())
             rec["ok"] = rec["ok"] and ch.ok
-    rec["design"] = str(args.design)
-    rec["gears_dir"] = str(gears_dir)
-    rec["teeth_found_on_outlines"] = {n: g.teeth for n, g in gears.items()}
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    files = ["verification.json"]
+    files = []
     if not args.no_plots:
         from plantmech.outputs import verify_plots as vp
 
@@ -115,6 +118,41 @@ def run(args) -> int:
         if loads is not None:
             vp.plot_loads(out / "loads.png", loads)
             files.append("loads.png")
+    rec["files"] = files
+    return _report(args, design, gears, gears_dir, out, rec, loads)
+
+
+def _run_transplanter(args, design, gears, out) -> dict:
+    """The differential transplanter: every arm's planet against the internal gear."""
+    from plantmech.contact.transplanter import analyse_transplanter, transplanter_record
+
+    t0 = time.perf_counter()
+    contact = analyse_transplanter(design, gears, steps=args.steps)
+    limits = {"transmission_error_deg": args.max_te,
+              "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
+    rec = transplanter_record(contact, limits)
+    rec["loads"] = {"skipped": "the multibody loads are computed for the seeder's train "
+                               "only"}
+    rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    files = []
+    if not args.no_plots:
+        from plantmech.outputs import verify_plots as vp
+
+        vp.plot_transplanter_transmission_error(out / "transmission_error.png", contact)
+        vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
+        files += ["transmission_error.png", "tip_band.png"]
+    rec["files"] = files
+    return rec
+
+
+def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
+    """Write verification.json, print the figures and the checks; the exit code."""
+    from plantmech.outputs.files import check_line, write_json
+
+    rec["design"] = str(args.design)
+    rec["gears_dir"] = str(gears_dir)
+    rec["teeth_found_on_outlines"] = {n: g.teeth for n, g in gears.items()}
+    files = ["verification.json"] + rec["files"]
     rec["files"] = files
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
@@ -133,6 +171,14 @@ def run(args) -> int:
                   f"{s['carrier_angle_deg'][1]:.1f} deg: "
                   + ", ".join(f"{k} {v}" for k, v in s.items()
                               if k not in ("carrier_angle_deg", "steps")))
+    if "dwell" in rec:
+        d = rec["dwell"]
+        print(f"  dwell at carrier {d['carrier_angle_deg'][0]:.1f}-"
+              f"{d['carrier_angle_deg'][1]:.1f} deg: gear 2 held {d['locked_steps']} of "
+              f"{d['steps']} steps, jammed {d['jammed_steps']} steps"
+              + "".join(f", at carrier {j['carrier_angle_deg'][0]:.1f}-"
+                        f"{j['carrier_angle_deg'][1]:.1f} deg (gear 2 tooth "
+                        f"{j['gear2_tooth']})" for j in d["jammed"][:3]))
     if loads is not None:
         print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
               f"input torque {loads['input_torque_N_m']['min']:.2f} to "

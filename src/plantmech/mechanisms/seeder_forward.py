@@ -210,3 +210,25 @@ def shaft_offset(train: SeederTrain) -> float:
     (0 when a1 + a2 = L1, the paper's collinear carrier)."""
     c = (train.a1**2 + train.L1**2 - train.a2**2) / (2 * train.a1 * train.L1)
     return float(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def sun_rolling_start(train: SeederTrain, dense: int = 16384) -> float:
+    """Gear 2's body angle (rad) at the sun contact where the sun's rolling arc begins.
+
+    With a toothless dwell (seed 000's sector cd, theta_1), gear 2 is held while the
+    carrier turns theta_1 from ``dwell_start``: its body angle at the sun contact then is
+    contact0 + psi_2(dwell_start), where the rolling of the sun (integral of r2 / r1,
+    ``rolling_integral``) reaches dwell_start. The sun's rolling arc starts and ends
+    there, and its toothless (locking) arc lies between its ends. Without a dwell: the
+    curve's ``theta0``. Returned within [theta0, theta0 + 2 pi)."""
+    theta0 = float(train.gear2.theta0)
+    if train.dwell_start is None or train.dwell_theta1 <= 0:
+        return theta0
+    f = rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
+    t = np.linspace(0.0, TWO_PI, dense + 1)
+    target = float(train.dwell_start)
+    g = float(np.interp(target, f(t), t))
+    for _ in range(4):  # Newton on F(g) = dwell_start; F' = r2 / (a1 - r2)
+        r = float(train.gear2(train.gear2_contact0 + g))
+        g -= (float(f(g)) - target) * (train.a1 - r) / r
+    return theta0 + float(np.mod(train.gear2_contact0 + g - theta0, TWO_PI))

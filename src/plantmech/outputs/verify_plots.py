@@ -106,3 +106,60 @@ def plot_loads(path: Path, loads: dict) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def plot_transplanter_transmission_error(path: Path, c) -> None:
+    """Each planet's turn off the pitch-curve law (deg) on both flanks against the
+    internal gear (one panel per arm; the arm's attitude error is the planet's)."""
+    plt = _plt()
+    psi = np.degrees(c.psi)
+    arms = len(c.arms)
+    fig, axes = plt.subplots(arms, 1, figsize=(9, 3 * arms), sharex=True, squeeze=False)
+    for j, (ax, fp) in enumerate(zip(axes[:, 0], c.arms, strict=True)):
+        ax.plot(psi, np.degrees(fp.lo), lw=0.8, label="flank lo (CW contact)")
+        ax.plot(psi, np.degrees(fp.hi), lw=0.8, label="flank hi (CCW contact)")
+        ax.plot(psi, np.degrees(0.5 * (fp.lo + fp.hi)), "k", lw=0.6, label="mid band")
+        if fp.jammed.any():
+            ax.plot(psi[fp.jammed], np.zeros(fp.jammed.sum()), "rx",
+                    label="interference (jammed)")
+        lost = ~fp.jammed & (~np.isfinite(fp.lo) | ~np.isfinite(fp.hi))
+        if lost.any():
+            ax.plot(psi[lost], np.zeros(lost.sum()), "m|", label="contact lost")
+        ax.set_ylabel("planet turn error / deg")
+        ax.set_title(f"internal gear -> planet of arm {j + 1}", fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right")
+    axes[-1, 0].set_xlabel("carrier angle (clockwise from the start) / deg")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_transplanter_tip_band(path: Path, c) -> None:
+    """Arm 1's tip path of the pitch-curve model and of the toothed train at both ends
+    of each planet's free play (mm), and every arm's band width over the cycle."""
+    plt = _plt()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5),
+                                 gridspec_kw={"width_ratios": [1.2, 1]})
+    ax.plot(*c.tip_nominal[0].T, "k", lw=0.8, label="pitch-curve model (arm 1)")
+    ax.plot(*c.tip_lo[0].T, lw=0.7, label="toothed, planet at lo end of its play")
+    ax.plot(*c.tip_hi[0].T, lw=0.7, label="toothed, planet at hi end of its play")
+    ax.plot(0, 0, "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / mm")
+    ax.set_ylabel("y / mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("tip path (arm 1)")
+    psi = np.degrees(c.psi)
+    for j in range(len(c.arms)):
+        bx.plot(psi, np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T), lw=0.8,
+                label=f"arm {j + 1} band width")
+    bx.set_xlabel("carrier angle / deg")
+    bx.set_ylabel("tip band / mm")
+    bx.grid(alpha=0.3)
+    bx.legend(fontsize=8)
+    bx.set_title("tip band over the cycle")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
