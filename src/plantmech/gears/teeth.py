@@ -638,8 +638,9 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     gap = np.full(len(inter), np.nan)
     discs = shapely.buffer(shapely.points(r_contact[free], np.zeros(free.sum())),
                            2.5 * np.pi * pair.module, quad_segs=16)
-    gap[free] = shapely.distance(shapely.intersection(shapely.boundary(ga[free]), discs),
-                                 shapely.intersection(shapely.boundary(gb[free]), discs))
+    gap[free] = shapely.distance(
+        _in_chunks(shapely.intersection(shapely.boundary(ga[free]), discs)),
+        _in_chunks(shapely.intersection(shapely.boundary(gb[free]), discs)))
     # circumferential free play: B turned about its centre each way from its nominal
     # position until its flanks touch A's; (turn forward + turn back) x B's pitch radius at
     # the contact (external a - r_A, internal r_A - a)
@@ -671,6 +672,36 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
             "max_normal_gap_mm": float(np.nanmax(gap)) if free.any() else None,
             "min_normal_gap_mm": float(np.nanmin(gap)) if free.any() else None,
             "ok": bool(depth.max() < 0.01 * pair.module), "steps": steps}
+
+
+def _in_chunks(lines, size: int = 8):
+    """Each (multi)linestring of ``lines`` (T,) as a multilinestring of pieces of ``size``
+    segments (the same points: a piece ends where the next begins). GEOS's distance
+    compares two linestrings segment by segment but skips a pair of linestrings whose
+    boxes are farther apart than the best distance so far: in pieces, only the pieces
+    near each other are compared. Anything but (multi)linestrings is left as it is."""
+    import shapely
+
+    lines = np.asarray(lines, dtype=object)
+    kind = shapely.get_type_id(lines)
+    ok = np.isin(kind, (1, 5)) & ~shapely.is_empty(lines)
+    out = lines.copy()
+    if not ok.any():
+        return out
+    parts, station = shapely.get_parts(lines[ok], return_index=True)
+    xy, part = shapely.get_coordinates(parts, return_index=True)
+    n = np.bincount(part, minlength=len(parts))  # vertices per part (>= 2)
+    first = np.r_[0, np.cumsum(n)[:-1]]
+    chunks = np.maximum(1, np.ceil((n - 1) / size).astype(int))
+    chunk_part = np.repeat(np.arange(len(parts)), chunks)
+    k = np.arange(len(chunk_part)) - np.repeat(np.r_[0, np.cumsum(chunks)[:-1]], chunks)
+    lo = first[chunk_part] + k * size
+    hi = np.minimum(lo + size, first[chunk_part] + n[chunk_part] - 1)
+    cnt = hi - lo + 1
+    idx = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    pieces = shapely.linestrings(xy[idx], indices=np.repeat(np.arange(len(lo)), cnt))
+    out[np.nonzero(ok)[0]] = shapely.multilinestrings(pieces, indices=station[chunk_part])
+    return out
 
 
 def _clip_to_windows(body, windows, grid: float):
@@ -718,26 +749,35 @@ class _ContactSplit:
         owner = np.repeat(np.arange(n), shapely.get_num_coordinates(gb))
         np.maximum.at(self.rho_max, owner, np.hypot(xy[:, 0] - centre_x, xy[:, 1]))
         strip = shapely.box(-big, -h, big, h)
-        for k in range(n):
-            try:  # the inner parts exactly (a robust overlay, near the strip only)
-                a_in = shapely.intersection(shapely.clip_by_rect(ga[k], -big, -h - 1, big,
-                                                                 h + 1), strip)
-                b_in = shapely.intersection(shapely.clip_by_rect(gb[k], -big, -h - 1, big,
-                                                                 h + 1), strip)
+        ga, gb = np.asarray(ga, dtype=object), np.asarray(gb, dtype=object)
+        # the inner parts exactly (a robust overlay, near the strip only); a station where
+        # it fails keeps its whole outlines
+        a_in, b_in = np.empty(n, dtype=object), np.empty(n, dtype=object)
+        cut = np.ones(n, bool)
+        for src, dst in ((ga, a_in), (gb, b_in)):
+            near = shapely.clip_by_rect(src, -big, -h - 1, big, h + 1)
+            try:
+                dst[:] = shapely.intersection(near, strip)
             except shapely.errors.GEOSException:
-                continue
-            # the outer parts only bound distances: rectangle clipping keeps every piece of
-            # the outline beyond the lines (it may add edges along them: a smaller
-            # distance, never a larger one)
-            b_out = [shapely.clip_by_rect(gb[k], -big, h, big, big),
-                     shapely.clip_by_rect(gb[k], -big, -big, big, -h)]
-            a_out = [shapely.clip_by_rect(ga[k], -big, h, big, big),
-                     shapely.clip_by_rect(ga[k], -big, -big, big, -h)]
-            far = not any(shapely.dwithin(ga[k], b, self.tau) for b in b_out) \
-                and not any(shapely.dwithin(a, b_in, self.tau) for a in a_out)
-            if far:
-                self.certain[k] = True
-                self.ga_in[k], self.gb_in[k] = a_in, b_in
+                for k in range(n):
+                    try:
+                        dst[k] = shapely.intersection(near[k], strip)
+                    except shapely.errors.GEOSException:
+                        cut[k] = False
+        # the outer parts only bound distances: rectangle clipping keeps every piece of
+        # the outline beyond the lines (it may add edges along them: a smaller distance,
+        # never a larger one). Distances to prepared geometries (indexed facets)
+        shapely.prepare(ga)
+        near = np.zeros(n, bool)
+        for y0, y1 in ((h, big), (-big, -h)):
+            a_out = shapely.clip_by_rect(ga, -big, y0, big, y1)
+            b_out = shapely.clip_by_rect(gb, -big, y0, big, y1)
+            shapely.prepare(a_out)
+            near |= shapely.dwithin(ga, b_out, self.tau)
+            near[cut] |= shapely.dwithin(a_out[cut], b_in[cut], self.tau)
+        self.certain = cut & ~near
+        self.ga_in[self.certain] = a_in[self.certain]
+        self.gb_in[self.certain] = b_in[self.certain]
 
 
 class _Turner:
