@@ -614,13 +614,18 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     body_a, body_b = shapely.buffer(pair.gear_a, 0), shapely.buffer(pair.gear_b, 0)
     wa = _turn_each(np.full(T, window), pa)
     wb = _turn_each(np.full(T, shapely.affinity.translate(window, xoff=-pair.a)), -turn_b)
-    ga = _turn_each(shapely.buffer(shapely.intersection(body_a, wa, grid_size=grid), 0), -pa)
-    gb = _turn_each(shapely.buffer(shapely.intersection(body_b, wb, grid_size=grid), 0),
-                    turn_b, dx=pair.a)
+    ga = _turn_each(shapely.buffer(_clip_to_windows(body_a, wa, grid), 0), -pa)
+    gb = _turn_each(shapely.buffer(_clip_to_windows(body_b, wb, grid), 0), turn_b, dx=pair.a)
+    # only the stations whose outlines meet can overlap (the exact predicate on A's
+    # prepared outlines first): the others have no overlay to make
+    shapely.prepare(ga)
+    meet = shapely.intersects(ga, gb)
+    inter = np.full(T, shapely.Polygon(), dtype=object)
     try:
-        inter = shapely.intersection(ga, gb, grid_size=grid)
+        inter[meet] = shapely.intersection(ga[meet], gb[meet], grid_size=grid)
     except shapely.errors.GEOSException:  # one bad step must not sink the whole check
-        inter = np.array([_safe_intersection(x, y, grid) for x, y in zip(ga, gb, strict=True)])
+        inter[meet] = [_safe_intersection(x, y, grid)
+                       for x, y in zip(ga[meet], gb[meet], strict=True)]
     area = shapely.area(inter)
     # each overlap sliver on its own (one per fouling flank): depth 2 x area / perimeter
     parts, owner = shapely.get_parts(inter, return_index=True)
@@ -633,8 +638,9 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     gap = np.full(len(inter), np.nan)
     discs = shapely.buffer(shapely.points(r_contact[free], np.zeros(free.sum())),
                            2.5 * np.pi * pair.module, quad_segs=16)
-    gap[free] = shapely.distance(shapely.intersection(shapely.boundary(ga[free]), discs),
-                                 shapely.intersection(shapely.boundary(gb[free]), discs))
+    gap[free] = shapely.distance(
+        _in_chunks(shapely.intersection(shapely.boundary(ga[free]), discs)),
+        _in_chunks(shapely.intersection(shapely.boundary(gb[free]), discs)))
     # circumferential free play: B turned about its centre each way from its nominal
     # position until its flanks touch A's; (turn forward + turn back) x B's pitch radius at
     # the contact (external a - r_A, internal r_A - a)
@@ -642,9 +648,11 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     # speaks for them)
     r_b = np.abs(pair.a - r_contact)
     play = np.full(len(inter), np.nan)
+    near = _ContactSplit(ga[free], gb[free], pair.a, pair.module)
     play[free] = r_b[free] * (
-        _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, +1)
-        + _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, -1))
+        _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, +1, split=near)
+        + _turn_to_contact(ga[free], gb[free], pair.a, r_b[free], pair.module, -1,
+                           split=near))
     worst = int(np.argmax(depth))
     lo = int(np.nanargmin(play)) if free.any() else None
     hi = int(np.nanargmax(play)) if free.any() else None
@@ -666,22 +674,174 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
             "ok": bool(depth.max() < 0.01 * pair.module), "steps": steps}
 
 
+def _in_chunks(lines, size: int = 8):
+    """Each (multi)linestring of ``lines`` (T,) as a multilinestring of pieces of ``size``
+    segments (the same points: a piece ends where the next begins). GEOS's distance
+    compares two linestrings segment by segment but skips a pair of linestrings whose
+    boxes are farther apart than the best distance so far: in pieces, only the pieces
+    near each other are compared. Anything but (multi)linestrings is left as it is."""
+    import shapely
+
+    lines = np.asarray(lines, dtype=object)
+    kind = shapely.get_type_id(lines)
+    ok = np.isin(kind, (1, 5)) & ~shapely.is_empty(lines)
+    out = lines.copy()
+    if not ok.any():
+        return out
+    parts, station = shapely.get_parts(lines[ok], return_index=True)
+    xy, part = shapely.get_coordinates(parts, return_index=True)
+    n = np.bincount(part, minlength=len(parts))  # vertices per part (>= 2)
+    first = np.r_[0, np.cumsum(n)[:-1]]
+    chunks = np.maximum(1, np.ceil((n - 1) / size).astype(int))
+    chunk_part = np.repeat(np.arange(len(parts)), chunks)
+    k = np.arange(len(chunk_part)) - np.repeat(np.r_[0, np.cumsum(chunks)[:-1]], chunks)
+    lo = first[chunk_part] + k * size
+    hi = np.minimum(lo + size, first[chunk_part] + n[chunk_part] - 1)
+    cnt = hi - lo + 1
+    idx = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    pieces = shapely.linestrings(xy[idx], indices=np.repeat(np.arange(len(lo)), cnt))
+    out[np.nonzero(ok)[0]] = shapely.multilinestrings(pieces, indices=station[chunk_part])
+    return out
+
+
+def _clip_to_windows(body, windows, grid: float):
+    """``body`` (polygon, mm) intersected with each window of ``windows`` (T,): first the
+    body's part in the window's bounding box grown by 1 mm (GEOS rectangle clipping, one
+    pass over the vertices), then the overlay with the window in floating point (the
+    body's vertices kept as they are; on the ``grid`` (mm) where floating point fails)."""
+    import shapely
+
+    out = np.empty(len(windows), dtype=object)
+    for k, (w, (x0, y0, x1, y1)) in enumerate(zip(windows, shapely.bounds(windows),
+                                                  strict=True)):
+        near = shapely.clip_by_rect(body, x0 - 1.0, y0 - 1.0, x1 + 1.0, y1 + 1.0)
+        try:
+            out[k] = shapely.intersection(near, w)
+        except shapely.errors.GEOSException:
+            out[k] = shapely.intersection(body, w, grid_size=grid)
+    return out
+
+
+class _ContactSplit:
+    """The placed outlines of a pair (mesh frame, per station) cut at the lines
+    y = +-1.5 pitches about the line of centres: the inner parts (the teeth in mesh and
+    their neighbours, about a third of the window's outline) and, per station, whether
+    every other part stays more than ``tau`` = 0.1 module (mm) from the other gear
+    (``certain``). B (centre at (centre_x, 0)) turned by theta moves no point farther than
+    rho_max x theta (rho_max: B's farthest point from its centre, mm), so while
+    rho_max x theta <= tau, A and the turned B meet exactly when their inner parts do
+    (``_turn_to_contact``). A station where the cut fails keeps its whole outlines as
+    "inner" parts (not ``certain``: every answer is then the whole outlines')."""
+
+    def __init__(self, ga, gb, centre_x: float, module: float):
+        import shapely
+
+        self.tau = 0.1 * module
+        h = 1.5 * np.pi * module
+        n, big = len(ga), 1e7
+        self.ga_in = np.asarray(ga, dtype=object).copy()
+        self.gb_in = np.asarray(gb, dtype=object).copy()
+        self.certain = np.zeros(n, bool)
+        self.rho_max = np.zeros(n)
+        if n == 0:
+            return
+        xy = shapely.get_coordinates(gb)
+        owner = np.repeat(np.arange(n), shapely.get_num_coordinates(gb))
+        np.maximum.at(self.rho_max, owner, np.hypot(xy[:, 0] - centre_x, xy[:, 1]))
+        strip = shapely.box(-big, -h, big, h)
+        ga, gb = np.asarray(ga, dtype=object), np.asarray(gb, dtype=object)
+        # the inner parts exactly (a robust overlay, near the strip only); a station where
+        # it fails keeps its whole outlines
+        a_in, b_in = np.empty(n, dtype=object), np.empty(n, dtype=object)
+        cut = np.ones(n, bool)
+        for src, dst in ((ga, a_in), (gb, b_in)):
+            near = shapely.clip_by_rect(src, -big, -h - 1, big, h + 1)
+            try:
+                dst[:] = shapely.intersection(near, strip)
+            except shapely.errors.GEOSException:
+                for k in range(n):
+                    try:
+                        dst[k] = shapely.intersection(near[k], strip)
+                    except shapely.errors.GEOSException:
+                        cut[k] = False
+        # the outer parts only bound distances: rectangle clipping keeps every piece of
+        # the outline beyond the lines (it may add edges along them: a smaller distance,
+        # never a larger one). Distances to prepared geometries (indexed facets)
+        shapely.prepare(ga)
+        near = np.zeros(n, bool)
+        for y0, y1 in ((h, big), (-big, -h)):
+            a_out = shapely.clip_by_rect(ga, -big, y0, big, y1)
+            b_out = shapely.clip_by_rect(gb, -big, y0, big, y1)
+            shapely.prepare(a_out)
+            near |= shapely.dwithin(ga, b_out, self.tau)
+            near[cut] |= shapely.dwithin(a_out[cut], b_in[cut], self.tau)
+        self.certain = cut & ~near
+        self.ga_in[self.certain] = a_in[self.certain]
+        self.gb_in[self.certain] = b_in[self.certain]
+
+
+class _Turner:
+    """Geometries (T,) turned about (centre_x, 0), each by its own angle, again and again:
+    the coordinates are read once (``turned`` builds the new geometries from them)."""
+
+    def __init__(self, geoms, centre_x: float):
+        import shapely
+
+        self.geoms = np.asarray(geoms, dtype=object)
+        self.cx = centre_x
+        counts = shapely.get_num_coordinates(self.geoms)
+        self.owner = np.repeat(np.arange(len(self.geoms)), counts)
+        self.xy = shapely.get_coordinates(self.geoms) - [centre_x, 0.0]
+
+    def turned(self, angles, which=None):
+        """The geometries (those where ``which``, a mask) turned by ``angles`` (T,) rad."""
+        import shapely
+
+        owner, xy, geoms = self.owner, self.xy, self.geoms
+        if which is not None:
+            keep = which[owner]
+            owner, xy, geoms = owner[keep], xy[keep], geoms[which]
+        c, s_ = np.cos(angles)[owner], np.sin(angles)[owner]
+        x, y = xy[:, 0], xy[:, 1]
+        return shapely.set_coordinates(geoms.copy(), np.c_[c * x - s_ * y + self.cx,
+                                                           s_ * x + c * y])
+
+
 def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
-                     resolution: float = 1e-4):
+                     resolution: float = 1e-4, split: _ContactSplit | None = None):
     """Angle (rad, >= 0, per station) by which B (placed outlines ``gb``, centre at
     (centre_x, 0)) turns about its centre in ``sense`` (+1 counter-clockwise, -1
     clockwise) before it touches A (``ga``), found by bisection to ``resolution`` mm of
-    arc at B's pitch radius ``r_b`` (mm, per station); capped at one pitch of arc."""
+    arc at B's pitch radius ``r_b`` (mm, per station); capped at one pitch of arc.
+
+    Each bisection step asks whether A and the turned B meet. With ``split``
+    (``_ContactSplit`` of the same outlines) it asks the inner parts near the contact
+    first: a meeting there is a meeting of the whole; no meeting there is the answer
+    where the turn moves no point of B farther than the other parts' clearance; the
+    remaining stations are asked on the whole outlines. The answers, hence the angles,
+    are the whole outlines'."""
     import shapely
 
     ga = np.asarray(ga, dtype=object)
     shapely.prepare(ga)
-    moved = shapely.transform(np.asarray(gb, dtype=object), lambda xy: xy - [centre_x, 0.0])
+    whole_b = _Turner(gb, centre_x)
+    if split is not None:
+        ga_in = split.ga_in
+        shapely.prepare(ga_in)
+        inner_b = _Turner(split.gb_in, centre_x)
     lo = np.zeros(len(ga))
     hi = np.full(len(ga), np.pi * module) / r_b
     for _ in range(int(np.ceil(np.log2(np.pi * module / resolution)))):
         mid = 0.5 * (lo + hi)
-        hit = shapely.intersects(ga, _turn_each(moved, sense * mid, dx=centre_x))
+        if split is None:
+            hit = shapely.intersects(ga, whole_b.turned(sense * mid))
+        else:
+            hit = shapely.intersects(ga_in, inner_b.turned(sense * mid))
+            # (an uncertain station's inner parts are its whole outlines: answered)
+            whole = ~hit & split.certain & (split.rho_max * mid > split.tau)
+            if whole.any():
+                hit[whole] = shapely.intersects(ga[whole],
+                                                whole_b.turned(sense * mid, whole))
         hi = np.where(hit, mid, hi)
         lo = np.where(hit, lo, mid)
     return 0.5 * (lo + hi)

@@ -178,7 +178,9 @@ def plot_pair(path: Path, pair, placed_a, placed_b, names=("A", "B")) -> None:
             # stays a hole
             outline = MplPath.make_compound_path(*[MplPath(r[:, :2], closed=True)
                                                 for r in rings])
-            ax.add_patch(PathPatch(outline, facecolor=colour, alpha=0.35, lw=0))
+            # add_artist: the limits come from the rings plotted below (the same vertices;
+            # add_patch would walk the whole outline's path in Python for them again)
+            ax.add_artist(PathPatch(outline, facecolor=colour, alpha=0.35, lw=0))
             for ring in rings:
                 ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=0.5)
         kind = " (internal gear)" if pair.internal and colour == "tab:blue" \
