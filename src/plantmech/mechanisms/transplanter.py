@@ -27,6 +27,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from plantmech.gears.internal import LobedInternalPair
+from plantmech.mechanisms.backlash import backlash_offset
 
 TWO_PI = 2.0 * np.pi
 
@@ -113,13 +114,21 @@ def lobe_advance_per_turn(lobes: float, speed_ratio: float) -> float:
 
 def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0: float,
                           arm: ArmGeometry, phase0: float = 0.0, arms: int = 3,
-                          samples: int = 3600) -> TransplanterMotion:
+                          samples: int = 3600, carrier_offset=0.0,
+                          backlash=None) -> TransplanterMotion:
     """Differential internal-engagement train (seed 001 Eq. 1-10) for P designs.
 
     speed_ratio k = omega_1 / omega_2; carrier0 = phi_H0 (rad); phase0 = lobe phase of
     the mesh point of arm 0 at the start (rad); carrier0, phase0 and the arm may be
     scalars or (P,) arrays. The motion repeats every carrier turn
     only when m = n (1 - k) is a whole number (m = 1: the arm swings, net turn 0).
+
+    Tolerances (scalars or (P,)): ``carrier_offset`` (mm): the planet axis bored that
+    much farther from O than the centre distance a of the pair; the teeth still set the
+    ratio, which depends on r / a only, so the planet turns as in the pair and only the
+    axis moves (a (1 + offset / a) is exactly the motion of the pair scaled by that
+    factor). ``backlash`` (rad): angular play of the planet (arm) against its drive
+    (``mechanisms.backlash.backlash_offset`` on d gamma_2 / d psi).
     """
     n = pair.lobes
     m = lobe_advance_per_turn(n, speed_ratio)
@@ -164,10 +173,12 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
           + (s0**3 - s0**2) * h * q_rate[r0, kk + 1])
     Q0 = (Q0 + TWO_PI * np.floor(phase0 / TWO_PI)).reshape(-1, 1, 1)
     phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (P or 1, J, S)
-    a = pair.a[:, None, None]
+    a = pair.a[:, None, None] + _column(carrier_offset)
     centre = a * np.exp(1j * phiH)
     phi2 = phiH + (Q - Q0)
     planet_rate = m * rate  # d gamma_2 / d psi
+    if backlash is not None:
+        phi2 = phi2 + backlash_offset(planet_rate, _column(backlash))
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, planet_rate - 1.0, arm)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, planet_rate,
                               pair.closure_error, pair.a.copy(), arm, "differential")
@@ -211,7 +222,7 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
 
 
 def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2,
-                 samples: int = 3600) -> TransplanterMotion:
+                 samples: int = 3600, carrier_offset=0.0, backlash=None) -> TransplanterMotion:
     """Single-DOF K-H-V non-circular planetary train (seed 001 Fig. 1) for P designs.
 
     Middle gear i: d M = r_s / (a - r_s) d sigma (clockwise rel. carrier); its other
@@ -219,6 +230,11 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     progress sigma' = M^-1(M + pi), where the middle radius is a - r_s(sigma'); the
     planet there has radius r_s(sigma') and turns counter-clockwise rel. the carrier:
     d gamma_2 / d psi = [r_s / (a - r_s)](sigma) * [(a - r_s) / r_s](sigma').
+
+    Tolerances (scalars or (P,)): ``carrier_offset`` (mm): the planet axis at 2 a +
+    offset from O (the sum of the two centre-distance errors of the carrier's bores; the
+    teeth keep each pair's ratio, which depends on r / a only); ``backlash`` (rad): the
+    planet's (arm's) angular play against its drive (``mechanisms.backlash``).
     """
     P = pair.r_sun.shape[0]
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
@@ -241,8 +257,10 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     gamma2 = np.stack([np.interp(xf, sg, turn[d]) for d in range(P)]) + TWO_PI * wraps[None]
     out_rate = np.stack([np.interp(xf, sg, rate[d]) for d in range(P)])
     phiH = carrier0 - offset[:, None] - psi[None, :]
-    centre = 2 * pair.a[:, None, None] * np.exp(1j * phiH)[None]
+    centre = (2 * pair.a[:, None, None] + _column(carrier_offset)) * np.exp(1j * phiH)[None]
     phi2 = phiH[None] + gamma2
+    if backlash is not None:
+        phi2 = phi2 + backlash_offset(out_rate, _column(backlash))
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, out_rate - 1.0, arm)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, out_rate,
                               np.maximum(closure, pair.closure_error), pair.a.copy(), arm,
