@@ -32,7 +32,8 @@ def test_a_near_limit_is_shown_and_a_far_one_named():
 
 def test_certain_looking_probabilities_carry_their_bound():
     lo, hi = wilson(3000, 3000)
-    assert probability_text(1.0, (lo, hi), 3000) == f"P(ok) = 1 in 3000 samples (95 %: >= {lo:.4f})"
+    assert probability_text(1.0, (lo, hi), 3000) == (
+        f"P(ok) = 1: met in all 3000 samples (95 %: >= {lo:.4f})")
     lo, hi = wilson(0, 3000)
     assert ">= " not in probability_text(0.0, (lo, hi), 3000)
     assert f"<= {hi:.4f}" in probability_text(0.0, (lo, hi), 3000)

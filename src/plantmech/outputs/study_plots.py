@@ -36,9 +36,9 @@ def probability_text(p: float, interval, n: int) -> str:
     not a certainty."""
     lo, hi = interval if interval is not None else (float("nan"), float("nan"))
     if p >= 1.0:
-        return f"P(ok) = 1 in {n} samples (95 %: >= {lo:.4f})"
+        return f"P(ok) = 1: met in all {n} samples (95 %: >= {lo:.4f})"
     if p <= 0.0:
-        return f"P(ok) = 0 in {n} samples (95 %: <= {hi:.4f})"
+        return f"P(ok) = 0: met in none of {n} samples (95 %: <= {hi:.4f})"
     return f"P(ok) = {p:.4f} (95 %: {lo:.4f}-{hi:.4f})"
 
 
@@ -143,8 +143,9 @@ def plot_sensitivity(path: Path, summary: dict) -> None:
         for y, r in enumerate(rank):
             ax.text(vals[y], y, f" SRC {r['src']:+.2f}", va="center", fontsize=6)
         r2 = sens.get("r2")
-        still = r2 != r2 and not any(vals)
-        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if r2 == r2 else
+        fitted = r2 is not None and r2 == r2
+        still = not fitted and not any(vals)
+        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if fitted else
                      f"{name}{' (unaffected by these parameters)' if still else ''}",
                      fontsize=8)
         ax.set_xlabel(f"first-order |d/dx| x std ({unit or '-'})", fontsize=7)
