@@ -301,4 +301,5 @@ def app_figures() -> None:
 
 if __name__ == "__main__":
     main()
-    app_figures()
+    if "--study-only" not in sys.argv:
+        app_figures()

@@ -135,6 +135,28 @@ def test_transplanter_variants_equal_single_design_path():
         assert np.abs(tip - run_transplanter(rice).motion.B[0, 0]).max() > 0.2, name
 
 
+def test_khv_carrier_phase_per_design_equals_the_edited_file():
+    """A K-H-V's sun is fixed: a carrier phase per design reads the sun's pitch curve from
+    each design's own start (it failed to broadcast before)."""
+    from plantmech.workflows import evaluate_transplanter_population
+
+    khv = load_design(ROOT / "examples" / "rice_transplanter_khv.toml")
+    model = make_model(khv, ["carrier_phase_deg", "gear_radius_mm"], 720)
+    steps = np.array([[0.0, 0.0], [1.5, 0.0], [-2.0, 0.2]])
+    ev = model.evaluate(steps)
+    for k, (dphi, dr) in enumerate(steps):
+        v = khv.model_copy(deep=True)
+        v.carrier.initial_angle_deg += dphi
+        v.sun_gear.radii_mm = [r + dr for r in v.sun_gear.radii_mm]
+        motion, one = evaluate_transplanter_population(type(v).model_validate(v.model_dump()),
+                                                       samples=720)
+        tip = motion.B[0, 0]
+        assert np.abs(ev.tip[k, :, 0] + 1j * ev.tip[k, :, 1] - tip).max() < 1e-9, k
+        np.testing.assert_allclose(ev.values[k], [one.values[0, one.names.index(n)]
+                                                  for n in ev.names], atol=1e-9)
+    assert np.abs(ev.tip[1] - ev.tip[0]).max() > 1.0
+
+
 # --- the transplanter's carrier length, backlash and travel speed ------------------------
 
 RICE_MFG = ROOT / "examples" / "rice_transplanter_manufacturable.toml"
@@ -238,6 +260,33 @@ def test_transplanter_travel_speed_sets_the_spacing():
     moved = [n for j, n in enumerate(ev.names) if ev.values[1, j] != ev.values[0, j]]
     assert moved == ["forward_inclination"]  # (ix) covers the whole spacing range
     assert np.array_equal(ev.tip[1], ev.tip[0])
+
+
+@pytest.mark.parametrize("name", ["sugarcane_seeder_optimized.toml", "sugarcane_table4.toml",
+                                  "rice_transplanter_manufacturable.toml",
+                                  "rice_transplanter_toothed.toml", "rice_transplanter_khv.toml"])
+def test_every_bundled_design_with_a_train_takes_every_tolerance(name):
+    """Any seeder design file with a [train] and any transplanter: every study parameter
+    the design admits, in one population; the nominal row is the design's own path."""
+    from plantmech.studies.parameters import parameters_of
+
+    design = load_design(ROOT / "examples" / name)
+    names = list(parameters_of(design))
+    if design.mechanism == "sugarcane_seeder":
+        t = design.train
+        if abs(t.a1_mm + t.a2_mm - t.L1_mm) <= 1e-6 * t.L1_mm:
+            names.remove("L1_mm")
+    elif design.mechanism != "rice_transplanter":
+        names.remove("ring_phase_deg")
+    model = make_model(design, names, 180, 512)
+    rng = np.random.default_rng(4)
+    deltas = np.vstack([np.zeros(len(names)), 0.02 * rng.standard_normal((3, len(names)))])
+    deltas[:, names.index("backlash_deg")] = np.abs(deltas[:, names.index("backlash_deg")])
+    ev = model.evaluate(deltas)
+    assert np.isfinite(ev.tip).all() and ev.values.shape == (4, len(ev.names))
+    assert np.abs(ev.tip[1:] - ev.tip[:1]).max() > 1e-3  # the deviations move the tip
+    again = model.evaluate(np.zeros((1, len(names))))
+    assert np.abs(again.tip[0] - ev.tip[0]).max() < 1e-9  # alone or in a population
 
 
 # --- Monte Carlo vs first order -----------------------------------------------------------

@@ -204,16 +204,21 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
              min_radius: float = 1.0) -> KHVPair:
     """Sun pitch curve from control radii (P, N) mm at absolute angles (N,) rad, and the
     centre distance a that makes the middle gear turn once per carrier turn (Eq. 8 of
-    seed 000 for this pair)."""
+    seed 000 for this pair). ``carrier0`` (rad): the carrier's start, shared or (P,)."""
     from plantmech.gears.closure import solve_centre_distances
-    from plantmech.geometry.periodic import periodic_spline_matrix
+    from plantmech.geometry.periodic import periodic_interpolant_rows, periodic_spline_matrix
 
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
     sigma = np.linspace(0.0, TWO_PI, dense + 1)
-    r = radii @ periodic_spline_matrix(np.asarray(angles, float), carrier0 - sigma, 0, kind).T
+    c0 = np.asarray(carrier0, dtype=float)
+    if c0.ndim == 0:  # one shared matrix
+        r = radii @ periodic_spline_matrix(np.asarray(angles, float), c0 - sigma, 0, kind).T
+    else:  # a carrier start per design (a study's carrier phase): the same interpolant
+        at = np.broadcast_to(c0.reshape(-1, 1), (radii.shape[0], 1)) - sigma[None, :]
+        r = periodic_interpolant_rows(np.asarray(angles, float), radii, at, kind)[0]
     if np.any(r <= min_radius):
         d, k = np.argwhere(r <= min_radius)[0]
-        where = np.degrees(carrier0 - sigma[k]) % 360
+        where = np.degrees(np.ravel(c0)[d if c0.ndim else 0] - sigma[k]) % 360
         raise ValueError(f"sun pitch radius {r[d, k]:.3f} mm at {where:.2f} deg is not above "
                          f"{min_radius:g} mm")
     a = solve_centre_distances(r[:, :-1], TWO_PI)
@@ -256,9 +261,9 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     xf = x - wraps * TWO_PI
     gamma2 = np.stack([np.interp(xf, sg, turn[d]) for d in range(P)]) + TWO_PI * wraps[None]
     out_rate = np.stack([np.interp(xf, sg, rate[d]) for d in range(P)])
-    phiH = carrier0 - offset[:, None] - psi[None, :]
-    centre = (2 * pair.a[:, None, None] + _column(carrier_offset)) * np.exp(1j * phiH)[None]
-    phi2 = phiH[None] + gamma2
+    phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (1 or P, J, S)
+    centre = (2 * pair.a[:, None, None] + _column(carrier_offset)) * np.exp(1j * phiH)
+    phi2 = phiH + gamma2
     if backlash is not None:
         phi2 = phi2 + backlash_offset(out_rate, _column(backlash))
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, out_rate - 1.0, arm)
