@@ -2,7 +2,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench bench-layered bench-design lint clean fuzz docs
+.PHONY: run test bench bench-study bench-layered bench-design lint clean fuzz docs
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -22,6 +22,10 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py
+
+# the Dask scaling alone: samples/s of the bundled tolerance studies on 1 and 2 workers
+bench-study: $(STAMP)
+	$(PY) benchmarks/bench.py --study-only --study-repeat 3
 
 bench-layered: $(STAMP)
 	$(PY) benchmarks/bench.py --layered

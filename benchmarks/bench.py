@@ -105,6 +105,9 @@ def main() -> None:
     if "--verify-only" in sys.argv:
         bench_verify()
         return
+    if "--study-only" in sys.argv:  # make bench-study: the Dask scaling alone
+        study_scaling(_flag("--study-samples", 1200), repeat=_flag("--study-repeat", 1))
+        return
     cli_startup()
     design = load_design(ROOT / "examples" / "sugarcane_seeder.toml")
     for samples in (3600, 36000):
@@ -274,34 +277,49 @@ def design_benchmarks() -> None:
               f"exit {p.returncode}: {last}")
 
 
+STUDIES = (  # (label, design, study file): the bundled ones
+    ("seeder", "sugarcane_seeder_optimized.toml", "seeder_tolerance.toml"),
+    ("transplanter", "rice_transplanter_manufacturable.toml", "transplanter_tolerance.toml"),
+)
+
+
 def study_scaling(samples: int = 1200, chunk: int = 200, repeat: int = 1) -> None:
-    """Tolerance study of the bundled optimized seeder on a local Dask cluster of one and
-    of two worker processes: designs/s from the first task sent to the last chunk written
-    (cluster start-up excluded, printed apart), and the scaling two / one."""
+    """Tolerance studies of the bundled seeder and transplanter on a local Dask cluster of
+    one and of two worker processes: samples/s from the first task sent to the last chunk
+    written (cluster start-up excluded, printed apart), the scaling two / one, and the
+    machine's 1-minute load average before and after each run (the machine is shared:
+    a rate means little without it)."""
     import tempfile
 
     from plantmech.studies.runner import run_study
     from plantmech.studies.spec import load_spec
 
-    design = load_design(ROOT / "examples" / "sugarcane_seeder_optimized.toml")
-    spec = load_spec(ROOT / "examples" / "studies" / "seeder_tolerance.toml")
-    spec = spec.model_copy(update={"samples": samples, "chunk": chunk})
-    rates = {}
-    for workers in (1, 2):
-        runs = []
-        for _ in range(repeat):
-            with tempfile.TemporaryDirectory() as tmp:
-                out = run_study(design, spec, Path(tmp), "bench", workers=workers,
-                                progress=False)
-            runs.append((out.stats.evaluations / out.stats.wall_s, out.stats.cluster_start_s))
-        rate = float(np.median([r[0] for r in runs]))
-        rates[workers] = rate
-        print(f"tolerance study (seeder, 11 tolerances, {samples} samples in chunks of {chunk}, "
-              f"{spec.cycle_samples} cycle samples), local cluster of {workers} worker(s): "
-              f"{rate:.1f} samples/s (median of {repeat}; cluster start "
-              f"{np.median([r[1] for r in runs]):.1f} s)")
-    print(f"study scaling, two workers / one: {rates[2] / rates[1]:.2f}x "
-          f"({os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f})")
+    for label, design_file, spec_file in STUDIES:
+        design = load_design(ROOT / "examples" / design_file)
+        spec = load_spec(ROOT / "examples" / "studies" / spec_file)
+        spec = spec.model_copy(update={"samples": samples, "chunk": chunk})
+        rates = {}
+        for workers in (1, 2):
+            runs = []
+            for _ in range(repeat):
+                load0 = os.getloadavg()[0]
+                with tempfile.TemporaryDirectory() as tmp:
+                    out = run_study(design, spec, Path(tmp), "bench", workers=workers,
+                                    progress=False)
+                st = out.stats
+                runs.append((st.evaluations / st.wall_s, st.cluster_start_s, load0,
+                             os.getloadavg()[0]))
+            rate = float(np.median([r[0] for r in runs]))
+            rates[workers] = rate
+            print(f"tolerance study ({label}, {design_file}, {len(spec.parameters)} "
+                  f"tolerances, {samples} samples in chunks of {chunk}, {spec.cycle_samples} "
+                  f"cycle samples), local cluster of {workers} worker(s): {rate:.1f} "
+                  f"samples/s (median of {repeat}: "
+                  + ", ".join(f"{r[0]:.1f}" for r in runs)
+                  + f"; cluster start {np.median([r[1] for r in runs]):.1f} s; load average "
+                  + ", ".join(f"{r[2]:.1f}->{r[3]:.1f}" for r in runs) + ")")
+        print(f"study scaling ({label}), two workers / one: {rates[2] / rates[1]:.2f}x "
+              f"({os.cpu_count()} cores; load average now {os.getloadavg()[0]:.1f})")
 
 
 def app_figures() -> None:
@@ -318,4 +336,5 @@ def app_figures() -> None:
 
 if __name__ == "__main__":
     main()
-    app_figures()
+    if "--study-only" not in sys.argv:
+        app_figures()

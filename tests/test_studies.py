@@ -135,6 +135,160 @@ def test_transplanter_variants_equal_single_design_path():
         assert np.abs(tip - run_transplanter(rice).motion.B[0, 0]).max() > 0.2, name
 
 
+def test_khv_carrier_phase_per_design_equals_the_edited_file():
+    """A K-H-V's sun is fixed: a carrier phase per design reads the sun's pitch curve from
+    each design's own start (it failed to broadcast before)."""
+    from plantmech.workflows import evaluate_transplanter_population
+
+    khv = load_design(ROOT / "examples" / "rice_transplanter_khv.toml")
+    model = make_model(khv, ["carrier_phase_deg", "gear_radius_mm"], 720)
+    steps = np.array([[0.0, 0.0], [1.5, 0.0], [-2.0, 0.2]])
+    ev = model.evaluate(steps)
+    for k, (dphi, dr) in enumerate(steps):
+        v = khv.model_copy(deep=True)
+        v.carrier.initial_angle_deg += dphi
+        v.sun_gear.radii_mm = [r + dr for r in v.sun_gear.radii_mm]
+        motion, one = evaluate_transplanter_population(type(v).model_validate(v.model_dump()),
+                                                       samples=720)
+        tip = motion.B[0, 0]
+        assert np.abs(ev.tip[k, :, 0] + 1j * ev.tip[k, :, 1] - tip).max() < 1e-9, k
+        np.testing.assert_allclose(ev.values[k], [one.values[0, one.names.index(n)]
+                                                  for n in ev.names], atol=1e-9)
+    assert np.abs(ev.tip[1] - ev.tip[0]).max() > 1.0
+
+
+# --- the transplanter's carrier length, backlash and travel speed ------------------------
+
+RICE_MFG = ROOT / "examples" / "rice_transplanter_manufacturable.toml"
+KHV = ROOT / "examples" / "rice_transplanter_khv.toml"
+# objectives the gears decide (the carrier and the planet's play leave the gears alone)
+GEAR_OBJECTIVES = ("module", "equivalent_teeth", "internal_teeth_difference",
+                   "working_pressure_angle", "cuttable_module_margin")
+
+
+def _scaled(design, factor):
+    """The design file with its gear's radii scaled: the pair closes at factor x a, and
+    its ratio (r / a) is the same, so the planet axis is factor x farther from O."""
+    v = design.model_copy(deep=True)
+    g = v.internal_gear if v.mechanism == "rice_transplanter" else v.sun_gear
+    g.radii_mm = [r * factor for r in g.radii_mm]
+    return type(v).model_validate(v.model_dump())
+
+
+@pytest.mark.parametrize("path", [RICE_MFG, KHV])
+def test_transplanter_carrier_length_is_the_scaled_pair(path):
+    from plantmech.workflows import evaluate_transplanter_population
+
+    rice = load_design(path)
+    rice.samples = 720
+    model = make_model(rice, ["carrier_length_mm"], 720)
+    L = model.nominal("carrier_length_mm")
+    assert L == pytest.approx(run_transplanter(rice).pair.a[0]
+                              * (1 if rice.mechanism == "rice_transplanter" else 2), rel=1e-4)
+    dL = 0.6
+    ev = model.evaluate(np.array([[0.0], [dL]]))
+    scaled = _scaled(model.design, (L + dL) / L)
+    motion, same = evaluate_transplanter_population(scaled, samples=720)
+    tip = motion.B[0, 0]
+    # the same population path on the scaled design file: the same motion ...
+    assert np.abs(ev.tip[1, :, 0] + 1j * ev.tip[1, :, 1] - tip).max() < 1e-6
+    assert np.abs(ev.tip[1] - ev.tip[0]).max() > 0.5 * dL
+    # ... and the single-design path (4096 pitch-curve nodes, the population 1024)
+    one = run_transplanter(scaled)
+    assert np.abs(ev.tip[1, :, 0] + 1j * ev.tip[1, :, 1] - one.motion.B[0, 0]).max() < 0.05
+    for k, name in enumerate(ev.names):
+        if name in GEAR_OBJECTIVES or name == "gearbox_clearance":
+            continue  # the scaled file has larger gears; the study's are the nominal ones
+        j = same.names.index(name)
+        # (the K-H-V example's tip misses the mat: its picking objectives are NaN in both)
+        np.testing.assert_allclose(ev.values[1, k], same.values[0, j], atol=1e-6,
+                                   err_msg=name)
+    for name in GEAR_OBJECTIVES:
+        if name in ev.names:
+            k = ev.names.index(name)
+            assert ev.values[1, k] == ev.values[0, k], name
+    # the gearbox stays where it is: its clearance changes by the ground's move only
+    k = ev.names.index("gearbox_clearance")
+    lowest = ev.tip[:, :, 1].min(axis=1)
+    assert ev.values[1, k] - ev.values[0, k] == pytest.approx(-(lowest[1] - lowest[0]),
+                                                              abs=1e-9)
+
+
+@pytest.mark.parametrize("path", [RICE_MFG, KHV])
+def test_transplanter_backlash_turns_the_planet_by_half_the_play(path):
+    rice = load_design(path)
+    model = make_model(rice, ["backlash_deg"], 720)
+    play = 0.4
+    ev = model.evaluate(np.array([[0.0], [play]]))
+    diff = np.mod(ev.attitude_deg[1] - ev.attitude_deg[0] + 180, 360) - 180
+    assert np.allclose(np.abs(diff), play / 2, atol=1e-9)  # +-play / 2 everywhere
+    assert (diff > 0).any() and (diff < 0).any()  # both flanks over a cycle
+    # the planet lags (-) while its turn relative to the carrier speeds up
+    from plantmech.workflows import simulate_transplanter
+
+    _, motion, _, _ = simulate_transplanter(model.design, samples=720, dense=1024)
+    rate = motion.planet_rate[0, 0]
+    slope = np.roll(rate, -1) - np.roll(rate, 1)
+    assert np.array_equal(np.sign(diff), -np.sign(slope))
+    # it turns about the planet axis: the tip stays S from it
+    centre = motion.centre[0, 0]
+    tip = ev.tip[1, :, 0] + 1j * ev.tip[1, :, 1]
+    assert np.allclose(np.abs(tip - centre), rice.arm.S_mm, atol=1e-9)
+
+
+def test_transplanter_travel_speed_sets_the_spacing():
+    from plantmech.workflows import evaluate_transplanter_population, transplanter_travel_speed
+
+    rice = load_design(RICE_MFG)
+    rice.samples = 720
+    v0 = transplanter_travel_speed(rice)  # 120 mm x 3 arms x 1 turn/s
+    assert v0 == pytest.approx(0.120 * 3 * rice.drive.carrier_speed_deg_s / 360)
+    model = make_model(rice, ["travel_speed_m_s"], 720)
+    dv = 0.06
+    ev = model.evaluate(np.array([[0.0], [dv]]))
+    v = rice.model_copy(deep=True)
+    v.field.plant_spacing_mm *= (v0 + dv) / v0  # the spacing at that speed, set by hand
+    v = type(v).model_validate(v.model_dump())
+    _, same = evaluate_transplanter_population(v, samples=720)
+    one = run_transplanter(v)
+    by = {c.name: c.value for c in one.evaluation.checks()}
+    k = ev.names.index("forward_inclination")
+    assert ev.values[1, k] == pytest.approx(same.values[0, same.names.index(
+        "forward_inclination")], abs=1e-9)
+    assert ev.values[1, k] == pytest.approx(by["forward_inclination"], abs=0.2)
+    assert abs(ev.values[1, k] - ev.values[0, k]) > 0.5  # faster: a flatter exit
+    moved = [n for j, n in enumerate(ev.names) if ev.values[1, j] != ev.values[0, j]]
+    assert moved == ["forward_inclination"]  # (ix) covers the whole spacing range
+    assert np.array_equal(ev.tip[1], ev.tip[0])
+
+
+@pytest.mark.parametrize("name", ["sugarcane_seeder_optimized.toml", "sugarcane_table4.toml",
+                                  "rice_transplanter_manufacturable.toml",
+                                  "rice_transplanter_toothed.toml", "rice_transplanter_khv.toml"])
+def test_every_bundled_design_with_a_train_takes_every_tolerance(name):
+    """Any seeder design file with a [train] and any transplanter: every study parameter
+    the design admits, in one population; the nominal row is the design's own path."""
+    from plantmech.studies.parameters import parameters_of
+
+    design = load_design(ROOT / "examples" / name)
+    names = list(parameters_of(design))
+    if design.mechanism == "sugarcane_seeder":
+        t = design.train
+        if abs(t.a1_mm + t.a2_mm - t.L1_mm) <= 1e-6 * t.L1_mm:
+            names.remove("L1_mm")
+    elif design.mechanism != "rice_transplanter":
+        names.remove("ring_phase_deg")
+    model = make_model(design, names, 180, 512)
+    rng = np.random.default_rng(4)
+    deltas = np.vstack([np.zeros(len(names)), 0.02 * rng.standard_normal((3, len(names)))])
+    deltas[:, names.index("backlash_deg")] = np.abs(deltas[:, names.index("backlash_deg")])
+    ev = model.evaluate(deltas)
+    assert np.isfinite(ev.tip).all() and ev.values.shape == (4, len(ev.names))
+    assert np.abs(ev.tip[1:] - ev.tip[:1]).max() > 1e-3  # the deviations move the tip
+    again = model.evaluate(np.zeros((1, len(names))))
+    assert np.abs(again.tip[0] - ev.tip[0]).max() < 1e-9  # alone or in a population
+
+
 # --- Monte Carlo vs first order -----------------------------------------------------------
 
 
@@ -158,6 +312,45 @@ def test_monte_carlo_band_matches_first_order_on_small_tolerances(seeder):
     for k, name in enumerate(fo["names"][:6]):
         g = np.abs(fo["grad_objectives"][:, k]) * stds
         pred = np.sqrt((g**2).sum())
+        if pred > 1e-6:
+            assert np.std(cols[name], ddof=1) == pytest.approx(pred, rel=0.12), name
+
+
+def test_transplanter_monte_carlo_matches_first_order_on_small_tolerances():
+    """The same check on the manufacturable transplanter, with its carrier length,
+    backlash and travel speed among small tolerances."""
+    rice = load_design(RICE_MFG)
+    names = ["gear_radius_mm", "S_mm", "beta_deg", "carrier_phase_deg", "carrier_length_mm",
+             "travel_speed_m_s", "backlash_deg"]
+    dists = [Distribution(distribution="normal", sigma=0.01),
+             Distribution(distribution="normal", sigma=0.05),
+             Distribution(distribution="truncated_normal", sigma=0.02, limit=0.03),
+             Distribution(distribution="normal", sigma=0.02),
+             Distribution(distribution="uniform", plus_minus=0.03),
+             Distribution(distribution="normal", sigma=0.01),
+             Distribution(distribution="uniform", low=0.0, high=0.04)]
+    model = make_model(rice, names, 360)
+    N = 1500
+    cols, band = tolerance_chunk(model, (0, 0, N, 7, dists))
+    mc_mean = band["sum"] / N
+    mc_std = np.sqrt(band["sumsq"] / N - mc_mean**2)
+    stds = np.array([dist.std(d) for d in dists])
+    means = np.array([dist.mean(d) for d in dists])
+    fo = first_order(model, stds)
+    fo_std = np.sqrt(((fo["grad_normal"] * stds[:, None]) ** 2).sum(axis=0))
+    rel = np.abs(mc_std - fo_std) / fo_std
+    assert np.median(rel) < 0.04 and rel.max() < 0.12
+    # the mean deviation (the backlash's half play is a bias) within sampling error
+    fo_mean = (fo["grad_normal"] * means[:, None]).sum(axis=0)
+    assert np.abs(mc_mean - fo_mean).max() < 5 * fo_std.max() / np.sqrt(N)
+    # the new tolerances move what they should: the path (carrier, play), the exit (speed)
+    g = dict(zip(names, np.abs(fo["grad_normal"]).max(axis=1), strict=True))
+    assert g["carrier_length_mm"] > 0.5 and g["backlash_deg"] > 0.5
+    assert g["travel_speed_m_s"] == 0.0
+    k = fo["names"].index("forward_inclination")
+    assert abs(fo["grad_objectives"][names.index("travel_speed_m_s"), k]) > 1.0  # deg/(m/s)
+    for k, name in enumerate(fo["names"]):
+        pred = np.sqrt(((fo["grad_objectives"][:, k] * stds) ** 2).sum())
         if pred > 1e-6:
             assert np.std(cols[name], ddof=1) == pytest.approx(pred, rel=0.12), name
 

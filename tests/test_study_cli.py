@@ -85,6 +85,13 @@ levels = 2
     # the same command again resumes: nothing left to compute
     assert main(["study", SEEDER, "--spec", spec, "--out", str(out), "--quiet"]) == 0
     assert "0 computed, 2 already done" in capsys.readouterr().out
+    # its report: the fraction meeting each objective, as in the summary
+    assert main(["report", str(out)]) == 0
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert 'id="sweep-table"' in page and page.count("data:image/png;base64,") == 1
+    for o in s["objectives"]:
+        assert f"{o['fraction_ok']:.4f}</td>" in page, o["name"]
+    capsys.readouterr()
     other = _write(tmp_path / "t.toml", TOL)
     assert main(["study", SEEDER, "--spec", other, "--out", str(out)]) == 2
     assert "another design or study file" in capsys.readouterr().err
@@ -105,3 +112,5 @@ best = 1
     assert s["starts"] == 2 and code == (0 if s["successes"] else 4)
     assert (out / "best_1.toml").exists() and (out / "multistart.png").exists()
     assert s["best"][0]["seed"] in (0, 1)
+    assert main(["report", str(out)]) == code  # the report's verdict is the study's
+    assert 'id="best-table"' in (out / "report.html").read_text(encoding="utf-8")

@@ -323,7 +323,7 @@ def evaluate_seeder_population(design: SeederDesign, radii2=None, radii3=None,
     ``params``: per-design values (name -> (P,)) of the scalars in ``SEEDER_PARAMS`` (the
     [train] fields L1_mm, L2_mm, initial angles and contact angles of gears 2 and 3 in deg,
     [operation] travel_speed_m_s; backlash_deg: the train's angular play, see
-    ``mechanisms.seeder_batch.backlash_offset``), the design's own value otherwise.
+    ``mechanisms.backlash.backlash_offset``), the design's own value otherwise.
     """
     from plantmech.mechanisms.seeder_batch import simulate_population
     from plantmech.objectives.seeder_population import evaluate_population, locate_sections
@@ -392,9 +392,14 @@ class TransplanterJob:
     summary: dict
 
 
-# per-design overrides of scalar design values for populations (name -> (P,) array)
+# per-design overrides of scalar design values for populations (name -> (P,) array): the
+# design file's fields, and three tolerances the file has no field for:
+# "carrier_offset_mm" (the planet axis that much farther from O than the pair's centre
+# distance: a carrier-length error), "backlash_deg" (the planet's angular play against its
+# drive) and "plant_spacing_mm" ([field]: the spacing the machine's travel speed gives)
 TRANSPLANTER_PARAMS = ("initial_angle_deg", "initial_phase_deg", "S_mm", "H1_mm", "beta_deg",
-                       "box_x_mm", "box_y_mm", "box_inclination_deg")
+                       "box_x_mm", "box_y_mm", "box_inclination_deg", "carrier_offset_mm",
+                       "backlash_deg", "plant_spacing_mm")
 
 
 def _param(design, params, name):
@@ -406,7 +411,17 @@ def _param(design, params, name):
             "beta_deg": lambda: design.arm.beta_deg,
             "box_x_mm": lambda: design.seedling_box.x_mm,
             "box_y_mm": lambda: design.seedling_box.y_mm,
-            "box_inclination_deg": lambda: design.seedling_box.inclination_deg}[name]()
+            "box_inclination_deg": lambda: design.seedling_box.inclination_deg,
+            "carrier_offset_mm": lambda: 0.0,
+            "plant_spacing_mm": lambda: design.field.plant_spacing_mm}[name]()
+
+
+def transplanter_travel_speed(design) -> float:
+    """The machine's travel speed v (m/s) that one plant per arm per carrier turn at the
+    design's plant spacing s needs: v = s J omega / 360 (s in mm, J arms, omega the
+    carrier speed in deg/s) / 1000."""
+    return (design.field.plant_spacing_mm * design.carrier.arms
+            * design.drive.carrier_speed_deg_s / 360.0 / 1000.0)
 
 
 def field_setup(design, params=None):
@@ -418,7 +433,8 @@ def field_setup(design, params=None):
         box_inclination_deg=_param(design, params, "box_inclination_deg"),
         mat_thickness=b.mat_thickness_mm, sample=b.sample_mm, box_length=b.length_mm,
         door_length=b.door_length_mm, floor_thickness=b.floor_thickness_mm,
-        planting_depth=f.planting_depth_mm, spacing_nominal=f.plant_spacing_mm,
+        planting_depth=f.planting_depth_mm,
+        spacing_nominal=_param(design, params, "plant_spacing_mm"),
         spacing_range=tuple(f.spacing_range_mm), check_height=f.check_height_mm,
         carrier_speed_deg_s=design.drive.carrier_speed_deg_s,
         needle_length=design.arm.needle_length_mm,
@@ -435,7 +451,8 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
                           params: dict | None = None):
     """(pair, motion, perimeter (P,), gearbox radius (P,)) for ``design`` or for P
     variants of its gear radii (P, N) and of the scalars in ``params`` (name -> (P,),
-    names in TRANSPLANTER_PARAMS)."""
+    names in TRANSPLANTER_PARAMS). A carrier offset or a backlash moves the planet, not
+    the gears: the perimeter and the gearbox are the pair's."""
     from plantmech.gears.internal import internal_perimeter, lobed_internal_pair
     from plantmech.mechanisms.transplanter import (
         ArmGeometry,
@@ -448,6 +465,9 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
     arm = ArmGeometry(_param(design, params, "S_mm"), _param(design, params, "H1_mm"),
                       np.radians(_param(design, params, "beta_deg")))
     carrier0 = np.radians(_param(design, params, "initial_angle_deg"))
+    offset = _param(design, params, "carrier_offset_mm")
+    play = (np.radians(params["backlash_deg"]) if params and "backlash_deg" in params
+            else None)
     if design.mechanism == "rice_transplanter":
         g = design.internal_gear
         r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
@@ -457,7 +477,7 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
         k = (g.lobes - 1) / g.lobes if k is None else k
         motion = simulate_differential(pair, k, carrier0, arm,
                                        np.radians(_param(design, params, "initial_phase_deg")),
-                                       design.carrier.arms, samples)
+                                       design.carrier.arms, samples, offset, play)
         perimeter = internal_perimeter(pair)
         module = perimeter / (np.pi * g.teeth) if g.teeth else np.zeros_like(perimeter)
         box = pair.R.max(axis=1) + 1.25 * module + g.rim_mm
@@ -465,7 +485,7 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
         g = design.sun_gear
         r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
         pair = khv_pair(np.radians(g.angles()), r, carrier0, g.interpolation, dense)
-        motion = simulate_khv(pair, carrier0, arm, design.carrier.arms, samples)
+        motion = simulate_khv(pair, carrier0, arm, design.carrier.arms, samples, offset, play)
         h = pair.sigma[1] - pair.sigma[0]
         # sun perimeter: polar curve over absolute angle (sigma runs clockwise)
         dr = np.gradient(pair.r_sun, h, axis=1)

@@ -563,6 +563,7 @@ def build_parser() -> argparse.ArgumentParser:
         app_cli,
         design_cli,
         init_cli,
+        report_cli,
         schema_cli,
         study_cli,
         verify_cli,
@@ -572,6 +573,7 @@ def build_parser() -> argparse.ArgumentParser:
     init_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
+    report_cli.register(sub)
     verify_cli.register(sub)
     app_cli.register(sub)
     return p

@@ -1,6 +1,12 @@
 """``--report`` of the commands: the option and the glue from a command's results to
 :func:`plantmech.outputs.report.write_report` (no physics here: the jobs are run by the
-workflows, the report only shows them)."""
+workflows, the report only shows them); and ``plantmech report STUDY_DIR``: the HTML
+report of a design study's directory (:mod:`plantmech.outputs.study_report`).
+
+Exit status of ``plantmech report``: 0 the report is written and the study is complete
+and meets what it asks (as ``plantmech study``'s own exit status), 2 the directory holds
+no study (the message names the file), 4 the report is written but the study stopped
+before its end or its requirement is not met."""
 
 from __future__ import annotations
 
@@ -108,3 +114,42 @@ def gears_report(args, out: Path, design, rec: dict) -> list[Path]:
     return _finish(write_report(out / REPORT_NAME, summary, figures, design_animation(design),
                                 verdict=verdict,
                                 gear_drawings=drawings, command=_command(args)))
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "report", help="HTML report of a design study's directory (plantmech study --out)")
+    p.add_argument("study_dir", help="the --out directory of 'plantmech study' (read only, "
+                   "but plots the study skipped with --no-plots are drawn into it)")
+    p.add_argument("--out", default=None, help=f"report file (default STUDY_DIR/{REPORT_NAME})"
+                   "; never an existing file other than a previous report")
+    p.set_defaults(func=_study_report)
+
+
+def _study_report(args) -> int:
+    from plantmech.outputs.study_report import (
+        StudyReportError,
+        load_study,
+        study_verdict,
+        write_study_report,
+    )
+
+    target = Path(args.out) if args.out else Path(args.study_dir) / REPORT_NAME
+    if target.exists() and target.read_text(encoding="utf-8", errors="replace")[:15].lower() \
+            != "<!doctype html>":
+        print(f"error: --out {target}: exists and is not a report; choose another file",
+              file=sys.stderr)
+        return 2
+    try:
+        _, summary = load_study(args.study_dir)
+        path = write_study_report(args.study_dir, target, command=_command(args))
+    except StudyReportError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"error: --out {target}: {exc}", file=sys.stderr)
+        return 2
+    style, verdict = study_verdict(summary)
+    print(f"report: {path}")
+    print(verdict)
+    return 4 if style == "fail" else 0

@@ -47,6 +47,10 @@ def register(subparsers) -> None:
                    help="stop after this many new chunks (resume later)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--report", action="store_true",
+                   help="also write report.html in --out: the verdict, P(ok) per objective, "
+                   "the tolerances, the tip-path band, the sensitivity ranking and the "
+                   "histograms (self-contained; 'plantmech report DIR' rebuilds it)")
     p.set_defaults(func=run)
 
 
@@ -153,6 +157,10 @@ def _report(args, spec, design, out: Path, outcome) -> int:
         written += [out / b["file"] for b in s["best"]]
         code = EXIT_OK if s["successes"] else EXIT_NOT_MET
     write_json(out / "summary.json", s)
+    if getattr(args, "report", False):
+        from plantmech.outputs.study_report import write_study_report
+
+        written.append(write_study_report(out, command="plantmech " + " ".join(sys.argv[1:])))
     print("wrote: " + ", ".join(str(p) for p in written) + f", {out / 'chunks'}/ (Parquet)")
     return code if st.complete else EXIT_NOT_MET
 
@@ -179,6 +187,15 @@ def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:
                                                          - band["first_order_std_mm"]))),
         "file": "band.csv"}
     written = [out / "band.csv"]
+    plan = None
+    if getattr(design, "trajectory", None) is not None:  # the planned trajectory (seeder)
+        from plantmech.geometry.trajectory import ClosedTrajectory
+
+        traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, float))
+        _, u = traj.arc_length_samples(2000)
+        plan = traj(u)
+        write_csv(out / "plan.csv", {"x_mm": plan[:, 0], "y_mm": plan[:, 1]})
+        written.append(out / "plan.csv")
     if not args.no_plots:
         from plantmech.outputs import study_plots as sp
         from plantmech.studies.engine import read_results
@@ -186,13 +203,6 @@ def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:
         data = read_results(out)
         sp.plot_histograms(out / "histograms.png", data, s)
         sp.plot_sensitivity(out / "sensitivity.png", s)
-        plan = None
-        if getattr(design, "trajectory", None) is not None:
-            from plantmech.geometry.trajectory import ClosedTrajectory
-
-            traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, float))
-            _, u = traj.arc_length_samples(2000)
-            plan = traj(u)
         sp.plot_band(out / "band.png", {**s, "band": band}, plan)
         written += [out / "histograms.png", out / "sensitivity.png", out / "band.png"]
     print(f"tolerance study: {s['samples']} samples; P(every objective met) = "

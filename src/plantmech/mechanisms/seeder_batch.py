@@ -22,6 +22,7 @@ from plantmech.geometry.periodic import (  # noqa: F401 (re-export)
     periodic_interpolant_rows,
     periodic_spline_matrix,
 )
+from plantmech.mechanisms.backlash import backlash_offset
 from plantmech.mechanisms.three_bar import tip_position, tip_rate
 
 TWO_PI = 2.0 * np.pi
@@ -66,18 +67,6 @@ def _radii_along(nodes, radii, contact0, t, kind):
                      for nu in (0, 1))
     at = c.reshape(-1, 1) + t[None, :]
     return periodic_interpolant_rows(nodes, radii, at, kind)
-
-
-def backlash_offset(ratio: np.ndarray, play) -> np.ndarray:
-    """Arm angle offset (rad) from an angular play ``play`` (rad, (P, 1) or scalar) in the
-    train: inertia-loaded, the arm lags the driving flank by half the play while its
-    relative rotation speeds up (d ratio / d psi > 0) and runs ahead on the other flank by
-    half the play while it slows down: -play / 2 * sign(d ratio / d psi), the derivative a
-    periodic centred difference over the cycle samples of ``ratio`` (P, S) (planet turn
-    per carrier turn). The flank change is taken as instantaneous; its impact on the tip
-    speed is not modelled."""
-    slope = np.roll(ratio, -1, axis=1) - np.roll(ratio, 1, axis=1)
-    return -0.5 * np.asarray(play, dtype=float) * np.sign(slope)
 
 
 def simulate_population(nodes, radii2, radii3, L1, L2, a1, a2, carrier0, arm0,

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from plantmech.gears.internal import LobedInternalPair
+from plantmech.mechanisms.backlash import backlash_offset
 
 TWO_PI = 2.0 * np.pi
 
@@ -113,13 +114,21 @@ def lobe_advance_per_turn(lobes: float, speed_ratio: float) -> float:
 
 def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0: float,
                           arm: ArmGeometry, phase0: float = 0.0, arms: int = 3,
-                          samples: int = 3600) -> TransplanterMotion:
+                          samples: int = 3600, carrier_offset=0.0,
+                          backlash=None) -> TransplanterMotion:
     """Differential internal-engagement train (seed 001 Eq. 1-10) for P designs.
 
     speed_ratio k = omega_1 / omega_2; carrier0 = phi_H0 (rad); phase0 = lobe phase of
     the mesh point of arm 0 at the start (rad); carrier0, phase0 and the arm may be
     scalars or (P,) arrays. The motion repeats every carrier turn
     only when m = n (1 - k) is a whole number (m = 1: the arm swings, net turn 0).
+
+    Tolerances (scalars or (P,)): ``carrier_offset`` (mm): the planet axis bored that
+    much farther from O than the centre distance a of the pair; the teeth still set the
+    ratio, which depends on r / a only, so the planet turns as in the pair and only the
+    axis moves (a (1 + offset / a) is exactly the motion of the pair scaled by that
+    factor). ``backlash`` (rad): angular play of the planet (arm) against its drive
+    (``mechanisms.backlash.backlash_offset`` on d gamma_2 / d psi).
     """
     n = pair.lobes
     m = lobe_advance_per_turn(n, speed_ratio)
@@ -164,10 +173,12 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
           + (s0**3 - s0**2) * h * q_rate[r0, kk + 1])
     Q0 = (Q0 + TWO_PI * np.floor(phase0 / TWO_PI)).reshape(-1, 1, 1)
     phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (P or 1, J, S)
-    a = pair.a[:, None, None]
+    a = pair.a[:, None, None] + _column(carrier_offset)
     centre = a * np.exp(1j * phiH)
     phi2 = phiH + (Q - Q0)
     planet_rate = m * rate  # d gamma_2 / d psi
+    if backlash is not None:
+        phi2 = phi2 + backlash_offset(planet_rate, _column(backlash))
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, planet_rate - 1.0, arm)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, planet_rate,
                               pair.closure_error, pair.a.copy(), arm, "differential")
@@ -193,16 +204,21 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
              min_radius: float = 1.0) -> KHVPair:
     """Sun pitch curve from control radii (P, N) mm at absolute angles (N,) rad, and the
     centre distance a that makes the middle gear turn once per carrier turn (Eq. 8 of
-    seed 000 for this pair)."""
+    seed 000 for this pair). ``carrier0`` (rad): the carrier's start, shared or (P,)."""
     from plantmech.gears.closure import solve_centre_distances
-    from plantmech.geometry.periodic import periodic_spline_matrix
+    from plantmech.geometry.periodic import periodic_interpolant_rows, periodic_spline_matrix
 
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
     sigma = np.linspace(0.0, TWO_PI, dense + 1)
-    r = radii @ periodic_spline_matrix(np.asarray(angles, float), carrier0 - sigma, 0, kind).T
+    c0 = np.asarray(carrier0, dtype=float)
+    if c0.ndim == 0:  # one shared matrix
+        r = radii @ periodic_spline_matrix(np.asarray(angles, float), c0 - sigma, 0, kind).T
+    else:  # a carrier start per design (a study's carrier phase): the same interpolant
+        at = np.broadcast_to(c0.reshape(-1, 1), (radii.shape[0], 1)) - sigma[None, :]
+        r = periodic_interpolant_rows(np.asarray(angles, float), radii, at, kind)[0]
     if np.any(r <= min_radius):
         d, k = np.argwhere(r <= min_radius)[0]
-        where = np.degrees(carrier0 - sigma[k]) % 360
+        where = np.degrees(np.ravel(c0)[d if c0.ndim else 0] - sigma[k]) % 360
         raise ValueError(f"sun pitch radius {r[d, k]:.3f} mm at {where:.2f} deg is not above "
                          f"{min_radius:g} mm")
     a = solve_centre_distances(r[:, :-1], TWO_PI)
@@ -211,7 +227,7 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
 
 
 def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2,
-                 samples: int = 3600) -> TransplanterMotion:
+                 samples: int = 3600, carrier_offset=0.0, backlash=None) -> TransplanterMotion:
     """Single-DOF K-H-V non-circular planetary train (seed 001 Fig. 1) for P designs.
 
     Middle gear i: d M = r_s / (a - r_s) d sigma (clockwise rel. carrier); its other
@@ -219,6 +235,11 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     progress sigma' = M^-1(M + pi), where the middle radius is a - r_s(sigma'); the
     planet there has radius r_s(sigma') and turns counter-clockwise rel. the carrier:
     d gamma_2 / d psi = [r_s / (a - r_s)](sigma) * [(a - r_s) / r_s](sigma').
+
+    Tolerances (scalars or (P,)): ``carrier_offset`` (mm): the planet axis at 2 a +
+    offset from O (the sum of the two centre-distance errors of the carrier's bores; the
+    teeth keep each pair's ratio, which depends on r / a only); ``backlash`` (rad): the
+    planet's (arm's) angular play against its drive (``mechanisms.backlash``).
     """
     P = pair.r_sun.shape[0]
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
@@ -240,9 +261,11 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     xf = x - wraps * TWO_PI
     gamma2 = np.stack([np.interp(xf, sg, turn[d]) for d in range(P)]) + TWO_PI * wraps[None]
     out_rate = np.stack([np.interp(xf, sg, rate[d]) for d in range(P)])
-    phiH = carrier0 - offset[:, None] - psi[None, :]
-    centre = 2 * pair.a[:, None, None] * np.exp(1j * phiH)[None]
-    phi2 = phiH[None] + gamma2
+    phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (1 or P, J, S)
+    centre = (2 * pair.a[:, None, None] + _column(carrier_offset)) * np.exp(1j * phiH)
+    phi2 = phiH + gamma2
+    if backlash is not None:
+        phi2 = phi2 + backlash_offset(out_rate, _column(backlash))
     A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, out_rate - 1.0, arm)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, out_rate,
                               np.maximum(closure, pair.closure_error), pair.a.copy(), arm,

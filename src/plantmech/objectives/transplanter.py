@@ -38,7 +38,7 @@ class FieldSetup:
     door_length: float = 15.0  # slotted floor at the door: the needle may pass
     floor_thickness: float = 5.0
     planting_depth: float = 25.0
-    spacing_nominal: float = 120.0
+    spacing_nominal: float | np.ndarray = 120.0  # mm, or (P,): per design (travel speed)
     spacing_range: tuple = (60.0, 180.0)
     carrier_speed_deg_s: float = 360.0
     check_height: float = 100.0  # height above ground for the forward inclination
@@ -231,11 +231,14 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     fwd_sign = -np.sign(_take(vel.real, kmin))  # machine moves against the tip at the bottom
     fwd_sign = np.where(fwd_sign == 0, 1.0, fwd_sign)
     per_turn = J  # one plant per arm per carrier turn
+    spacing = np.asarray(setup.spacing_nominal, dtype=float)
     incl = _forward_inclination(motion.B[:, 0], kmin, st["ground_y"], fwd_sign,
-                                setup.spacing_nominal * per_turn, setup.check_height)
+                                spacing * per_turn, setup.check_height)
+    spacing_text = (f"{float(spacing):g} mm" if spacing.ndim == 0 else
+                    f"{spacing.min():g}-{spacing.max():g} mm over the designs")
     add("forward_inclination", incl, limits.min_forward_inclination_deg, None, "deg",
         "(viii) angle to the forward ground of the absolute path from leaving the ground to "
-        f"{setup.check_height:g} mm above it (nominal spacing {setup.spacing_nominal:g} mm)")
+        f"{setup.check_height:g} mm above it (nominal spacing {spacing_text})")
     spacings = np.arange(setup.spacing_range[0], setup.spacing_range[1] + 1e-9, 10.0)
     widths = _hole_width(motion.B[:, 0], st["below"][0][:, 0], st["below"][1][:, 0], fwd_sign,
                          spacings * per_turn)
@@ -294,12 +297,13 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
 def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_height):
     """Angle (deg) between the forward ground direction and the chord of the absolute
     path from where the tip leaves the ground to where it is ``check_height`` above it
-    (all designs at once)."""
+    (all designs at once; ``advance_per_turn`` mm, shared or (P,))."""
     P, S = B.shape
     idx = np.mod(kmin[:, None] + np.arange(S)[None, :], S)  # from the lowest point on
     z = np.take_along_axis(B, idx, axis=1)
     y = z.imag
-    x = z.real * fwd_sign[:, None] + advance_per_turn * np.arange(S)[None, :] / S
+    advance = np.reshape(np.asarray(advance_per_turn, dtype=float), (-1, 1))  # (1 or P, 1)
+    x = z.real * fwd_sign[:, None] + advance * np.arange(S)[None, :] / S
     up = y >= ground[:, None]
     k0 = np.argmax(up, axis=1)
     hi = (y >= (ground + check_height)[:, None]) & (np.arange(S)[None, :] > k0[:, None])

@@ -31,38 +31,98 @@ def _grid(n: int, width: int = 4):
     return rows, cols
 
 
+def probability_text(p: float, interval, n: int) -> str:
+    """P(ok) with its 95 % interval: a probability of 0 or 1 from n samples is a bound,
+    not a certainty."""
+    lo, hi = interval if interval is not None else (float("nan"), float("nan"))
+    if p >= 1.0:
+        return f"P(ok) = 1: met in all {n} samples (95 %: >= {lo:.4f})"
+    if p <= 0.0:
+        return f"P(ok) = 0: met in none of {n} samples (95 %: <= {hi:.4f})"
+    return f"P(ok) = {p:.4f} (95 %: {lo:.4f}-{hi:.4f})"
+
+
+def histogram_window(x: np.ndarray, bounds) -> tuple[float, float, list]:
+    """The x range of a histogram: the samples' range, widened to the limits that lie
+    within four times that range of it (a limit farther out would squash the
+    distribution into one bar); returns (left, right, the limits left out of view)."""
+    lo, hi = float(np.min(x)), float(np.max(x))
+    spread = hi - lo if hi > lo else max(abs(hi), 1.0) * 1e-3
+    left, right = lo - 0.08 * spread, hi + 0.08 * spread
+    outside = []
+    for b in bounds:
+        if b is None:
+            continue
+        if lo - 4 * spread <= b <= hi + 4 * spread:
+            left, right = min(left, b - 0.05 * spread), max(right, b + 0.05 * spread)
+        else:
+            outside.append(b)
+    return left, right, outside
+
+
 def plot_histograms(path: Path, data: dict, summary: dict) -> None:
-    """One histogram per objective and per band output, limits drawn in red, the nominal
-    value dashed, P(ok) in the title."""
+    """One histogram per objective and per band output: samples that meet the objective
+    in blue, those that do not in red, the limits as red lines (a limit far from every
+    sample is named at the edge, with its distance, instead of squashing the
+    histogram), the nominal value dashed, P(ok) with its 95 % interval in the title."""
     plt = _plt()
-    items = [(o["name"], o["unit"], o["limit"], o["nominal"], o["probability_ok"])
+    N = int(summary["samples"])
+    items = [(o["name"], o["unit"], o["limit"], o["nominal"],
+              probability_text(o["probability_ok"], o.get("probability_ok_95"), N))
              for o in summary["objectives"]]
     items += [(n, v["unit"], "", None, None) for n, v in summary["outputs"].items()]
     rows, cols = _grid(len(items))
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.0 * rows), squeeze=False)
-    for ax, (name, unit, limit, nominal, p) in zip(axes.ravel(), items, strict=False):
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.1 * rows), squeeze=False)
+    for ax, (name, unit, limit, nominal, ptext) in zip(axes.ravel(), items, strict=False):
         x = np.asarray(data[name], float)
-        x = x[np.isfinite(x)]
-        if len(x):
-            ax.hist(x, bins=60, color="#4a7ab0", alpha=0.85)
-        lo, hi = limit_bounds(limit)
-        for b in (lo, hi):
-            if b is not None:
+        ok = (np.asarray(data[f"{name}__ok"], bool) if f"{name}__ok" in data
+              else np.ones(len(x), bool))
+        finite = np.isfinite(x)
+        bounds = limit_bounds(limit)
+        if finite.any():
+            xf = x[finite]
+            left, right, outside = histogram_window(
+                np.r_[xf, [nominal] if nominal is not None and np.isfinite(nominal) else []],
+                bounds)
+            bins = np.linspace(left, right, 61)
+            ax.hist([x[finite & ok], x[finite & ~ok]], bins=bins, stacked=True,
+                    color=["#4a7ab0", "#d9534f"], alpha=0.9,
+                    label=["objective met", "objective not met"])
+            ax.set_xlim(left, right)
+            for b in outside:  # name the far limit at the edge it lies beyond
+                side = "right" if b > right else "left"
+                gap = b - xf.max() if side == "right" else xf.min() - b
+                ax.annotate(f"limit {b:g} {unit}\n{gap:.3g} {unit} beyond\nevery sample "
+                            + ("->" if side == "right" else "<-"),
+                            xy=(0.98 if side == "right" else 0.02, 0.6),
+                            xycoords="axes fraction", ha=side, fontsize=7, color="red")
+        else:
+            ax.text(0.5, 0.5, "not computed in any sample", ha="center",
+                    transform=ax.transAxes, fontsize=8)
+        for b in bounds:
+            if b is not None and finite.any() and left <= b <= right:
                 ax.axvline(b, color="red", lw=1.5, label="limit")
         if nominal is not None and np.isfinite(nominal):
-            ax.axvline(nominal, color="k", ls="--", lw=1, label="nominal")
-        title = name if p is None else f"{name}\nP(ok) = {p:.4f}  ({limit})"
+            ax.axvline(nominal, color="k", ls="--", lw=1, label="nominal design")
+        missing = int((~finite).sum())
+        title = name if ptext is None else f"{name}  ({limit})\n{ptext}"
+        if missing:
+            title += f"\n{missing} samples not computed (not met)"
         ax.set_title(title, fontsize=8)
         ax.set_xlabel(f"{name} ({unit})" if unit else name, fontsize=8)
         ax.set_ylabel("samples", fontsize=8)
         ax.tick_params(labelsize=7)
+        ax.ticklabel_format(axis="x", useOffset=False)
     for ax in axes.ravel()[len(items):]:
         ax.axis("off")
-    handles, labels = axes.ravel()[0].get_legend_handles_labels()
-    if handles:
-        fig.legend(handles, labels, loc="upper right", fontsize=8)
-    fig.suptitle(f"Tolerance study: {summary['samples']} samples", fontsize=10)
-    fig.tight_layout()
+    seen = {}
+    for ax in axes.ravel()[:len(items)]:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            seen.setdefault(lab, h)
+    if seen:
+        fig.legend(list(seen.values()), list(seen), loc="upper right", fontsize=8)
+    fig.suptitle(f"Tolerance study: {N} samples", fontsize=10)
+    fig.tight_layout(rect=(0, 0, 0.9, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -83,8 +143,9 @@ def plot_sensitivity(path: Path, summary: dict) -> None:
         for y, r in enumerate(rank):
             ax.text(vals[y], y, f" SRC {r['src']:+.2f}", va="center", fontsize=6)
         r2 = sens.get("r2")
-        still = r2 != r2 and not any(vals)
-        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if r2 == r2 else
+        fitted = r2 is not None and r2 == r2
+        still = not fitted and not any(vals)
+        ax.set_title(f"{name} (R² of linear fit {r2:.2f})" if fitted else
                      f"{name}{' (unaffected by these parameters)' if still else ''}",
                      fontsize=8)
         ax.set_xlabel(f"first-order |d/dx| x std ({unit or '-'})", fontsize=7)
@@ -127,11 +188,11 @@ def plot_band(path: Path, summary: dict, plan: np.ndarray | None = None) -> None
         a1.plot(plan[:, 0], plan[:, 1], color="0.6", lw=1, label="planned trajectory")
     a1.plot(np.r_[tip[:, 0], tip[:1, 0]], np.r_[tip[:, 1], tip[:1, 1]], "k-", lw=0.8,
             label="nominal tip path")
-    for v, lab in ((lo, "envelope (min)"), (hi, "envelope (max)")):
+    for k, v in enumerate((lo, hi)):
         p = tip + nrm * (mag * v)[:, None]
         p = np.r_[p, p[:1]]  # closed cycle
         a1.plot(p[:, 0], p[:, 1], color="tab:red", lw=0.8,
-                label=f"{lab}, deviation x {mag:g}" if lab.endswith("(max)") else None)
+                label=f"Monte Carlo min - max, deviation x {mag:g}" if k else None)
     a1.fill(np.r_[tip[:, 0] + mag * lo * nrm[:, 0], (tip[:, 0] + mag * hi * nrm[:, 0])[::-1]],
             np.r_[tip[:, 1] + mag * lo * nrm[:, 1], (tip[:, 1] + mag * hi * nrm[:, 1])[::-1]],
             color="tab:red", alpha=0.15, lw=0)

@@ -22,14 +22,26 @@ Seeder (seed 000) tolerance model (docs/studies.md):
   planet shaft; ``gear2_phase_deg``, ``gear3_phase_deg``: gear 2 (3) meets its mate at a
   body angle off by the error (keyed turned on the shared shaft).
 * ``backlash_deg``: angular play of the arm against the carrier
-  (``mechanisms.seeder_batch.backlash_offset``); give it a distribution on >= 0.
+  (``mechanisms.backlash.backlash_offset``); give it a distribution on >= 0.
 * ``travel_speed_m_s``: the machine's travel speed (nominal: the design's, or the nominal
   design's zero-speed travel of Eq. 18).
 
 Transplanter (seed 001): ``gear_radius_mm`` (radial offset of the internal gear's, or the
 K-H-V sun's, control radii), ``S_mm``, ``H1_mm``, ``beta_deg`` (arm), ``carrier_phase_deg``
 (initial carrier angle), ``ring_phase_deg`` (the lobe phase sigma; differential train),
-``box_x_mm``, ``box_y_mm``, ``box_inclination_deg`` (seedling box placement).
+``box_x_mm``, ``box_y_mm``, ``box_inclination_deg`` (seedling box placement), and:
+
+* ``carrier_length_mm``: the planet axis bored that much farther from O than the pair's
+  centre distance (differential: a; K-H-V: 2 a, the sum of both bores' errors). The
+  teeth keep the ratio, which depends on r / a only: the planet turns as in the pair
+  and only its axis moves (the motion of the pair scaled by (L + dL) / L, tested);
+  the gears, their module and the gearbox are unchanged.
+* ``backlash_deg``: angular play of the planet (the arm) against its drive, as the
+  seeder's (``mechanisms.backlash.backlash_offset`` on d gamma_2 / d psi).
+* ``travel_speed_m_s``: the machine's travel speed. Nominal: the speed that plants at
+  the design's spacing (``workflows.transplanter_travel_speed``); at a fixed carrier
+  speed the spacing follows it, s = s0 v / v0, which moves (viii) the forward
+  inclination; (ix) the hole width is the widest over the whole spacing range.
 """
 
 from __future__ import annotations
@@ -62,6 +74,9 @@ TRANSPLANTER_PARAMETERS = {
     "box_x_mm": ("mm", "seedling box door x"),
     "box_y_mm": ("mm", "seedling box door y"),
     "box_inclination_deg": ("deg", "seedling box inclination"),
+    "carrier_length_mm": ("mm", "carrier: O - planet axis, beyond the pair's centre distance"),
+    "backlash_deg": ("deg", "angular play of the planet (arm) against its drive"),
+    "travel_speed_m_s": ("m/s", "machine travel speed (sets the plant spacing)"),
 }
 
 
@@ -186,6 +201,8 @@ class TransplanterModel:
     """Variants of a transplanter (seed 001): see the module docstring."""
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720):
+        from plantmech.workflows import transplanter_travel_speed
+
         _check_names(names, TRANSPLANTER_PARAMETERS, design.mechanism)
         if design.mechanism != "rice_transplanter" and "ring_phase_deg" in names:
             raise StudyInputError("parameter 'ring_phase_deg': a K-H-V train has no lobe phase")
@@ -195,16 +212,30 @@ class TransplanterModel:
             design = design.model_copy(deep=True)
             design.internal_gear.centre_distance_mm = None
         self.design, self.names, self.cycle_samples = design, list(names), cycle_samples
+        self.travel0 = transplanter_travel_speed(design)
+        self._carrier0 = None
 
     def _gear(self):
         d = self.design
         return d.internal_gear if d.mechanism == "rice_transplanter" else d.sun_gear
 
+    def carrier_length(self) -> float:
+        """O - planet axis (mm) of the nominal design: a (differential) or 2 a (K-H-V)."""
+        if self._carrier0 is None:
+            from plantmech.workflows import simulate_transplanter
+
+            _, motion, _, _ = simulate_transplanter(self.design, samples=8, dense=1024)
+            self._carrier0 = float(np.abs(motion.centre[0, 0, 0]))
+        return self._carrier0
+
     def nominal(self, name: str) -> float:
         d = self.design
+        if name == "carrier_length_mm":
+            return self.carrier_length()
         return {"S_mm": d.arm.S_mm, "H1_mm": d.arm.H1_mm, "beta_deg": d.arm.beta_deg,
                 "box_x_mm": d.seedling_box.x_mm, "box_y_mm": d.seedling_box.y_mm,
-                "box_inclination_deg": d.seedling_box.inclination_deg}.get(name, 0.0)
+                "box_inclination_deg": d.seedling_box.inclination_deg,
+                "travel_speed_m_s": self.travel0}.get(name, 0.0)
 
     def evaluate(self, deltas: np.ndarray) -> Evaluated:
         from plantmech.workflows import evaluate_transplanter_population
@@ -226,6 +257,19 @@ class TransplanterModel:
             params["initial_angle_deg"] = dz.carrier.initial_angle_deg + d["carrier_phase_deg"]
         if "ring_phase_deg" in d:
             params["initial_phase_deg"] = dz.internal_gear.initial_phase_deg + d["ring_phase_deg"]
+        if "carrier_length_mm" in d:
+            params["carrier_offset_mm"] = d["carrier_length_mm"]
+        if "backlash_deg" in d:
+            params["backlash_deg"] = d["backlash_deg"]
+        if "travel_speed_m_s" in d:
+            # a fixed carrier speed: one plant per arm per turn, the spacing follows the speed
+            v = self.travel0 + d["travel_speed_m_s"]
+            if np.any(v <= 0):
+                k = int(np.flatnonzero(v <= 0)[0])
+                raise StudyInputError(
+                    f"parameter 'travel_speed_m_s': a deviation of {d['travel_speed_m_s'][k]:g}"
+                    f" m/s stops the machine (nominal {self.travel0:g} m/s)")
+            params["plant_spacing_mm"] = dz.field.plant_spacing_mm * v / self.travel0
         motion, ev = evaluate_transplanter_population(dz, radii, samples=self.cycle_samples,
                                                       params=params or None)
         B = motion.B[:, 0, :]

@@ -64,7 +64,7 @@ def run_study(design, spec, out: Path, fingerprint: str, scheduler: str | None =
     names = list(spec.parameters)
     model = make_model(design, names, spec.cycle_samples, spec.dense)
     claim_out_dir(out, fingerprint, {"kind": spec.kind, "design": design.name,
-                                     "parameters": names})
+                                     "mechanism": design.mechanism, "parameters": names})
     if isinstance(spec, ToleranceSpec):
         dists = list(spec.parameters.values())
         chunks = []
@@ -240,7 +240,8 @@ def _ranked(names, src, contrib, r2) -> dict:
             row["first_order_sigma"] = float(contrib[k])
         rows.append(row)
     key = (lambda r: -r["first_order_sigma"]) if contrib is not None else (lambda r: -abs(r["src"]))
-    return {"r2": r2, "ranking": sorted(rows, key=key)}
+    # an output no varied parameter moves has no fit: None (JSON has no NaN)
+    return {"r2": float(r2) if np.isfinite(r2) else None, "ranking": sorted(rows, key=key)}
 
 
 def sweep_summary(model, spec: SweepSpec, out: Path) -> dict:
