@@ -532,3 +532,19 @@ def test_the_fast_mesh_check_finds_what_the_plain_one_finds_on_sugarcane_table4(
             {**fast, **plain, "pair": pair.name}, spec.module, 0.1))
         assert found[pair.name] == plain_checks
     assert found == {"gear2_sun": [], "gear3_planet": ["backlash_max"]}
+
+
+def test_a_dwell_sun_is_cut_when_its_polyline_wanders_over_the_toothless_arc():
+    """Fuzz cases 4071/4161/4475 (the dwell example at 360 samples): the toothless wedge
+    drawn through the arc's own points crossed itself (GEOS side location conflict). The
+    wedge is the sector between the arc's ends; where the old wedge was valid the sun is
+    the same (shipped dwell example, Table 4: same areas)."""
+    from plantmech.design import load_design
+    from plantmech.workflows import gear_pairs
+    from tests.conftest import EXAMPLES
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_dwell.toml")
+    d.trajectory.samples = 360
+    (sun_pair, _), _ = gear_pairs(d)
+    assert sun_pair.gear_b.is_valid and sun_pair.gear_b.geom_type == "Polygon"
+    assert sun_pair.teeth_a == sun_pair.teeth_b == 23

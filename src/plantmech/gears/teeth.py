@@ -279,10 +279,18 @@ def _toothless_wedge(pitch: PitchPolyline, toothless: tuple[float, float], base,
     import shapely
 
     a0, b0 = toothless
-    span = np.mod(b0 - a0, pitch.perimeter)
-    q, _, _ = pitch.at(a0 + np.linspace(0.0, span, 64))
+    q, _, _ = pitch.at(np.array([a0, b0]))
     big = 10 * np.hypot(*pitch.xy.T).max()
-    ang = np.unwrap(np.arctan2(q[:, 1], q[:, 0]))
+    # the sector between the arc's two ends, swept the way the pitch curve runs (its
+    # orientation): the polar angles of the points in between need not be monotone
+    # (the closing span of a partial gear's polyline can wander), and a wedge drawn
+    # through them crossed itself (fuzz cases 4071, 4161, 4475: GEOS side location
+    # conflict)
+    x, y = pitch.xy[:, 0], pitch.xy[:, 1]
+    sense = 1.0 if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) >= 0 else -1.0
+    ang0, ang1 = np.arctan2(q[:, 1], q[:, 0])
+    sweep = np.mod(sense * (ang1 - ang0), 2 * np.pi)
+    ang = ang0 + sense * np.linspace(0.0, sweep, 64)
     wedge = shapely.Polygon(np.vstack([[0.0, 0.0], np.c_[big * np.cos(ang),
                                                           big * np.sin(ang)]]))
     root = base.buffer(-spec.dedendum * spec.module, join_style="round")
