@@ -286,8 +286,7 @@ def _toothless_wedge(pitch: PitchPolyline, toothless: tuple[float, float], base,
     # (the closing span of a partial gear's polyline can wander), and a wedge drawn
     # through them crossed itself (fuzz cases 4071, 4161, 4475: GEOS side location
     # conflict)
-    x, y = pitch.xy[:, 0], pitch.xy[:, 1]
-    sense = 1.0 if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) >= 0 else -1.0
+    sense = 1.0 if shapely.LinearRing(pitch.xy).is_ccw else -1.0
     ang0, ang1 = np.arctan2(q[:, 1], q[:, 0])
     sweep = np.mod(sense * (ang1 - ang0), 2 * np.pi)
     ang = ang0 + sense * np.linspace(0.0, sweep, 64)
