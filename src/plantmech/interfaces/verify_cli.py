@@ -84,8 +84,7 @@ def run(args) -> int:
         print(f"error: {args.design}: [train]: {exc}", file=sys.stderr)
         return EXIT_INPUT
     contact = analyse_seeder(train, gears, steps=args.steps)
-    limits = {"transmission_error_deg": args.max_te,
-              "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
+    limits = _limits(args)
     rec = seeder_record(contact, train, limits)
     loads = None
     if not args.no_loads:
@@ -122,14 +121,19 @@ def run(args) -> int:
     return _report(args, design, gears, gears_dir, out, rec, loads)
 
 
+def _limits(args) -> dict:
+    """The verdict's limits from the command line (deg, deg, mm)."""
+    return {"transmission_error_deg": args.max_te,
+            "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
+
+
 def _run_transplanter(args, design, gears, out) -> dict:
     """The differential transplanter: every arm's planet against the internal gear."""
     from plantmech.contact.transplanter import analyse_transplanter, transplanter_record
 
     t0 = time.perf_counter()
     contact = analyse_transplanter(design, gears, steps=args.steps)
-    limits = {"transmission_error_deg": args.max_te,
-              "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
+    limits = _limits(args)
     rec = transplanter_record(contact, limits)
     rec["loads"] = {"skipped": "the multibody loads are computed for the seeder's train "
                                "only"}

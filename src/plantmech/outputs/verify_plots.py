@@ -17,6 +17,38 @@ def _plt():
     return plt
 
 
+def _flank_lines(ax, psi: np.ndarray, fp) -> None:
+    """One pair's free-play result on ``ax``: both flanks, the mid band and the steps where
+    the teeth interfere (deg)."""
+    ax.plot(psi, np.degrees(fp.lo), lw=0.8, label="flank lo (CW contact)")
+    ax.plot(psi, np.degrees(fp.hi), lw=0.8, label="flank hi (CCW contact)")
+    ax.plot(psi, np.degrees(0.5 * (fp.lo + fp.hi)), "k", lw=0.6, label="mid band")
+    if fp.jammed.any():
+        ax.plot(psi[fp.jammed], np.zeros(fp.jammed.sum()), "rx",
+                label="interference (jammed)")
+
+
+def _tip_path_panel(ax, nominal, lo, hi, who: str, title: str, model: str) -> None:
+    """The pitch-curve model's tip path (legend ``model``) and the toothed train's at both
+    ends of ``who``'s free play (mm), the rotation centre marked."""
+    ax.plot(*nominal.T, "k", lw=0.8, label=model)
+    ax.plot(*lo.T, lw=0.7, label=f"toothed, {who} at lo end of its play")
+    ax.plot(*hi.T, lw=0.7, label=f"toothed, {who} at hi end of its play")
+    ax.plot(0, 0, "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / mm")
+    ax.set_ylabel("y / mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+
+
+def _save(plt, fig, path: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def plot_transmission_error(path: Path, c) -> None:
     """Driven gear's turn off the pitch-curve law (deg) on both flanks, per pair, and
     the arm's (the planet's, through the whole train)."""
@@ -26,12 +58,7 @@ def plot_transmission_error(path: Path, c) -> None:
     for ax, fp, title in ((axes[0], c.stage1, "sun -> gear 2 (gear 2's turn)"),
                           (axes[1], c.stage2, "gear 3 -> planet (planet's turn, gear 3 "
                                               "at its nominal angle)")):
-        ax.plot(psi, np.degrees(fp.lo), lw=0.8, label="flank lo (CW contact)")
-        ax.plot(psi, np.degrees(fp.hi), lw=0.8, label="flank hi (CCW contact)")
-        ax.plot(psi, np.degrees(0.5 * (fp.lo + fp.hi)), "k", lw=0.6, label="mid band")
-        bad = fp.jammed
-        if bad.any():
-            ax.plot(psi[bad], np.zeros(bad.sum()), "rx", label="interference (jammed)")
+        _flank_lines(ax, psi, fp)
         ax.set_ylabel("transmission error / deg")
         ax.set_title(title, fontsize=10)
         ax.grid(alpha=0.3)
@@ -45,9 +72,7 @@ def plot_transmission_error(path: Path, c) -> None:
     ax.set_xlabel("carrier angle (clockwise from the start) / deg")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(plt, fig, path)
 
 
 def plot_tip_band(path: Path, c) -> None:
@@ -56,16 +81,8 @@ def plot_tip_band(path: Path, c) -> None:
     plt = _plt()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5),
                                  gridspec_kw={"width_ratios": [1.2, 1]})
-    ax.plot(*c.tip_nominal.T, "k", lw=0.8, label="pitch-curve model")
-    ax.plot(*c.tip_lo.T, lw=0.7, label="toothed, arm at lo end of its play")
-    ax.plot(*c.tip_hi.T, lw=0.7, label="toothed, arm at hi end of its play")
-    ax.plot(0, 0, "k+", ms=10)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x / mm")
-    ax.set_ylabel("y / mm")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title("tip path")
+    _tip_path_panel(ax, c.tip_nominal, c.tip_lo, c.tip_hi, "arm", "tip path",
+                    "pitch-curve model")
     psi = np.degrees(c.psi)
     bx.plot(psi, np.hypot(*(c.tip_hi - c.tip_lo).T), label="band width")
     bx.plot(psi, np.fmax(np.hypot(*(c.tip_hi - c.tip_nominal).T),
@@ -76,9 +93,7 @@ def plot_tip_band(path: Path, c) -> None:
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
     bx.set_title("tip band over the cycle")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(plt, fig, path)
 
 
 def plot_loads(path: Path, loads: dict) -> None:
@@ -103,9 +118,7 @@ def plot_loads(path: Path, loads: dict) -> None:
     err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
     axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
                       f"balance error {err:.2f} %", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(plt, fig, path)
 
 
 def plot_transplanter_transmission_error(path: Path, c) -> None:
@@ -116,12 +129,7 @@ def plot_transplanter_transmission_error(path: Path, c) -> None:
     arms = len(c.arms)
     fig, axes = plt.subplots(arms, 1, figsize=(9, 3 * arms), sharex=True, squeeze=False)
     for j, (ax, fp) in enumerate(zip(axes[:, 0], c.arms, strict=True)):
-        ax.plot(psi, np.degrees(fp.lo), lw=0.8, label="flank lo (CW contact)")
-        ax.plot(psi, np.degrees(fp.hi), lw=0.8, label="flank hi (CCW contact)")
-        ax.plot(psi, np.degrees(0.5 * (fp.lo + fp.hi)), "k", lw=0.6, label="mid band")
-        if fp.jammed.any():
-            ax.plot(psi[fp.jammed], np.zeros(fp.jammed.sum()), "rx",
-                    label="interference (jammed)")
+        _flank_lines(ax, psi, fp)
         lost = ~fp.jammed & (~np.isfinite(fp.lo) | ~np.isfinite(fp.hi))
         if lost.any():
             ax.plot(psi[lost], np.zeros(lost.sum()), "m|", label="contact lost")
@@ -130,9 +138,7 @@ def plot_transplanter_transmission_error(path: Path, c) -> None:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right")
     axes[-1, 0].set_xlabel("carrier angle (clockwise from the start) / deg")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(plt, fig, path)
 
 
 def plot_transplanter_tip_band(path: Path, c) -> None:
@@ -141,16 +147,8 @@ def plot_transplanter_tip_band(path: Path, c) -> None:
     plt = _plt()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5),
                                  gridspec_kw={"width_ratios": [1.2, 1]})
-    ax.plot(*c.tip_nominal[0].T, "k", lw=0.8, label="pitch-curve model (arm 1)")
-    ax.plot(*c.tip_lo[0].T, lw=0.7, label="toothed, planet at lo end of its play")
-    ax.plot(*c.tip_hi[0].T, lw=0.7, label="toothed, planet at hi end of its play")
-    ax.plot(0, 0, "k+", ms=10)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x / mm")
-    ax.set_ylabel("y / mm")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title("tip path (arm 1)")
+    _tip_path_panel(ax, c.tip_nominal[0], c.tip_lo[0], c.tip_hi[0], "planet",
+                    "tip path (arm 1)", "pitch-curve model (arm 1)")
     psi = np.degrees(c.psi)
     for j in range(len(c.arms)):
         bx.plot(psi, np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T), lw=0.8,
@@ -160,6 +158,4 @@ def plot_transplanter_tip_band(path: Path, c) -> None:
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
     bx.set_title("tip band over the cycle")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(plt, fig, path)
