@@ -376,3 +376,17 @@ def test_time_budget_stops_every_run_inside_it_and_says_so():
     assert len(r.history) < 200 and r.settings["stopped_by_time_budget"] is True
     r = run(p, "nsga2", 0, 3, 8, progress=False)  # outside the budget: not cut
     assert len(r.history) == 3 and r.settings["stopped_by_time_budget"] is False
+
+
+def test_tradeoff_lines_name_the_files_the_run_wrote():
+    """A layered run's trade-off is layer 2's (layer2/tradeoff.csv; it writes none at its
+    top level), the path's own is layer 1's; a single run's is its own tradeoff.csv."""
+    from plantmech.optimize.jobs import tradeoff_lines
+
+    t = {"conflict": "x"}
+    layered = {"layer1": {}, "layer2": {}, "tradeoff": t, "layer1_tradeoff": t}
+    assert tradeoff_lines(layered, "optimize/") == [
+        "trade-off (optimize/layer2/tradeoff.csv): x",
+        "trade-off of the path itself (optimize/layer1/tradeoff.csv): x"]
+    assert tradeoff_lines({"tradeoff": t}) == ["trade-off (tradeoff.csv): x"]
+    assert tradeoff_lines({}) == []

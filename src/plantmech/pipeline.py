@@ -107,12 +107,10 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
             f"{outcome.record.get('evaluations')} evaluations"
             + ("" if outcome.feasible else f": {', '.join(_failed(check)) or 'see run.json'}"))
         if not outcome.feasible:
-            for key, what in (("tradeoff", "trade-off (optimize/tradeoff.csv)"),
-                              ("layer1_tradeoff", "the planned path's own trade-off "
-                                                  "(optimize/layer1/tradeoff.csv)")):
-                t = outcome.record.get(key)
-                if t is not None:
-                    say(f"      {what}: {t['conflict']}")
+            from plantmech.optimize.jobs import tradeoff_lines
+
+            for line in tradeoff_lines(outcome.record, "optimize/"):
+                say(f"      {line}")
             if name == "seeder-layered":
                 say("      why a seeder path can force uncuttable gears: "
                     "docs/manufacturability.md")

@@ -440,11 +440,23 @@ def summary_lines(record: dict) -> list[str]:
         lines.append("full-resolution re-check of best.toml: " + (
             "every objective met" if v["all_met"] else "FAILS " + ", ".join(
                 o["name"] for o in v["objectives"] if not o["ok"] and o.get("required", True))))
-    t = record.get("tradeoff")
-    if t is not None and not record["feasible"]:
-        lines.append("trade-off (tradeoff.csv): " + t["conflict"])
-    t1 = record.get("layer1_tradeoff")
-    if t1 is not None and not record["feasible"]:
-        lines.append("trade-off of the path itself (layer1/tradeoff.csv): " + t1["conflict"])
+    if not record["feasible"]:
+        lines += tradeoff_lines(record)
     return lines
+
+
+def tradeoff_lines(record: dict, where: str = "") -> list[str]:
+    """What conflicts, from an optimization record's trade-offs (``tradeoff``, and the
+    layered run's ``layer1_tradeoff``: the path's own); ``where``: the run directory as the
+    reader sees it (e.g. ``optimize/``)."""
+    out = []
+    # a layered run's trade-off is its layer 2's (the files are in layer2/)
+    own = "layer2/tradeoff.csv" if "layer2" in record else "tradeoff.csv"
+    for key, what, csv in (("tradeoff", "trade-off", own),
+                           ("layer1_tradeoff", "trade-off of the path itself",
+                            "layer1/tradeoff.csv")):
+        t = record.get(key)
+        if t is not None:
+            out.append(f"{what} ({where}{csv}): {t['conflict']}")
+    return out
 

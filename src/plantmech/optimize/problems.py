@@ -307,6 +307,11 @@ def _layer1_population(args):
     return seeder_inverse_checks_population(design, points, samples, LAYER1_PITCH_MARGIN_MM)
 
 
+# the per-candidate arrays of the layer-1 checks (workflows.seeder_inverse_checks[_population])
+_LAYER1_ARRAYS = ("values", "ok", "violation", "infeasible", "objectives",
+                  "pitch_tangent_angle")
+
+
 class SeederLayer1(DesignProblem):
     """Offsets (mm) of chosen type-value points -> attitude objectives under Table 1's
     planning limits and the inverse design's feasibility. The speed objectives are
@@ -357,8 +362,9 @@ class SeederLayer1(DesignProblem):
     def checks(self, X) -> dict:
         """Every layer-1 check of the candidates X (P, n_var): names, units, limits and
         values, ok, violation (P, 13), infeasible (P,) (the inverse design's error
-        grading), objectives (P, 3). The population inverse design split over the worker
-        processes; one inverse design per candidate for a dwell design."""
+        grading), objectives (P, 3), pitch_tangent_angle (P, 2) deg. The population
+        inverse design split over the worker processes; one inverse design per candidate
+        for a dwell design."""
         X = np.atleast_2d(X)
         gt = self.design.gear_train
         if gt.dwell is not None and gt.dwell.enabled:
@@ -367,16 +373,13 @@ class SeederLayer1(DesignProblem):
             return dict({k: rows[0][k] for k in ("names", "units", "limits")},
                         **{k: np.array([r[k] for r in rows], dtype=float if k != "ok"
                                        else bool)
-                           for k in ("values", "ok", "violation", "infeasible",
-                                     "objectives", "pitch_tangent_angle")})
+                           for k in _LAYER1_ARRAYS})
         pts = self.points_of(X)
         parts = np.array_split(np.arange(len(pts)), min(self.workers, len(pts)))
         out = _split_map(_layer1_population, [(self.design, pts[k], self.samples)
                                               for k in parts])
         return dict({k: out[0][k] for k in ("names", "units", "limits")},
-                    **{k: np.concatenate([o[k] for o in out]) for k in
-                       ("values", "ok", "violation", "infeasible", "objectives",
-                        "pitch_tangent_angle")})
+                    **{k: np.concatenate([o[k] for o in out]) for k in _LAYER1_ARRAYS})
 
     def evaluate_batch(self, X):
         c = self.checks(X)
