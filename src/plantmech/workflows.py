@@ -549,8 +549,6 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     path is the planned one, its timing the inverse's carrier law — which the path fixes:
     docs/optimization.md). Values NaN and large violations when the inverse design is
     infeasible."""
-    from plantmech.geometry.periodic import periodic_spline_node_slopes
-    from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
 
     d = design.model_copy(deep=True)
     d.trajectory.samples = samples
@@ -574,17 +572,7 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
     res = job.result
     checks = [c for c in job.summary["trajectory_checks"]]
     checks += job.summary["objectives"]
-    psi = res.carrier_angle
-    tip = res.tip_realized
-    vel = periodic_spline_node_slopes(tip, 2 * np.pi / len(psi)) * np.radians(
-        d.operation.carrier_speed_deg_s) / 1000.0  # psi: uniform over the cycle
-    sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
-    att = job.summary["attitude_deg"]
-    zero = zero_speed_travel(psi, vel, att["sowing_angle"], sec["e"])
-    travel = (zero["zero_speed_travel_m_s"] if d.operation.travel_speed_m_s is None
-              else d.operation.travel_speed_m_s)
-    speeds = speed_by_section(psi, vel, travel, sec)
-    checks += [c.as_dict() for c in speed_checks(speeds, d.speed)]
+    checks += [c.as_dict() for c in inverse_speed_objectives(job)["checks"]]
     by = {c["name"]: c for c in checks}
     values, ok, viol, units, limits = [], [], [], [], []
     for n in names:
