@@ -8,8 +8,13 @@ always gives the same cases.
 The oracle: a case FAILS, and is tallied under its kind, when
 
 - ``traceback``: an exception escapes ``main`` (anything but argparse's SystemExit 2);
-- ``hang``: the command runs longer than ``--timeout`` seconds (60 s by default; the
-  alarm interrupts it; an exception escaping after the time limit counts as a hang);
+- ``hang``: the command runs longer than ``--timeout`` seconds (60 s by default; a
+  timer interrupts it; an exception escaping after the time limit counts as a hang).
+  ``--clock wall`` (the default) counts wall seconds; ``--clock cpu`` counts the CPU
+  seconds the case uses (this process and the children it waited for), for a machine
+  shared with other work, where wall time measures the neighbours; a case blocked
+  without using CPU is still stopped after 10 x ``--timeout`` wall seconds. The tally
+  records both clocks for every case;
 - ``non_finite``: a written file holds a non-finite value: ``NaN``/``Infinity`` in a
   JSON file, an objective/check dict whose ``value`` is null without a
   ``not_computable`` reason, or a CSV cell that is empty, ``nan`` or ``inf``;
@@ -469,8 +474,17 @@ def _empty_allowed(path: Path, header: list[str]) -> set[int]:
     return {i for i, h in enumerate(header) if h in names}
 
 
-def run_case(case: Case, work: Path, timeout: float) -> dict:
-    """Run one case; the verdict dict has ``kind`` None (passed) or the failure kind."""
+def _cpu_seconds() -> float:
+    """CPU seconds used so far by this process and the children it waited for."""
+    import os
+
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def run_case(case: Case, work: Path, timeout: float, clock: str = "wall") -> dict:
+    """Run one case; the verdict dict has ``kind`` None (passed) or the failure kind.
+    ``clock``: "wall" or "cpu", what ``timeout`` (s) counts (module docstring)."""
     from plantmech.interfaces.cli import main
 
     work.mkdir(parents=True, exist_ok=True)
@@ -485,8 +499,14 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
         raise Hang()
 
     old = signal.signal(signal.SIGALRM, on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, timeout)
+    old_prof = signal.signal(signal.SIGPROF, on_alarm)
+    if clock == "cpu":
+        signal.setitimer(signal.ITIMER_PROF, timeout)
+        signal.setitimer(signal.ITIMER_REAL, 10 * timeout)
+    else:
+        signal.setitimer(signal.ITIMER_REAL, timeout)
     t0 = time.perf_counter()
+    c0 = _cpu_seconds()
     try:
         with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
             rc = main(argv)
@@ -503,9 +523,16 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
         kind, detail = "traceback", f"{type(exc).__name__} at {where}: {str(exc)[:200]}"
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.signal(signal.SIGALRM, old)
+        signal.signal(signal.SIGPROF, old_prof)
     wall = time.perf_counter() - t0
-    if kind == "traceback" and wall >= timeout:
+    cpu = _cpu_seconds() - c0
+    if kind == "hang" and clock == "cpu":
+        detail = (f"blocked: over {10 * timeout:g} wall s" if wall >= 9.9 * timeout
+                  else f"over {timeout:g} CPU s")
+    if kind == "traceback" and (cpu >= 0.8 * timeout or wall >= 9.9 * timeout
+                                if clock == "cpu" else wall >= timeout):
         # the alarm's Hang raised inside a library that turns what it catches into its
         # own error (trimesh reports a failed optional import as "no graph engines
         # available"): the case ran out of time
@@ -536,7 +563,8 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
                     break
     verdict = {"case": case.index, "example": case.example, "command": case.command,
                "mutations": case.mutations, "invalid": case.invalid, "exit": rc,
-               "wall_s": round(wall, 3), "kind": kind, "detail": detail}
+               "wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "kind": kind,
+               "detail": detail}
     if kind is not None:
         verdict["design"] = case.text[:20000]
         verdict["stderr"] = err[-2000:]
@@ -548,7 +576,8 @@ def run_case(case: Case, work: Path, timeout: float) -> dict:
 
 
 def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: bool = False,
-             start: int = 0, log=None, checkpoint=None, commands=COMMANDS) -> dict:
+             start: int = 0, log=None, checkpoint=None, commands=COMMANDS,
+             clock: str = "wall") -> dict:
     """Run ``cases`` cases; return the tally (counts by command and kind, failures).
     ``checkpoint(tally)`` is called every 25 cases (the tally so far). ``commands``: run
     only the cases of these commands (the others are counted under ``skipped``; the
@@ -557,17 +586,19 @@ def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: boo
 
     matplotlib.use("Agg")
     work.mkdir(parents=True, exist_ok=True)
-    tally = {"seed": seed, "cases": 0, "timeout_s": timeout, "by_command": {},
-             "failures": [], "exit_codes": {}, "max_wall_s": 0.0, "skipped": 0,
-             "slowest": {}}
+    tally = {"seed": seed, "cases": 0, "timeout_s": timeout, "clock": clock,
+             "by_command": {}, "failures": [], "exit_codes": {}, "max_wall_s": 0.0,
+             "max_cpu_s": 0.0, "over_timeout_wall": 0, "skipped": 0, "slowest": {}}
     t0 = time.perf_counter()
     for i in range(start, start + cases):
         case = make_case(i, seed, full)
         if case.command not in commands:
             tally["skipped"] += 1
             continue
-        v = run_case(case, work, timeout)
+        v = run_case(case, work, timeout, clock)
         tally["cases"] += 1
+        tally["max_cpu_s"] = max(tally["max_cpu_s"], v["cpu_s"])
+        tally["over_timeout_wall"] += v["wall_s"] > timeout
         c = tally["by_command"].setdefault(v["command"], {
             "cases": 0, "traceback": 0, "hang": 0, "non_finite": 0, "silently_accepted": 0,
             "bad_exit": 0, "left_behind": 0})
@@ -577,7 +608,7 @@ def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: boo
         slow = tally["slowest"].get(v["command"])
         if slow is None or v["wall_s"] > slow["wall_s"]:
             tally["slowest"][v["command"]] = {k: v[k] for k in ("case", "example", "mutations",
-                                                                "exit", "wall_s")}
+                                                                "exit", "wall_s", "cpu_s")}
         if v["kind"]:
             c[v["kind"]] += 1
             tally["failures"].append(v)
@@ -587,6 +618,7 @@ def run_fuzz(cases: int, seed: int, work: Path, timeout: float = 60.0, full: boo
             checkpoint(tally)
         if log is not None:
             log(f"{i} {v['command']} {v['example']} exit {v['exit']} {v['wall_s']:.2f}s "
+                f"cpu {v['cpu_s']:.2f}s "
                 f"{v['kind'] or 'ok'} {v['detail'][:160]}")
     tally["wall_s"] = round(time.perf_counter() - t0, 1)
     tally["load_avg"] = _load()
@@ -629,6 +661,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per case")
     ap.add_argument("--out", default="out/fuzz", help="directory for tally.json")
     ap.add_argument("--full", action="store_true", help="keep the files' sample counts")
+    ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                    help="what --timeout counts: wall seconds, or the case's CPU seconds "
+                         "(a shared machine; blocked cases still stop at 10 x --timeout wall)")
     ap.add_argument("--commands", default=",".join(COMMANDS),
                     help="comma-separated commands whose cases run (default: all)")
     args = ap.parse_args(argv)
@@ -650,12 +685,15 @@ def main(argv: list[str] | None = None) -> int:
     if unknown:
         ap.error(f"--commands: unknown {unknown} (known: {', '.join(COMMANDS)})")
     tally = run_fuzz(args.cases, args.seed, out / "work", args.timeout, args.full,
-                     args.start, log, checkpoint=save, commands=commands)
+                     args.start, log, checkpoint=save, commands=commands,
+                     clock=args.clock)
     tally["finished"] = True
     save(tally)
     failed = len(tally["failures"])
-    print(json.dumps({k: tally[k] for k in ("cases", "skipped", "by_command", "exit_codes",
-                                            "max_wall_s", "slowest", "wall_s", "load_avg")},
+    print(json.dumps({k: tally[k] for k in ("cases", "skipped", "clock", "by_command",
+                                            "exit_codes", "max_wall_s", "max_cpu_s",
+                                            "over_timeout_wall", "slowest", "wall_s",
+                                            "load_avg")},
                      indent=2))
     print(f"{failed} failing cases (details in {out / 'tally.json'})")
     return 1 if failed else 0

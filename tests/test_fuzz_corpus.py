@@ -38,3 +38,32 @@ def test_the_oracle_catches_what_it_should(tmp_path):
     assert _non_finite_in(tmp_path / "motion.csv") == "motion.csv row 2 column 1 = ''"
     assert _non_finite_in(tmp_path / "pitch_curves.csv") is None
     assert make_case(5, 0).text == make_case(5, 0).text
+
+
+def test_the_hang_oracle_counts_cpu_or_wall_seconds(tmp_path, monkeypatch):
+    """A command spinning the CPU past the limit is a hang on either clock; one blocked
+    without using CPU is a hang on the wall clock at once, and on the CPU clock only at
+    the 10 x wall backstop. Both clocks are recorded."""
+    import time
+
+    import plantmech.interfaces.cli as cli
+
+    case = make_case(5, 0)
+
+    def spin(argv):
+        while True:
+            pass
+
+    def block(argv):
+        time.sleep(30)
+
+    monkeypatch.setattr(cli, "main", spin)
+    v = run_case(case, tmp_path, timeout=0.3, clock="cpu")
+    assert v["kind"] == "hang" and "CPU" in v["detail"] and v["cpu_s"] >= 0.2
+    monkeypatch.setattr(cli, "main", block)
+    v = run_case(case, tmp_path, timeout=0.2, clock="wall")
+    assert v["kind"] == "hang" and v["wall_s"] < 1.5 and v["cpu_s"] < 0.1
+    t0 = time.perf_counter()
+    v = run_case(case, tmp_path, timeout=0.2, clock="cpu")
+    assert v["kind"] == "hang" and "blocked" in v["detail"]
+    assert 1.9 <= time.perf_counter() - t0 < 10

@@ -547,4 +547,34 @@ def test_a_dwell_sun_is_cut_when_its_polyline_wanders_over_the_toothless_arc():
     d.trajectory.samples = 360
     (sun_pair, _), _ = gear_pairs(d)
     assert sun_pair.gear_b.is_valid and sun_pair.gear_b.geom_type == "Polygon"
-    assert sun_pair.teeth_a == sun_pair.teeth_b == 23
+    # gear 2: 23 teeth on its perimeter, which includes its 19 mm radial step at the lock
+    # point; the sun's rolling arc is 406.4 mm = 21.8 pitches (arc length is kept in
+    # rolling), so 22 teeth (before the sun was closed over its toothless arc, the
+    # spline's swing across it gave 23 by accident)
+    assert (sun_pair.teeth_a, sun_pair.teeth_b) == (23, 22)
+
+
+def test_a_dwell_sun_closes_over_its_toothless_arc_within_gear2s_radii():
+    """The dwell example at 360 samples: the rolling start landed 9e-5 deg before gear 2's
+    lock point, the first sample took the radius from the step's other side, and the
+    periodic spline through the rolling arc alone swung through the centre and out to
+    600 mm ("two points share the angle 180.480 deg", exit 2). The sun's pitch curve is
+    its rolling arc (radius a1 - r2, 360 - theta_1 deg of it) closed over theta_1 by a
+    linear run between the arc's end radii: every radius lies between a1 - max r2 and
+    a1 - min r2."""
+    from plantmech.design import load_design
+    from plantmech.mechanisms.seeder_forward import sun_rolling_start
+    from plantmech.verification import train_from_inverse
+    from plantmech.workflows import gear_pairs, run_seeder_inverse
+    from tests.conftest import EXAMPLES
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_dwell.toml")
+    d.trajectory.samples = 360
+    tr = train_from_inverse(run_seeder_inverse(d, manufacturability=False).result)
+    assert sun_rolling_start(tr) == tr.gear2.theta0  # the lock point, not a hair before
+    r2 = tr.gear2(np.linspace(0, 2 * np.pi, 7200))
+    (pair, _), _ = gear_pairs(d)
+    rb = np.hypot(*np.asarray(pair.pitch_b.xy).T)
+    assert rb.min() >= tr.a1 - r2.max() - 0.05 and rb.max() <= tr.a1 - r2.min() + 0.05
+    rolled = np.degrees(abs(pair.phi_b[-1] - pair.phi_b[0]))
+    assert rolled == pytest.approx(360 - np.degrees(tr.dwell_theta1), abs=0.05)

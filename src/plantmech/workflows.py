@@ -900,6 +900,10 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
                                       ("gear3_planet", tr.gear3, tr.a2, tr.gear3.theta0)):
             th = start + np.linspace(0.0, 2 * np.pi, samples)
             r = curve(th)
+            if not curve.periodic and start == curve.theta0:
+                # a turn from the lock point (gear 2 of a dwell design steps there): the
+                # turn's last radius is the one before the step
+                r[-1] = float(curve.spline(curve.theta0 + 2 * np.pi))
             P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
             m0 = module or standard_module(P, min_teeth)
             names = name.split("_")

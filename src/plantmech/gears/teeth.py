@@ -359,6 +359,28 @@ def fit_cutter(spec: ToothSpec, *pitches: PitchPolyline, internal_first: bool = 
     return replace(spec, cutter_teeth=zc, cutter="shaper")
 
 
+def with_locking_arc(phi, r):
+    """A partial pitch curve (contact angles ``phi`` (rad) sweeping less than a turn, radii
+    ``r`` (mm)) closed over the arc its mate never rolls on (seed 000's toothless sector,
+    theta_1): the radius runs linearly from the rolling arc's end back to its start.
+
+    In seed 000's intermittent train the ratio law jumps at the dwell ends, so the sun's
+    radius differs at the two ends (the dwell example: 30.1 and 49.3 mm; gear 2's radius
+    steps at its lock point) and no circle about the centre joins them without radial
+    steps; the linear run is the smooth closing, turned down to the root as the toothless
+    arc. Without it the periodic spline through the rolling arc alone swings across the
+    gap (the 360-sample dwell sun went through the centre and out to 600 mm). Returns
+    (angles, radii) with the closing arc's points appended."""
+    phi = np.asarray(phi, float)
+    r = np.asarray(r, float)
+    sense = 1.0 if phi[-1] >= phi[0] else -1.0
+    gap = TWO_PI - abs(phi[-1] - phi[0])
+    step = float(np.median(np.abs(np.diff(phi))))
+    n = max(2, int(np.ceil(gap / max(step, 1e-9))))
+    k = np.arange(1, n) / n
+    return np.r_[phi, phi[-1] + sense * gap * k], np.r_[r, r[-1] + (r[0] - r[-1]) * k]
+
+
 def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool = False,
               samples: int = 3000, rim: float = 8.0, bore_a: float | None = None,
               bore_b: float | None = None, gear_a=None, pitch_a: PitchPolyline | None = None,
@@ -376,7 +398,10 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     r = np.asarray(r_a, float)
     phib, rb = polar_contacts(th, r, a, internal)
     pa = PitchPolyline.from_polar(th, r, samples) if pitch_a is None else pitch_a
-    pb = PitchPolyline.from_polar(phib, rb, samples)
+    span = abs(phib[-1] - phib[0])
+    partial = span < TWO_PI * (1 - 1e-4) and abs(span / TWO_PI - round(span / TWO_PI)) > 1e-4
+    pb = PitchPolyline.from_polar(*(with_locking_arc(phib, rb) if partial else (phib, rb)),
+                                  samples)
     # the cutter cuts A (B is A's envelope), or B alone when A was cut for another mesh
     spec = fit_cutter(spec, pa, internal_first=internal) if gear_a is None else \
         fit_cutter(spec, pb)
@@ -390,8 +415,7 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     # B's contact runs along decreasing arc for an external pair, increasing for internal
     sb_tooth = sb + (delta if internal else -delta)
     toothless = None
-    span = abs(phib[-1] - phib[0])
-    if span < TWO_PI * (1 - 1e-4) and abs(span / TWO_PI - round(span / TWO_PI)) > 1e-4:
+    if partial:
         # B turns less than once while A turns once (a toothless sector on B, e.g. the
         # seeder's sun): leave the arc B's contact never visits uncut
         end = _arc_to_angle(pb, phib[-1])

@@ -231,4 +231,10 @@ def sun_rolling_start(train: SeederTrain, dense: int = 16384) -> float:
     for _ in range(4):  # Newton on F(g) = dwell_start; F' = r2 / (a1 - r2)
         r = float(train.gear2(train.gear2_contact0 + g))
         g -= (float(f(g)) - target) * (train.a1 - r) / r
-    return theta0 + float(np.mod(train.gear2_contact0 + g - theta0, TWO_PI))
+    start = theta0 + float(np.mod(train.gear2_contact0 + g - theta0, TWO_PI))
+    if not train.gear2.periodic and min(start - theta0, theta0 + TWO_PI - start) < 1e-4:
+        # the inverse design's gear 2 breaks at the lock point (its radius steps there):
+        # the root found is that break up to round-off, which must not land a hair before
+        # it (the first sample would then take the radius from the break's other side)
+        return theta0
+    return start
