@@ -164,9 +164,16 @@ def test_transplanter_tooth_fit_is_reported_and_only_required_on_request():
         assert not b.ok[0, cols].any()  # reported as failing either way
         if required:
             assert (b.G[0, cols] > 0).all() and b.required[cols].all()
+            graded = b.G[0, cols]
         else:
             assert (b.G[0, cols] == 0).all() and not b.required[cols].any()
             assert all("not a constraint" in b.limits[c] for c in cols)
+            # the trade-off archive still gets how far each check is from its limit
+            kept = b.extra["graded_violation"][0, cols]
+            p.remember(p.x0[None, :], b)
+            assert p.tradeoff["manufacturing"][0] == pytest.approx(kept.sum())
+    assert kept == pytest.approx(graded)  # the required run's violations, not 0/1
+    assert kept.sum() > len(cols)
 
 
 def test_seeding_point_moves_with_the_end_of_the_return_section():

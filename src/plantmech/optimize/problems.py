@@ -166,14 +166,17 @@ def _non_dominated(f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
 def _reported_only(viol, limits, cols):
     """Turn the checks in columns ``cols`` from constraints into reported values: no
     violation, not required, and their limit text says so. Returns (viol, required,
-    limits)."""
+    limits, extra): ``extra`` keeps the graded violation of every column
+    (``{"graded_violation": viol}``) for the trade-off archive, which measures how far a
+    design is from manufacturable whether or not the checks are required."""
+    graded = viol
     viol = viol.copy()
     viol[:, cols] = 0.0
     required = np.ones(viol.shape[1], bool)
     required[cols] = False
     limits = [f"{lim} (reported, not a constraint here)" if k in cols else lim
               for k, lim in enumerate(limits)]
-    return viol, required, limits
+    return viol, required, limits, {"graded_violation": graded}
 
 
 def _violations(values, lo, hi, scale):
@@ -403,7 +406,7 @@ class SeederLayer1(DesignProblem):
             cols += [k for k, n in enumerate(names) if "speed" in n]
         graded = viol
         if cols:
-            viol, required, limits = _reported_only(viol, limits, cols)
+            viol, required, limits, _ = _reported_only(viol, limits, cols)
         G = np.c_[infeasible, viol]
         return Batch(F, G, ["feasible_inverse"] + names, [""] + units,
                      ["= 0 errors"] + limits, np.c_[infeasible, values],
@@ -483,15 +486,15 @@ class SeederLayer2(DesignProblem):
             viol = np.c_[viol, dv]
         peak = values[:, names.index("seeding_peak_speed")]
         ret = values[:, names.index("return_min_speed_dynamic")]
-        required = np.ones(len(names), bool)
+        required, extra = np.ones(len(names), bool), {}
         if not self.gear_shape:
-            viol, required, limits = _reported_only(
+            viol, required, limits, extra = _reported_only(
                 viol, limits, [k for k, n in enumerate(names) if is_gear_shape_check(n)])
         G = np.c_[viol, np.maximum(closure - 1e-6, 0)]
         if G.shape[1] < self.n_ieq_constr:
             G = np.c_[G, np.zeros((len(X), self.n_ieq_constr - G.shape[1]))]
         return Batch(np.c_[peak, -ret], G, names, units, limits, values, ok,
-                     required=required)
+                     required=required, extra=extra)
 
 
 # --- seeder, joint: both layers' variables in one problem ---------------------------------
@@ -665,11 +668,11 @@ class Transplanter(DesignProblem):
         F = np.c_[v[:, names.index("seedling_block_skew")], v[:, names.index("hole_width")],
                   np.abs(v[:, names.index("angle_difference")] - 0.5 * (lo + hi))]
         G, limits = ev.violation, list(ev.limits)
-        required = np.ones(len(names), bool)
+        required, extra = np.ones(len(names), bool), {}
         if not self.tooth_fit:  # the paper's objectives only; the tooth fit is reported
-            G, required, limits = _reported_only(
+            G, required, limits, extra = _reported_only(
                 G, limits, [names.index(n) for n in self.TOOTH_FIT if n in names])
-        return Batch(F, G, names, ev.units, limits, v, ev.ok, required=required)
+        return Batch(F, G, names, ev.units, limits, v, ev.ok, required=required, extra=extra)
 
     def _one_by_one(self, X):
         """Fallback when some candidate's planet cannot mesh: evaluate the others, give
@@ -691,9 +694,13 @@ class Transplanter(DesignProblem):
                                               good.names, good.units, good.limits,
                                               np.full((1, K), np.nan), np.zeros((1, K), bool))
                 for p in parts]
+        extra = ({"graded_violation": np.vstack([
+            r.extra["graded_violation"] if "graded_violation" in r.extra
+            else np.full((1, K), 10.0) for r in rows])}
+            if "graded_violation" in good.extra else {})
         return Batch(np.vstack([r.F for r in rows]), np.vstack([r.G for r in rows]),
                      good.names, good.units, good.limits, np.vstack([r.values for r in rows]),
-                     np.vstack([r.ok for r in rows]), required=good.required)
+                     np.vstack([r.ok for r in rows]), required=good.required, extra=extra)
 
     def _single(self, x):
         from plantmech.workflows import evaluate_transplanter_population
