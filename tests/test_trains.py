@@ -292,3 +292,50 @@ def test_hermite_periodic_is_exact_for_a_cubic_free_trigonometric_check():
     v, s = hermite_periodic(np.sin(th)[None], np.cos(th)[None], x)
     assert np.abs(v - np.sin(x)).max() < 1e-11
     assert np.abs(s - np.cos(x)).max() < 1e-7
+
+
+def test_seeder_train_as_a_planetary_design_file_equals_seeder_forward_to_1e6():
+    """Seed 000's second-order train (the optimized seeder's [train]: gear 2 given, the
+    sun its mate; gear 3 on gear 2's shaft drives the planet) written as a planetary design
+    file equals mechanisms/seeder_forward.simulate to 1e-6 mm / rad (grid 16384, the
+    specialised code's dense integration). Gear 3's phase on the shaft: the seeder gives
+    both gears' contact angles in one body frame, c2 (sun side) and c3 (planet side), so
+    alpha_3 = alpha_2 + c2 - c3 - pi. The radii are those after the file's closure
+    restoration (``closure = "scale"``), which the general model checks, not repeats."""
+    from plantmech.design import load_design
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.trains.spec import build_from_design
+    from plantmech.workflows import train_from_design as seeder_train
+
+    d = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml")
+    tr, _ = seeder_train(d)
+    assert tr.dwell_start is None and abs(tr.a1 + tr.a2 - tr.L1) < 1e-9  # collinear carrier
+    ref = seeder_simulate(tr, d.train.samples)
+    t = d.train
+    a2, a3 = np.radians(t.gear2.angles()), np.radians(t.gear3.angles())
+    c2, c3 = tr.gear2_contact0, tr.gear3_contact0
+    doc = {
+        "mechanism": "planetary", "samples": t.samples,
+        "carrier": {"initial_angle_deg": float(np.degrees(tr.carrier0)),
+                    "direction": "clockwise", "arms": 1},
+        "train": {"grid": 16384, "pairs": [
+            {"kind": "external", "centre_distance_mm": tr.a1,
+             "follower": {"family": "radii", "radii_mm": [float(r) for r in tr.gear2(a2)],
+                          "angles_deg": list(t.gear2.angles()),
+                          "interpolation": t.interpolation,
+                          "phase_deg": float(np.degrees(c2))}},
+            {"kind": "external", "centre_distance_mm": tr.a2,
+             "driver": {"family": "radii", "radii_mm": [float(r) for r in tr.gear3(a3)],
+                        "angles_deg": list(t.gear3.angles()),
+                        "interpolation": t.interpolation,
+                        "phase_deg": float(np.degrees(c2 - c3 - np.pi))}}]},
+        "arm": {"length_mm": tr.L2, "initial_angle_deg": float(np.degrees(tr.arm0))},
+    }
+    m = simulate(build_from_design(load_design(doc)), t.samples)
+    tip = ref.tip[:, 0] + 1j * ref.tip[:, 1]
+    assert np.abs(m.tip[0, 0] - tip).max() < 1e-6
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-6
+    assert np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max() < 1e-6
+    # gears 2-3 turn clockwise relative to the carrier at d psi_2 / d psi = r1 / r2
+    assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
+    assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6

@@ -45,10 +45,11 @@ class EllipseCurve(_Strict):
     semi_major_mm: PositiveMM = Field(description="A: semi-major axis (mm)")
     eccentricity: Eccentricity = Field(description="e: eccentricity (0 = circle turning "
                                        "about its centre; at most 0.8)")
-    phase_deg: AngleDeg = Field(0.0, description="first gear: absolute angle of the far end "
-                                "of the major axis at the start (deg, CCW from +x); a "
-                                "compound gear: its angle to the frame of the gear it is "
-                                "fixed to (deg)")
+    phase_deg: AngleDeg = Field(0.0, description="a driver: the sun's absolute angle of "
+                                "the far end of the major axis at the start (deg, CCW from "
+                                "+x), a compound gear's angle to the frame of the gear it is "
+                                "fixed to; a given follower: its body angle at the contact "
+                                "at the start (deg)")
 
 
 class EccentricCurve(_Strict):
@@ -138,6 +139,11 @@ class GearPair(_Strict):
         None, description="the driver's pitch curve: required for the first pair (the "
         "sun); for later pairs a second gear fixed to the previous follower's shaft "
         "(compound); left out: the previous follower drives (an idler)")
+    follower: PitchCurve | None = Field(
+        None, description="instead of the driver: the follower's pitch curve (seed 000: "
+        "gear 2 given, the sun derived); the driver is then its mate (the sun, or a new "
+        "gear on the previous follower's shaft) and the follower's phase_deg is its body "
+        "angle at the contact at the start (deg)")
     centre_distance_mm: PositiveMM | None = Field(
         None, description="a: centre distance (mm); default: solved so the pair closes")
     direction_deg: AngleDeg = Field(0.0, description="delta: direction of the line of "
@@ -169,10 +175,15 @@ class PlanetaryTrain(_Strict):
         "(deg per driver turn)")
 
     @model_validator(mode="after")
-    def _sun(self):
-        if self.pairs[0].driver is None:
+    def _one_curve_per_pair(self):
+        first = self.pairs[0]
+        if first.driver is None and first.follower is None:
             raise ValueError("pairs.0.driver is missing: the first pair's driver is the sun; "
-                             "give its pitch curve")
+                             "give its pitch curve (or the follower's)")
+        for k, p in enumerate(self.pairs):
+            if p.driver is not None and p.follower is not None:
+                raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
+                                 "follows from rolling)")
         return self
 
 

@@ -21,7 +21,11 @@ Frames and angles (radians inside, docs/architecture.md "Train model"):
   fixed), so relative to the carrier alpha_0 = alpha_0(0) + (k - 1) s psi;
 - an idler's next pair is driven by the same gear (``driver`` None); a compound shaft's
   by another gear fixed to it at ``phase`` (its frame = the shaft's frame turned by
-  phase); the sun's ``phase`` is its absolute orientation at the start.
+  phase); the sun's ``phase`` is its absolute orientation at the start;
+- a pair may instead give its follower's pitch curve (``follower``, seed 000: gear 2 given,
+  the sun derived): the law is then rolled on the follower, the driver is its mate (the sun,
+  or a new gear on the previous follower's shaft), and ``phase`` is the follower's body
+  angle at the contact at the start (it sets the derived driver's orientation).
 
 The planet's absolute angle is C + alpha_planet; the arm (length L, mm) leaves the
 planet's axis at the arm angle beta = planet angle + (beta0 - planet angle of arm 0 at
@@ -47,11 +51,14 @@ class PairSpec:
     previous follower's shaft for the others) with its ``phase`` (rad, scalar or (P,)).
     ``centre_distance`` (mm) None: solved for closure. ``direction`` (rad): line of
     centres driver -> follower in the carrier frame. ``follower_turns``: q, the
-    follower's turns per driver turn."""
+    follower's turns per driver turn. ``follower`` (instead of ``driver``): the
+    follower's pitch curve is given and the driver derived; ``phase`` is then the
+    follower's body angle (rad) at the contact at the start."""
 
     kind: str = "external"
     driver: Curve | None = None
     phase: float | np.ndarray = 0.0
+    follower: Curve | None = None
     centre_distance: float | np.ndarray | None = None
     direction: float | np.ndarray = 0.0
     follower_turns: float = 1.0
@@ -115,30 +122,49 @@ class TrainMotion:
         return self.tip_rate * np.radians(carrier_speed_deg_s) / 1000.0
 
 
+#: the kind of a pair seen from its follower (the law rolled on a given follower)
+SWAPPED = {"external": "external", "internal": "internal_ring_follower",
+           "internal_ring_follower": "internal"}
+
+
+def _per_design(curve: Curve, P: int) -> Curve:
+    if curve.designs == P:
+        return curve
+    n = curve.r.shape[1]
+    return Curve(np.broadcast_to(curve.r, (P, n)).copy(),
+                 np.broadcast_to(curve.dr, (P, n)).copy(), curve.name)
+
+
 def build(train: Train, designs: int | None = None) -> BuiltTrain:
-    """Every pair's law (closure, centre distance) and every gear's pitch curve."""
+    """Every pair's law (closure, centre distance) and every gear's pitch curve. A pair
+    with a given follower has its law rolled on the follower (``given_follower``)."""
     if not train.pairs:
         raise ValueError("a train needs at least one gear pair")
-    if train.pairs[0].driver is None:
-        raise ValueError(f"{train.pairs[0].name}: the first pair's driver is the sun; give "
-                         "its pitch curve")
-    P = designs or max(p.driver.designs for p in train.pairs if p.driver is not None)
+    for k, spec in enumerate(train.pairs):
+        if spec.driver is not None and spec.follower is not None:
+            raise ValueError(f"{spec.name}: give the driver's or the follower's pitch curve, "
+                             "not both (the other follows from rolling)")
+        if k == 0 and spec.driver is None and spec.follower is None:
+            raise ValueError(f"{spec.name}: the first pair's driver is the sun; give its "
+                             "pitch curve (or the follower's)")
+    P = designs or max(c.designs for p in train.pairs for c in (p.driver, p.follower)
+                       if c is not None)
     laws, drivers, followers = [], [], []
     shafts = [np.zeros(P, dtype=complex)]
     previous: Curve | None = None
     for spec in train.pairs:
-        if spec.driver is None:
-            driver = previous
+        if spec.follower is not None:
+            given = _per_design(spec.follower, P)
+            law = pair_law(SWAPPED[spec.kind], given, 1.0 / spec.follower_turns,
+                           spec.centre_distance, tolerance=train.closure_tolerance,
+                           min_radius=train.min_radius, name=spec.name)
+            driver, follower = law.mate(f"{spec.name} driver"), given
         else:
-            driver = spec.driver
-            if driver.designs != P:
-                driver = Curve(np.broadcast_to(driver.r, (P, driver.r.shape[1])).copy(),
-                               np.broadcast_to(driver.dr, (P, driver.r.shape[1])).copy(),
-                               driver.name)
-        law = pair_law(spec.kind, driver, spec.follower_turns, spec.centre_distance,
-                       tolerance=train.closure_tolerance, min_radius=train.min_radius,
-                       name=spec.name)
-        follower = law.mate(f"{spec.name} follower")
+            driver = previous if spec.driver is None else _per_design(spec.driver, P)
+            law = pair_law(spec.kind, driver, spec.follower_turns, spec.centre_distance,
+                           tolerance=train.closure_tolerance, min_radius=train.min_radius,
+                           name=spec.name)
+            follower = law.mate(f"{spec.name} follower")
         laws.append(law)
         drivers.append(driver)
         followers.append(follower)
@@ -146,6 +172,21 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
         shafts.append(shafts[-1] + law.a * np.exp(1j * delta))
         previous = follower
     return BuiltTrain(train, laws, drivers, followers, np.stack(shafts, axis=1), P)
+
+
+def _derived_driver_angle(spec: PairSpec, law: PairLaw, P: int) -> np.ndarray:
+    """Body angle alpha (P, 1, 1) of a derived driver (the mate of a given follower) at
+    the start of arm 0: the follower touches it at body angle ``phase``."""
+    delta = _column(spec.direction, P)[:, :, None]
+    contact = np.broadcast_to(_column(spec.phase, P), (P, 1))
+    F, _ = law.F(contact)
+    kind = _KIND_OFFSETS[spec.kind]
+    return (delta + kind[0] - law.sense * F[:, :, None]).reshape(P, 1, 1)
+
+
+#: contact direction offsets from delta (driver, follower) of each physical kind
+_KIND_OFFSETS = {"external": (0.0, np.pi), "internal": (0.0, 0.0),
+                 "internal_ring_follower": (np.pi, np.pi)}
 
 
 def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
@@ -158,24 +199,39 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     turn = (psi[None, :] + offset[:, None])[None]  # (1, J, S)
     C0 = _column(tr.carrier0, P)[:, :, None]  # (P|1, 1, 1)
     carrier = C0 + s * turn
-    sun0 = _column(tr.pairs[0].phase, P)[:, :, None]  # absolute orientation at the start
     k = float(tr.sun_speed_ratio)
-    # sun relative to arm j's carrier line: alpha_0 = S0 - C0 + (k - 1) s psi - s offset_j
-    alpha = np.broadcast_to(sun0 - C0 + (k - 1) * s * psi[None, None, :]
+    first = tr.pairs[0]
+    if first.follower is not None:  # the sun is derived: its start from the contact
+        alpha_start = _derived_driver_angle(first, built.laws[0], P)
+    else:  # the sun's absolute orientation at the start
+        alpha_start = _column(first.phase, P)[:, :, None] - C0
+    # sun relative to arm j's carrier line: alpha_0 = alpha_0(0) + (k - 1) s psi - s offset_j
+    alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
     rate = np.full((P, J, samples), (k - 1) * s)
     angles, rates, contacts = [alpha], [rate], []
     for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
         if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
             alpha = alpha + _column(spec.phase, P)[:, :, None]
+        elif i > 0 and spec.follower is not None:  # a derived gear on the shaft
+            alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
         delta = _column(spec.direction, P)[:, :, None]
-        theta_d = delta + law.driver_direction - alpha
-        F, g = law.F(theta_d.reshape(P, -1))
-        F, g = F.reshape(P, J, samples), g.reshape(P, J, samples)
-        r_d = law.driver(theta_d.reshape(P, -1))[0].reshape(P, J, samples)
-        contacts.append((r_d, law.follower_radius(r_d)))
-        alpha = delta + law.follower_direction - law.sense * F
-        rate = law.sense * g * rate
+        eps_d, eps_f = _KIND_OFFSETS[spec.kind]
+        theta_d = (delta + eps_d - alpha).reshape(P, -1)
+        if spec.follower is None:
+            F, g = law.F(theta_d)
+            r_d = law.driver(theta_d)[0]
+            r_f = law.follower_radius(r_d)
+            theta_f = law.sense * F
+            rate = law.sense * g.reshape(P, J, samples) * rate
+        else:  # the law rolls on the follower: theta_d = sense F(theta_f)
+            theta_f = law.invert(law.sense * theta_d)
+            F, g = law.F(theta_f)
+            r_f = law.driver(theta_f)[0]
+            r_d = law.follower_radius(r_f)
+            rate = law.sense * rate / g.reshape(P, J, samples)
+        contacts.append((r_d.reshape(P, J, samples), r_f.reshape(P, J, samples)))
+        alpha = delta + eps_f - theta_f.reshape(P, J, samples)
         angles.append(alpha)
         rates.append(rate)
     centre = built.shafts[:, -1, None, None] * np.exp(1j * carrier)

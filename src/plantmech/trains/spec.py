@@ -44,16 +44,22 @@ def train_from_design(design) -> Train:
     pairs = []
     for k, p in enumerate(t.pairs):
         field = f"train.pairs.{k}"
-        driver = None
+        curves = {}
         phase = 0.0
-        if p.driver is not None:
+        for role in ("driver", "follower"):
+            spec = getattr(p, role)
+            if spec is None:
+                continue
             try:
-                driver = curve_from_spec(p.driver, grid, f"{field}.driver")
+                curves[role] = curve_from_spec(spec, grid, f"{field}.{role}")
             except CurveError as exc:
                 raise TrainSpecError(str(exc)) from None
-            phase = np.radians(p.driver.phase_deg)
-        pairs.append(PairSpec(p.kind, driver, phase, p.centre_distance_mm,
-                              np.radians(p.direction_deg), p.follower_turns, field))
+            phase = np.radians(spec.phase_deg)
+        pairs.append(PairSpec(kind=p.kind, driver=curves.get("driver"), phase=phase,
+                              follower=curves.get("follower"),
+                              centre_distance=p.centre_distance_mm,
+                              direction=np.radians(p.direction_deg),
+                              follower_turns=p.follower_turns, name=field))
     c = design.carrier
     return Train(pairs, carrier0=np.radians(c.initial_angle_deg),
                  carrier_sense=-1 if c.direction == "clockwise" else 1,
