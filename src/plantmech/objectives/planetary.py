@@ -31,8 +31,9 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     keep = ~((i == 0) & (j == n - 1))  # the closing segment touches the first
     i, j = i[keep], j[keep]
     count = np.zeros(P, dtype=int)
-    for lo in range(0, len(i), 200_000):  # bounded temporaries
-        ii, jj = i[lo:lo + 200_000], j[lo:lo + 200_000]
+    step = max(1000, 2_000_000 // P)  # bounded temporaries: ~2e6 segment pairs at a time
+    for lo in range(0, len(i), step):
+        ii, jj = i[lo:lo + step], j[lo:lo + step]
         p1, p2, p3, p4 = a[:, ii], b[:, ii], a[:, jj], b[:, jj]
 
         def cross(u, v, w):

@@ -27,19 +27,18 @@ def plot_paths(motion, title: str = "") -> Figure:
     built = motion.built
     C0 = float(motion.carrier[0, 0, 0])
     rot = np.exp(1j * C0)
-    spec0 = built.train.pairs
-    for k, (drv, fol) in enumerate(zip(built.drivers, built.followers, strict=True)):
-        alpha_d = motion.gear_angles[k][0, 0, 0]
-        if k and spec0[k].driver is not None:
-            alpha_d = alpha_d + float(np.ravel(spec0[k].phase)[0])
-        if k == 0 or spec0[k].driver is not None:
-            z = _gear_outline(drv, built.shafts[0, k], alpha_d) * rot
-            ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray", lw=0.8)
+    for k, (spec, drv, fol) in enumerate(zip(built.train.pairs, built.drivers,
+                                             built.followers, strict=True)):
+        if k == 0 or spec.driver is not None or spec.follower is not None:  # not an idler
+            z = _gear_outline(drv, built.shafts[0, k], motion.driver_angles[k][0, 0, 0]) * rot
+            ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray",
+                    lw=0.8)
         z = _gear_outline(fol, built.shafts[0, k + 1], motion.gear_angles[k + 1][0, 0, 0]) * rot
         ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray", lw=0.8)
     t0, c0 = motion.tip[0, 0, 0], motion.centre[0, 0, 0]
     ax.plot([0, c0.real], [0, c0.imag], color="k", lw=1.5)
-    ax.plot([c0.real, t0.real], [c0.imag, t0.imag], color="tab:red", lw=2, label="arm 1 at start")
+    ax.plot([c0.real, t0.real], [c0.imag, t0.imag], color="tab:red", lw=2,
+            label="arm 1 at start")
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")

@@ -17,14 +17,17 @@ def planetary_summary(design, motion, objectives: dict, checks: list) -> dict:
     closure, pitch radii, convexity of every gear), the objectives and the checks."""
     built = motion.built
     pairs = []
-    for k, (law, drv, fol) in enumerate(zip(built.laws, built.drivers, built.followers,
-                                            strict=True)):
+    for k, (spec, law, drv, fol) in enumerate(zip(built.train.pairs, built.laws,
+                                                  built.drivers, built.followers, strict=True)):
         cd, cf = convexity(drv.take(0)), convexity(fol.take(0))
+        # r_driver / r_follower; a pair with a given follower rolls its law on the follower
+        ratio = law.g[0] if spec.follower is None else 1.0 / law.g[0]
         pairs.append({
             "pair": k, "kind": law.kind, "centre_distance_mm": float(law.a[0]),
-            "follower_turns": law.follower_turns,
+            "given": "follower" if spec.follower is not None else "driver",
+            "follower_turns": spec.follower_turns,
             "closure_error_rad": float(law.closure_error[0]),
-            "ratio_range": [float(law.g[0].min()), float(law.g[0].max())],
+            "ratio_range": [float(ratio.min()), float(ratio.max())],
             "driver_radius_mm": [float(drv.r[0].min()), float(drv.r[0].max())],
             "follower_radius_mm": [float(fol.r[0].min()), float(fol.r[0].max())],
             "driver_convex": bool(cd["convex"][0]),
@@ -66,7 +69,7 @@ def write_planetary_outputs(out: Path, design, motion, summary: dict) -> list[Pa
              "pair1_driver_sun_mm": built.drivers[0].r[0]}
     for k, (spec, drv, fol) in enumerate(zip(built.train.pairs, built.drivers,
                                              built.followers, strict=True)):
-        if k and spec.driver is not None:
+        if k and (spec.driver is not None or spec.follower is not None):  # not an idler
             gears[f"pair{k + 1}_driver_mm"] = drv.r[0]
         gears[f"pair{k + 1}_follower_mm"] = fol.r[0]
     write_csv(out / "pitch_curves.csv", gears)

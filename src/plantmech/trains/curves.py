@@ -51,15 +51,16 @@ def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     h = TWO_PI / N
     x = np.asarray(x, dtype=float)
     shape = (P,) + x.shape[1:]
-    xb = np.broadcast_to(x, shape).reshape(P, -1)
-    u = np.mod(xb, TWO_PI) / h
-    k = np.floor(u).astype(np.intp)
-    s = u - k
-    k = np.minimum(k, N - 1)  # u may round to N
-    k1 = np.where(k + 1 == N, 0, k + 1)
-    rows = np.arange(P)[:, None]
-    y0, y1 = y[rows, k], y[rows, k1]
-    d0, d1 = dy[rows, k] * h, dy[rows, k1] * h
+    u = np.broadcast_to(x, shape).reshape(P, -1) * (1.0 / h)
+    kf = np.floor(u)
+    s = u - kf
+    k = kf.astype(np.intp) % N
+    base = (np.arange(P) * N)[:, None]  # flat indices: one gather per table
+    i0 = k + base
+    i1 = np.where(k == N - 1, base, i0 + 1)
+    yf, df = y.ravel(), dy.ravel()
+    y0, y1 = yf.take(i0), yf.take(i1)
+    d0, d1 = df.take(i0) * h, df.take(i1) * h
     s2 = s * s
     s3 = s2 * s
     dyy = y0 - y1

@@ -90,13 +90,22 @@ class BuiltTrain:
     train: Train
     laws: list[PairLaw]
     drivers: list[Curve]  # driver curve of each pair, in its own frame
-    followers: list[Curve]  # follower (mate) curve of each pair
+    known_followers: list[Curve | None]  # follower curves computed so far (None: not yet)
     shafts: np.ndarray  # (P, K + 1) complex shaft positions in the carrier frame (mm)
     designs: int
 
     @property
     def centre_distances(self) -> np.ndarray:
         return np.stack([law.a for law in self.laws], axis=1)  # (P, K)
+
+    @property
+    def followers(self) -> list[Curve]:
+        """Every pair's follower curve; a mate no later pair needs is derived here, on first
+        use (the motion does not need it: populations skip its inversion)."""
+        for k, law in enumerate(self.laws):
+            if self.known_followers[k] is None:
+                self.known_followers[k] = law.mate(f"{self.train.pairs[k].name} follower")
+        return self.known_followers
 
 
 @dataclass
@@ -108,6 +117,7 @@ class TrainMotion:
     carrier: np.ndarray  # (P|1, J, S) absolute carrier-line angle
     gear_angles: list[np.ndarray]  # per shaft (P, J, S): alpha relative to the carrier
     gear_rates: list[np.ndarray]  # d alpha / d psi
+    driver_angles: list[np.ndarray]  # per pair (P, J, S): alpha of its driver gear
     contact_radii: list[tuple[np.ndarray, np.ndarray]]  # per pair (r_driver, r_follower)
     centre: np.ndarray  # (P, J, S) planet axis
     tip: np.ndarray  # (P, J, S)
@@ -152,7 +162,7 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
     laws, drivers, followers = [], [], []
     shafts = [np.zeros(P, dtype=complex)]
     previous: Curve | None = None
-    for spec in train.pairs:
+    for k, spec in enumerate(train.pairs):
         if spec.follower is not None:
             given = _per_design(spec.follower, P)
             law = pair_law(SWAPPED[spec.kind], given, 1.0 / spec.follower_turns,
@@ -164,7 +174,9 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
             law = pair_law(spec.kind, driver, spec.follower_turns, spec.centre_distance,
                            tolerance=train.closure_tolerance, min_radius=train.min_radius,
                            name=spec.name)
-            follower = law.mate(f"{spec.name} follower")
+            idler_next = k + 1 < len(train.pairs) and (
+                train.pairs[k + 1].driver is None and train.pairs[k + 1].follower is None)
+            follower = law.mate(f"{spec.name} follower") if idler_next else None
         laws.append(law)
         drivers.append(driver)
         followers.append(follower)
@@ -209,12 +221,13 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
     rate = np.full((P, J, samples), (k - 1) * s)
-    angles, rates, contacts = [alpha], [rate], []
+    angles, rates, contacts, driver_angles = [alpha], [rate], [], []
     for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
         if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
             alpha = alpha + _column(spec.phase, P)[:, :, None]
         elif i > 0 and spec.follower is not None:  # a derived gear on the shaft
             alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
+        driver_angles.append(alpha)
         delta = _column(spec.direction, P)[:, :, None]
         eps_d, eps_f = _KIND_OFFSETS[spec.kind]
         theta_d = (delta + eps_d - alpha).reshape(P, -1)
@@ -243,7 +256,7 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     beta_rate = s + rate
     tip_rate = 1j * s * centre + 1j * L * beta_rate * np.exp(1j * beta)
     return TrainMotion(psi, np.broadcast_to(carrier, (P, J, samples)), angles, rates,
-                       contacts, centre, tip, beta, beta_rate, tip_rate, built)
+                       driver_angles, contacts, centre, tip, beta, beta_rate, tip_rate, built)
 
 
 def forward(train: Train, samples: int = 3600) -> TrainMotion:

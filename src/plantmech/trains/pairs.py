@@ -156,9 +156,10 @@ class PairLaw:
         rows = np.arange(P)[:, None]
         f0, f1 = table[rows, k], table[rows, k + 1]
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
-        for _ in range(4):
-            f, g = self.F(theta)
-            theta = theta - (f - y) / g
+        q = self.q_e[:, None]
+        for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
+            fp, dfp = hermite_periodic(self.Fp, self.g - q, theta)
+            theta = theta - (fp + q * theta - y) / (dfp + q)
         return theta + TWO_PI * w
 
     def mate(self, name: str = "mate") -> Curve:
