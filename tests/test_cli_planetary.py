@@ -147,3 +147,18 @@ def test_other_commands_refuse_a_planetary_design_by_name(command, tmp_path, cap
 def test_report_option_is_refused_not_ignored(tmp_path, capsys):
     assert main(["forward", str(EXAMPLE), "--out", str(tmp_path / "o"), "--report"]) == 2
     assert "--report" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind, turns", [("internal", 1.0), ("internal_ring_follower", 2.0)])
+def test_follower_turns_that_do_not_fit_the_kind_name_the_field(kind, turns):
+    doc = _doc()
+    doc["train"]["pairs"][0].update(kind=kind, follower_turns=turns)
+    with pytest.raises(DesignError, match=r"train\.pairs\.0': follower_turns"):
+        load_design(doc, name="t.toml")
+
+
+def test_given_driver_and_follower_together_are_refused():
+    doc = _doc()
+    doc["train"]["pairs"][0]["follower"] = dict(doc["train"]["pairs"][0]["driver"])
+    with pytest.raises(DesignError, match=r"pairs\.0: give driver or follower, not both"):
+        load_design(doc, name="t.toml")

@@ -339,3 +339,41 @@ def test_seeder_train_as_a_planetary_design_file_equals_seeder_forward_to_1e6():
     # gears 2-3 turn clockwise relative to the carrier at d psi_2 / d psi = r1 / r2
     assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
     assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
+
+
+def test_population_of_driven_internal_trains_with_given_followers_equals_single_runs():
+    """The other structures population-first too: a driven lobed ring (seed 001's kind)
+    with radii, phases and carrier starts per design, and a given-follower pair (the sun
+    derived from its follower, seed 000's kind) followed by a compound gear."""
+    rng = np.random.default_rng(3)
+    P = 3
+    ph = np.radians(np.arange(0, 360, 45.0))
+    radii = 90 + rng.uniform(-8, 8, (P, 8))
+    C0 = rng.uniform(0, 1, P)
+
+    def ring_train(k):
+        s = slice(None) if k is None else slice(k, k + 1)
+        return Train([PairSpec("internal", interpolated(ph, radii[s], 2048, lobes=4),
+                               phase=C0[s] + 0.1, follower_turns=4.0)],
+                     carrier0=C0[s], sun_speed_ratio=0.75, arm_length=150.0,
+                     arm_angle=C0[s] - 0.7, arms=3)
+
+    g2 = 55 + rng.uniform(-5, 5, (P, 8))
+    g3 = 60 + rng.uniform(-5, 5, (P, 8))
+
+    def seeder_like(k):
+        s = slice(None) if k is None else slice(k, k + 1)
+        return Train([PairSpec("external", follower=interpolated(ph, g2[s], 2048),
+                               phase=0.3),
+                      PairSpec("external", driver=interpolated(ph, g3[s], 2048),
+                               phase=C0[s])], carrier0=C0[s], arm_length=400.0,
+                     arm_angle=0.2)
+
+    for make in (ring_train, seeder_like):
+        many = forward(make(None), 360)
+        for k in range(P):
+            one = forward(make(k), 360)
+            assert np.abs(one.tip[0] - many.tip[k]).max() < 1e-10
+            assert np.abs(one.tip_rate[0] - many.tip_rate[k]).max() < 1e-9
+            assert np.allclose(one.built.centre_distances[0], many.built.centre_distances[k],
+                               rtol=0, atol=1e-10)

@@ -154,6 +154,18 @@ class GearPair(_Strict):
               "(the pair closes when the rolled ratio's mean is q)"))
 
 
+    @model_validator(mode="after")
+    def _turns_fit_kind(self):
+        q = self.follower_turns
+        if self.kind == "internal" and not q > 1:
+            raise ValueError(f"follower_turns = {q:g}: a planet rolling inside its ring "
+                             "driver turns faster than the ring (follower_turns > 1)")
+        if self.kind == "internal_ring_follower" and not q < 1:
+            raise ValueError(f"follower_turns = {q:g}: a ring rolling round its driver turns "
+                             "slower than the driver (follower_turns < 1)")
+        return self
+
+
 class PlanetaryTrain(_Strict):
     """The chain of gear pairs carried by the carrier (docs/architecture.md, "Train
     model")."""

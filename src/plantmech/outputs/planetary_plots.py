@@ -17,7 +17,7 @@ def _gear_outline(curve, centre: complex, angle: float) -> np.ndarray:
 def plot_paths(motion, title: str = "") -> Figure:
     """Tip path of every arm, the planet axis' circle, and the gears of arm 1 at the start
     (pitch curves at their shafts, turned to their start angles)."""
-    fig = Figure(figsize=(6.4, 6.4))
+    fig = Figure(figsize=(6.4, 6.4), layout="constrained")
     ax = fig.add_subplot()
     for j in range(motion.tip.shape[1]):
         z = motion.tip[0, j]
@@ -50,7 +50,7 @@ def plot_paths(motion, title: str = "") -> Figure:
 
 def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
     """Arm angle (deg) and tip speed (m/s) of arm 1 over the carrier angle (deg)."""
-    fig = Figure(figsize=(7.0, 5.0))
+    fig = Figure(figsize=(7.0, 5.0), layout="constrained")
     a1, a2 = fig.subplots(2, 1, sharex=True)
     psi = motion.carrier_angle * DEG
     a1.plot(psi, motion.arm_angle[0, 0] * DEG)
@@ -66,7 +66,7 @@ def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
 
 def plot_ratios(motion) -> Figure:
     """Each pair's transmission ratio r_driver / r_follower over the carrier angle."""
-    fig = Figure(figsize=(7.0, 3.6))
+    fig = Figure(figsize=(7.0, 3.6), layout="constrained")
     ax = fig.add_subplot()
     psi = motion.carrier_angle * DEG
     for k, (rd, rf) in enumerate(motion.contact_radii):

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plantmech.trains.curves import TWO_PI, Curve, _column, rotated
-from plantmech.trains.pairs import PairLaw, pair_law
+from plantmech.trains.pairs import PairError, PairLaw, pair_law
 
 
 @dataclass
@@ -157,6 +157,14 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
         if k == 0 and spec.driver is None and spec.follower is None:
             raise ValueError(f"{spec.name}: the first pair's driver is the sun; give its "
                              "pitch curve (or the follower's)")
+    for spec in train.pairs:
+        q = spec.follower_turns
+        if spec.kind == "internal" and not q > 1:
+            raise PairError(f"{spec.name}: an internal pair whose driver is the ring turns "
+                            f"the follower faster than the ring: follower_turns > 1 (got {q:g})")
+        if spec.kind == "internal_ring_follower" and not q < 1:
+            raise PairError(f"{spec.name}: a ring follower turns slower than its driver: "
+                            f"follower_turns < 1 (got {q:g})")
     P = designs or max(c.designs for p in train.pairs for c in (p.driver, p.follower)
                        if c is not None)
     laws, drivers, followers = [], [], []
@@ -167,7 +175,9 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
             given = _per_design(spec.follower, P)
             law = pair_law(SWAPPED[spec.kind], given, 1.0 / spec.follower_turns,
                            spec.centre_distance, tolerance=train.closure_tolerance,
-                           min_radius=train.min_radius, name=spec.name)
+                           min_radius=train.min_radius,
+                           name=f"{spec.name} (rolled on its given follower, which is the "
+                           "'driver' of this message)")
             driver, follower = law.mate(f"{spec.name} driver"), given
         else:
             driver = previous if spec.driver is None else _per_design(spec.driver, P)

@@ -191,7 +191,10 @@ def pair_law(kind: str, driver: Curve, follower_turns: float, centre_distance=No
         raise PairError(f"{name}: follower_turns must be positive, got {q:g}")
     P, N = driver.r.shape
     driver.check_positive(min_radius)
-    solved = solve_centre_distance(kind, driver.r, q)
+    try:
+        solved = solve_centre_distance(kind, driver.r, q)
+    except PairError as exc:
+        raise PairError(f"{name}: {exc}") from None
     if centre_distance is None:
         a = solved
     else:
