@@ -49,17 +49,19 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
 def motion_objectives(motion: TrainMotion, carrier_speed_deg_s: float) -> dict:
     """(P,) arrays of arm 1's objectives: path_width_mm, path_height_mm, loops,
     attitude_range_deg, max_tip_speed_m_s, min_tip_speed_m_s; and the largest distance
-    (mm) between the arms' paths after the carrier phase shift (0 for identical arms)."""
+    (mm) between the arms' paths after the carrier phase shift (0 for identical arms,
+    NaN when the samples per turn are not a multiple of the arms)."""
     tip = motion.tip[:, 0, :]
     speed = np.abs(motion.velocity(carrier_speed_deg_s)[:, 0, :])
     J = motion.tip.shape[1]
     S = motion.tip.shape[2]
     spread = np.zeros(tip.shape[0])
-    for j in range(1, J):  # arm j at psi is arm 1 at psi + 2 pi j / J, turned with the sun
-        shift = int(round(S * j / J))
-        if S * j % J == 0:
-            spread = np.maximum(spread, np.abs(np.roll(motion.tip[:, j, :], shift, axis=1)
-                                               - tip).max(axis=1))
+    if S % J:  # the shifted samples are not sampled: not computable
+        spread[:] = np.nan
+    for j in range(1, J if S % J == 0 else 1):  # arm j at psi is arm 1 at psi + 2 pi j / J
+        shift = S * j // J
+        spread = np.maximum(spread, np.abs(np.roll(motion.tip[:, j, :], shift, axis=1)
+                                           - tip).max(axis=1))
     return {
         "path_width_mm": np.ptp(tip.real, axis=1),
         "path_height_mm": np.ptp(tip.imag, axis=1),

@@ -38,7 +38,8 @@ def planetary_summary(design, motion, objectives: dict, checks: list) -> dict:
         "mechanism": "planetary",
         "name": design.name,
         "objectives": [c.as_dict() for c in checks],
-        "values": {k: float(v[0]) for k, v in objectives.items()},
+        "values": {k: float(v[0]) if np.isfinite(v[0]) else None
+                   for k, v in objectives.items()},
         "units": {"path_width_mm": "mm", "path_height_mm": "mm", "loops": "count",
                   "attitude_range_deg": "deg", "max_tip_speed_m_s": "m/s",
                   "min_tip_speed_m_s": "m/s", "arm_phase_deviation_mm": "mm"},
