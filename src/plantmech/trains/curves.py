@@ -172,15 +172,6 @@ def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1
     return curve
 
 
-def rotated(curve: Curve, phase) -> Curve:
-    """The same gear with its body frame turned by ``phase`` (rad, scalar or (P,)):
-    r_new(theta) = r(theta + phase)."""
-    P, N = curve.r.shape
-    th = TWO_PI * np.arange(N) / N
-    r, dr = curve(th[None, :] + _column(phase, P))
-    return Curve(r, dr, curve.name)
-
-
 def convexity(curve: Curve) -> dict:
     """Per design: is the polar curve convex (r^2 + 2 r'^2 - r r'' >= 0 everywhere), and
     its smallest radius of curvature (mm, negative where concave). r'' from the slopes'

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from plantmech.trains.curves import TWO_PI, Curve, _column, rotated
+from plantmech.trains.curves import TWO_PI, Curve, _column
 from plantmech.trains.pairs import PairError, PairLaw, pair_law
 
 
@@ -274,5 +274,4 @@ def forward(train: Train, samples: int = 3600) -> TrainMotion:
     return simulate(build(train), samples)
 
 
-__all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "build", "simulate", "forward",
-           "rotated"]
+__all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "build", "simulate", "forward"]
