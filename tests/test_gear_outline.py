@@ -88,13 +88,15 @@ EXAMPLE_NAMES = ["rice_transplanter", "rice_transplanter_khv", "rice_transplante
 
 def test_every_example_is_listed():
     """Every bundled example is cut below, but Table 2 as printed, whose trajectory has
-    no feasible inverse design (no gears: ``plantmech gears`` exits 2)."""
+    no feasible inverse design (no gears: ``plantmech gears`` exits 2), and the general
+    train's elliptic example (``plantmech gears`` does not cut planetary trains yet)."""
     from plantmech.design import load_design
     from plantmech.workflows import gear_pairs
     from tests.conftest import EXAMPLES
 
     names = sorted(p.stem for p in EXAMPLES.glob("*.toml"))
-    assert names == sorted(EXAMPLE_NAMES + ["sugarcane_table2_as_printed"])
+    assert names == sorted(EXAMPLE_NAMES + ["sugarcane_table2_as_printed",
+                                            "rotary_transplanter_elliptic"])
     with pytest.raises(ValueError, match="infeasible"):
         gear_pairs(load_design(EXAMPLES / "sugarcane_table2_as_printed.toml"))
 

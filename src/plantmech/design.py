@@ -776,6 +776,9 @@ class KHVDesign(_TransplanterBase):
 MECHANISMS = {"sugarcane_seeder": SeederDesign, "rice_transplanter": TransplanterDesign,
               "rice_transplanter_khv": KHVDesign}
 
+# the general train (mechanism = "planetary") registers itself in MECHANISMS
+import plantmech.design_planetary  # noqa: E402, F401
+
 
 def _read_design_file(path: Path) -> str:
     """Text of a design file: a regular file (opened non-blocking, so a FIFO or device

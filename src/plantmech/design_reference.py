@@ -82,6 +82,9 @@ def _type_text(node: dict, defs: dict) -> str:
         return f'`"{node["const"]}"`'
     if "properties" in node:
         return "table"
+    if "oneOf" in node:  # a table told apart by its discriminator (a pitch-curve family)
+        key = node.get("discriminator", {}).get("propertyName", "kind")
+        return f"table, one of {len(node['oneOf'])} (by `{key}`)"
     t = node.get("type")
     if t == "array":
         if "prefixItems" in node:
@@ -144,12 +147,28 @@ def _table(name: str, model: dict, defs: dict, lines: list[str], seen: set[str])
         lines.append(f"| `{key}` | {_type_text(node, defs)} | "
                      f"{_default_text(prop, key in required)} | {_limits_text(node, defs)} "
                      f"| {desc.replace('|', '/')} |")
+        path = f"{name}.{key}" if name else key
         if "properties" in node:
-            nested.append((f"{name}.{key}" if name else key, node))
-        elif node.get("type") == "object" and "additionalProperties" in node:
-            pass
+            nested.append((path, node))
+        elif "oneOf" in node:
+            nested += _variants(path, node, defs)
+        elif node.get("type") == "array" and isinstance(node.get("items"), dict):
+            item = _resolve(node["items"], defs)
+            if "properties" in item:  # an array of tables ([[name]] in TOML)
+                nested.append((f"{path}[]", item))
     for sub, node in nested:
         _table(sub, node, defs, lines, seen)
+
+
+def _variants(path: str, node: dict, defs: dict) -> list[tuple[str, dict]]:
+    """Each table of a discriminated union, named by its discriminator's value."""
+    key = node.get("discriminator", {}).get("propertyName", "kind")
+    out = []
+    for option in node["oneOf"]:
+        model = _resolve(option, defs)
+        value = model.get("properties", {}).get(key, {}).get("const", model.get("title"))
+        out.append((f'{path} ({key} = "{value}")', model))
+    return out
 
 
 def markdown_reference() -> str:

@@ -89,10 +89,15 @@ def validate_design(raw: Any, label: str = "design"):
         raise AppError(422, f"{label}: cannot be written as TOML: {exc}") from None
     del text  # written only to prove the tables are a design file's (TOML) content
     try:  # the parsed tables themselves: the same validation as a file, without its I/O
-        return load_design(raw, name=label)
+        design = load_design(raw, name=label)
     except DesignError as exc:
         msg = str(exc)
         raise AppError(422, msg, field_errors(msg)) from None
+    if design.mechanism == "planetary":  # the general train: CLI only so far
+        msg = (f"{label}: field 'mechanism': the app does not draw a \"planetary\" train yet; "
+               "run it with 'plantmech forward'")
+        raise AppError(422, msg, field_errors(msg))
+    return design
 
 
 def design_json(design) -> dict:

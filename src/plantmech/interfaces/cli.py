@@ -71,6 +71,7 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
     try:
         design = load_design(Path(args.design))
+        refuse_planetary(args, design)
         if require_trajectory:
             if design.mechanism != "sugarcane_seeder":
                 raise DesignError(f"{args.design}: field 'mechanism': inverse design is for "
@@ -95,6 +96,18 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     except KeyboardInterrupt:
         print("interrupted: nothing written, --out left as it was", file=sys.stderr)
         return 130
+
+
+def refuse_planetary(args, design) -> None:
+    """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
+    forward`` only so far; any other command refuses it by name (DesignError, exit 2)."""
+    from plantmech.design import DesignError
+
+    command = getattr(args, "command", None)
+    if design.mechanism == "planetary" and command != "forward":
+        raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
+                          f"'plantmech forward' only; '{command}' is for the seeder and the "
+                          "rice transplanters")
 
 
 def _load(args, require_trajectory: bool = False):
@@ -193,6 +206,10 @@ def _forward_body(args, design, run) -> int:
     from plantmech.workflows import InfeasibleDesign, run_seeder_forward
 
     out = run.path
+    if design.mechanism == "planetary":
+        from plantmech.interfaces.planetary_cli import forward_planetary
+
+        return forward_planetary(args, design, run)
     if design.mechanism != "sugarcane_seeder":
         return _forward_transplanter(args, design, run)
     t0 = time.perf_counter()

@@ -56,6 +56,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from plantmech.design import DesignError, load_design
+    from plantmech.interfaces.cli import refuse_planetary
     from plantmech.outputs.files import OutputError, prepare_out_dir
     from plantmech.studies.engine import StudyStateError
     from plantmech.studies.parameters import StudyInputError
@@ -64,6 +65,7 @@ def run(args) -> int:
 
     try:
         design = load_design(args.design)
+        refuse_planetary(args, design)
         spec = load_spec(args.spec)
         out = prepare_out_dir(args.out, [Path(args.design), Path(args.spec)])
     except (DesignError, StudySpecError, OutputError) as exc:

@@ -1,0 +1,255 @@
+"""Design files of the general non-circular planetary train (``mechanism = "planetary"``).
+
+A carrier, a sun (fixed or driven), a chain of ``[[train.pairs]]`` (external or internal,
+idlers and compound shafts), pitch curves from the supported families, and one or more
+arms at a phase offset (``trains.model``). Imported by ``design.py``, which registers the
+mechanism; strict types and field-named errors as everywhere in ``design.py``.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field, Strict, model_validator
+
+from plantmech.design import (
+    MAX_CARRIER_SPEED_DEG_S,
+    MAX_POINTS,
+    MECHANISMS,
+    AngleDeg,
+    Interp,
+    PositiveMM,
+    Range,
+    Samples,
+    Text,
+    _check_polar_points,
+    _Strict,
+    _uniform,
+)
+
+#: most pairs in one chain.
+MAX_PAIRS = 8
+#: most Fourier harmonics of a pitch curve.
+MAX_HARMONICS = 32
+
+Eccentricity = Annotated[float, Strict(), Field(ge=0, le=0.8, allow_inf_nan=False)]
+Harmonic = Annotated[float, Strict(), Field(ge=-1000, le=1000, allow_inf_nan=False)]
+
+
+class EllipseCurve(_Strict):
+    """An ellipse turning about one of its foci: r = A (1 - e^2) / (1 - e cos theta), theta
+    measured from the far end of the major axis (r(0) = A (1 + e))."""
+
+    family: Literal["ellipse"] = Field(description="pitch-curve family")
+    semi_major_mm: PositiveMM = Field(description="A: semi-major axis (mm)")
+    eccentricity: Eccentricity = Field(description="e: eccentricity (0 = circle turning "
+                                       "about its centre; at most 0.8)")
+    phase_deg: AngleDeg = Field(0.0, description="a driver: the sun's absolute angle of "
+                                "the far end of the major axis at the start (deg, CCW from "
+                                "+x), a compound gear's angle to the frame of the gear it is "
+                                "fixed to; a given follower: its body angle at the contact "
+                                "at the start (deg)")
+
+
+class EccentricCurve(_Strict):
+    """A circle turning about a point off its centre: r = E cos theta + sqrt(R^2 - E^2
+    sin^2 theta), theta from the side farthest from the axis."""
+
+    family: Literal["eccentric"] = Field(description="pitch-curve family")
+    radius_mm: PositiveMM = Field(description="R: circle radius (mm)")
+    offset_mm: Annotated[float, Strict(), Field(ge=0, allow_inf_nan=False)] = Field(
+        description="E: distance of the turning axis from the centre (mm, below R)")
+    phase_deg: AngleDeg = Field(0.0, description="as for an ellipse: orientation of the "
+                                "farthest point (deg)")
+
+    @model_validator(mode="after")
+    def _inside(self):
+        if self.offset_mm >= self.radius_mm:
+            raise ValueError(f"offset_mm = {self.offset_mm:g} is not below radius_mm = "
+                             f"{self.radius_mm:g}: the axis must lie inside the circle")
+        return self
+
+
+class FourierCurve(_Strict):
+    """r = r0 + sum_k (c_k cos k theta + s_k sin k theta), k = 1, 2, ..."""
+
+    family: Literal["fourier"] = Field(description="pitch-curve family")
+    mean_radius_mm: PositiveMM = Field(description="r0: mean radius (mm)")
+    cos_mm: list[Harmonic] = Field([], description="c_1, c_2, ...: cosine coefficients (mm)",
+                                   max_length=MAX_HARMONICS)
+    sin_mm: list[Harmonic] = Field([], description="s_1, s_2, ...: sine coefficients (mm)",
+                                   max_length=MAX_HARMONICS)
+    phase_deg: AngleDeg = Field(0.0, description="as for an ellipse: orientation of "
+                                "theta = 0 (deg)")
+
+    @model_validator(mode="after")
+    def _positive(self):
+        th = np.linspace(0.0, 2 * np.pi, 2048, endpoint=False)
+        r = np.full_like(th, self.mean_radius_mm)
+        for k, c in enumerate(self.cos_mm, 1):
+            r += c * np.cos(k * th)
+        for k, s in enumerate(self.sin_mm, 1):
+            r += s * np.sin(k * th)
+        j = int(np.argmin(r))
+        if r[j] <= 0:
+            raise ValueError(f"the series falls to {r[j]:.4g} mm at {np.degrees(th[j]):.1f} "
+                             "deg: a pitch radius must stay positive")
+        return self
+
+
+class RadiiCurve(_Strict):
+    """Control radii joined by a periodic cubic Hermite (seed 000 §4.3) or spline,
+    optionally over identical lobes."""
+
+    family: Literal["radii"] = Field(description="pitch-curve family")
+    radii_mm: list[PositiveMM] = Field(description=f"r_i: control radii (mm), 4 to "
+                                       f"{MAX_POINTS}", max_length=MAX_POINTS)
+    angles_deg: list[AngleDeg] | None = Field(
+        None, description="angles of the radii within one lobe (deg, 360 per lobe), "
+        "increasing, spanning less than 360; default uniform")
+    interpolation: Interp = Field("hermite", description="periodic cubic Hermite (C1) or "
+                                  "periodic cubic spline (C2)")
+    lobes: Annotated[int, Strict()] = Field(1, ge=1, le=12, description="n: identical "
+                                            "lobes round the gear")
+    phase_deg: AngleDeg = Field(0.0, description="as for an ellipse: orientation of angle 0 "
+                                "(deg)")
+
+    @model_validator(mode="after")
+    def _angles(self):
+        _check_polar_points(self.radii_mm, self.angles_deg, "angles_deg", "angle")
+        return self
+
+    def angles(self) -> list[float]:
+        return _uniform(self.angles_deg, len(self.radii_mm))
+
+
+PitchCurve = Annotated[EllipseCurve | EccentricCurve | FourierCurve | RadiiCurve,
+                       Field(discriminator="family")]
+
+
+class GearPair(_Strict):
+    """One pair of the chain: a driver and the follower it rolls (the follower's pitch
+    curve follows from rolling; it drives the next pair unless that pair gives a driver)."""
+
+    kind: Literal["external", "internal", "internal_ring_follower"] = Field(
+        "external", description="external; internal (the driver is a ring, the follower "
+        "rolls inside it, seed 001); internal_ring_follower (the follower is a ring)")
+    driver: PitchCurve | None = Field(
+        None, description="the driver's pitch curve: required for the first pair (the "
+        "sun); for later pairs a second gear fixed to the previous follower's shaft "
+        "(compound); left out: the previous follower drives (an idler)")
+    follower: PitchCurve | None = Field(
+        None, description="instead of the driver: the follower's pitch curve (seed 000: "
+        "gear 2 given, the sun derived); the driver is then its mate (the sun, or a new "
+        "gear on the previous follower's shaft) and the follower's phase_deg is its body "
+        "angle at the contact at the start (deg)")
+    centre_distance_mm: PositiveMM | None = Field(
+        None, description="a: centre distance (mm); default: solved so the pair closes")
+    direction_deg: AngleDeg = Field(0.0, description="delta: direction of the line of "
+                                    "centres driver -> follower, from the carrier line "
+                                    "(deg, CCW)")
+    follower_turns: Annotated[float, Strict(), Field(gt=0, le=12, allow_inf_nan=False)] = (
+        Field(1.0, description="q: follower turns per driver turn relative to the carrier "
+              "(the pair closes when the rolled ratio's mean is q)"))
+
+
+    @model_validator(mode="after")
+    def _turns_fit_kind(self):
+        q = self.follower_turns
+        if self.kind == "internal" and not q > 1:
+            raise ValueError(f"follower_turns = {q:g}: a planet rolling inside its ring "
+                             "driver turns faster than the ring (follower_turns > 1)")
+        if self.kind == "internal_ring_follower" and not q < 1:
+            raise ValueError(f"follower_turns = {q:g}: a ring rolling round its driver turns "
+                             "slower than the driver (follower_turns < 1)")
+        return self
+
+
+class PlanetaryTrain(_Strict):
+    """The chain of gear pairs carried by the carrier (docs/architecture.md, "Train
+    model")."""
+
+    pairs: list[GearPair] = Field(description=f"the pairs, sun first, planet last (1 to "
+                                  f"{MAX_PAIRS})", min_length=1, max_length=MAX_PAIRS)
+    sun_speed_ratio: Annotated[float, Strict(), Field(ge=-10, le=10, allow_inf_nan=False)] = (
+        Field(0.0, description="k: absolute sun speed / carrier speed (0 = fixed sun; "
+              "seed 001: omega_1 / omega_2)"))
+    grid: Annotated[int, Strict(), Field(ge=512, le=32768)] = Field(
+        8192, description="samples per gear turn of the tabulated pitch curves and ratio "
+        "laws (the interpolation error falls as grid^-4; 16384 matches seed 001's "
+        "4096 per lobe)")
+    min_pitch_radius_mm: PositiveMM = Field(2.0, description="smallest pitch radius any "
+                                            "gear may have (mm)")
+    closure_tolerance_deg: Annotated[float, Strict(), Field(gt=0, le=10.0,
+                                                            allow_inf_nan=False)] = Field(
+        0.01, description="largest closure error of a pair with a given centre distance "
+        "(deg per driver turn)")
+
+    @model_validator(mode="after")
+    def _one_curve_per_pair(self):
+        first = self.pairs[0]
+        if first.driver is None and first.follower is None:
+            raise ValueError("pairs.0.driver is missing: the first pair's driver is the sun; "
+                             "give its pitch curve (or the follower's)")
+        for k, p in enumerate(self.pairs):
+            if p.driver is not None and p.follower is not None:
+                raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
+                                 "follows from rolling)")
+        return self
+
+
+class PlanetaryCarrier(_Strict):
+    """The carrier: how it turns and how many arms it carries."""
+
+    initial_angle_deg: AngleDeg = Field(0.0, description="C0: absolute angle of arm 1's "
+                                        "carrier line (sun axis -> first shaft) at the start "
+                                        "(deg, CCW from +x)")
+    speed_deg_s: Annotated[float, Strict(), Field(
+        gt=0, le=MAX_CARRIER_SPEED_DEG_S, allow_inf_nan=False)] = Field(
+        360.0, description="omega: carrier speed (deg/s)")
+    direction: Literal["clockwise", "counterclockwise"] = Field(
+        "clockwise", description="sense of the carrier's turn")
+    arms: Annotated[int, Strict()] = Field(1, ge=1, le=6, description="arms (each with its "
+                                           "own chain), evenly spaced round the carrier")
+
+
+class PlanetaryArm(_Strict):
+    """The arm fixed on the planet (last follower)."""
+
+    length_mm: PositiveMM = Field(description="L: planet axis to tip (mm)")
+    initial_angle_deg: AngleDeg = Field(description="beta_0: absolute angle of planet axis "
+                                        "-> tip of arm 1 at the start (deg, CCW from +x)")
+
+
+class PlanetaryLimits(_Strict):
+    """Limits on the generic objectives; a limit left out is reported, not checked."""
+
+    path_width_mm: Range | None = Field(None, description="horizontal extent of the tip path "
+                                        "(mm)")
+    path_height_mm: Range | None = Field(None, description="vertical extent of the tip path "
+                                         "(mm)")
+    attitude_range_deg: Range | None = Field(None, description="swing of the arm over a "
+                                             "turn, max - min of its angle (deg)")
+    max_tip_speed_m_s: Range | None = Field(None, description="largest tip speed (m/s)")
+    min_tip_speed_m_s: Range | None = Field(None, description="smallest tip speed (m/s)")
+    loops: Range | None = Field(None, description="self-crossings of the tip path (count)")
+
+
+class PlanetaryDesign(_Strict):
+    """A general non-circular planetary train (issue 16): any chain of pairs, forward
+    simulated."""
+
+    mechanism: Literal["planetary"] = Field(description="which mechanism the file "
+                                            "describes")
+    name: Text = Field("unnamed design", description="name shown in reports")
+    description: Text = Field("", description="free text")
+    samples: Samples = Field(3600, description="samples per carrier turn")
+    carrier: PlanetaryCarrier = Field(PlanetaryCarrier(), description="the carrier")
+    train: PlanetaryTrain = Field(description="the gear pairs")
+    arm: PlanetaryArm = Field(description="the arm on the planet")
+    limits: PlanetaryLimits = Field(PlanetaryLimits(), description="limits on the "
+                                    "objectives")
+
+
+MECHANISMS["planetary"] = PlanetaryDesign

@@ -1,0 +1,78 @@
+"""Plots of a general planetary train's motion (matplotlib Figures, no pyplot; units on
+every axis)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+DEG = 180.0 / np.pi
+
+
+def _gear_outline(curve, centre: complex, angle: float) -> np.ndarray:
+    th = curve.theta
+    return centre + curve.r[0] * np.exp(1j * (th + angle))
+
+
+def plot_paths(motion, title: str = "") -> Figure:
+    """Tip path of every arm, the planet axis' circle, and the gears of arm 1 at the start
+    (pitch curves at their shafts, turned to their start angles)."""
+    fig = Figure(figsize=(6.4, 6.4), layout="constrained")
+    ax = fig.add_subplot()
+    for j in range(motion.tip.shape[1]):
+        z = motion.tip[0, j]
+        ax.plot(z.real, z.imag, lw=1.4 if j == 0 else 0.8, label=f"arm {j + 1} tip path")
+    c = motion.centre[0, 0]
+    ax.plot(c.real, c.imag, ":", color="0.5", lw=0.8, label="planet axis")
+    built = motion.built
+    C0 = float(motion.carrier[0, 0, 0])
+    rot = np.exp(1j * C0)
+    for k, (spec, drv, fol) in enumerate(zip(built.train.pairs, built.drivers,
+                                             built.followers, strict=True)):
+        if k == 0 or spec.driver is not None or spec.follower is not None:  # not an idler
+            z = _gear_outline(drv, built.shafts[0, k], motion.driver_angles[k][0, 0, 0]) * rot
+            ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray",
+                    lw=0.8)
+        z = _gear_outline(fol, built.shafts[0, k + 1], motion.gear_angles[k + 1][0, 0, 0]) * rot
+        ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray", lw=0.8)
+    t0, c0 = motion.tip[0, 0, 0], motion.centre[0, 0, 0]
+    ax.plot([0, c0.real], [0, c0.imag], color="k", lw=1.5)
+    ax.plot([c0.real, t0.real], [c0.imag, t0.imag], color="tab:red", lw=2,
+            label="arm 1 at start")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(title or "tip paths and the gears at the start")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    return fig
+
+
+def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
+    """Arm angle (deg) and tip speed (m/s) of arm 1 over the carrier angle (deg)."""
+    fig = Figure(figsize=(7.0, 5.0), layout="constrained")
+    a1, a2 = fig.subplots(2, 1, sharex=True)
+    psi = motion.carrier_angle * DEG
+    a1.plot(psi, motion.arm_angle[0, 0] * DEG)
+    a1.set_ylabel("arm angle (deg, CCW from +x)")
+    a1.grid(alpha=0.3)
+    a2.plot(psi, np.abs(motion.velocity(carrier_speed_deg_s)[0, 0]))
+    a2.set_ylabel("tip speed (m/s)")
+    a2.set_xlabel("carrier angle (deg)")
+    a2.grid(alpha=0.3)
+    fig.suptitle(f"arm 1 at carrier speed {carrier_speed_deg_s:g} deg/s")
+    return fig
+
+
+def plot_ratios(motion) -> Figure:
+    """Each pair's transmission ratio r_driver / r_follower over the carrier angle."""
+    fig = Figure(figsize=(7.0, 3.6), layout="constrained")
+    ax = fig.add_subplot()
+    psi = motion.carrier_angle * DEG
+    for k, (rd, rf) in enumerate(motion.contact_radii):
+        ax.plot(psi, rd[0, 0] / rf[0, 0], label=f"pair {k + 1}")
+    ax.set_xlabel("carrier angle (deg)")
+    ax.set_ylabel("ratio r_driver / r_follower (-)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return fig

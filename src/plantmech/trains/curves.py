@@ -1,0 +1,186 @@
+"""Pitch curves of the general train model, tabulated for P designs on one grid.
+
+A pitch curve is a radius function r(theta) (mm) of the gear's body angle theta (rad,
+counter-clockwise in the gear's own frame). Every family is tabulated on a uniform grid of
+N body angles over one turn, with its exact slope dr/dtheta (mm/rad), for P designs at
+once: ``Curve.r`` and ``Curve.dr`` are (P, N). Between the grid points the curve is the
+cubic Hermite interpolant of those values and slopes (error O(h^4), h = 2 pi / N), so a
+mate derived by rolling (``trains.pairs``) and a family given in closed form are used
+the same way.
+
+Families (the design file's ``family``):
+
+- ``ellipse`` turning about a focus: r = A (1 - e^2) / (1 - e cos theta), theta from the
+  far end of the major axis (r(0) = A (1 + e), the largest radius);
+- ``eccentric`` circle of radius R turning about a point E off its centre:
+  r = E cos theta + sqrt(R^2 - E^2 sin^2 theta) (r(0) = R + E);
+- ``fourier`` series r = r0 + sum_k (c_k cos k theta + s_k sin k theta);
+- ``radii``: control radii at body angles joined by a periodic cubic Hermite (C1, seed
+  000 §4.3) or periodic cubic spline (C2) (``geometry.periodic``), optionally repeated
+  over ``lobes`` identical lobes (r(theta) = interpolant(lobes * theta)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+
+
+class CurveError(ValueError):
+    """A pitch curve that is not a valid closed radius function (message names the
+    design and body angle)."""
+
+
+def _column(v, P: int | None = None) -> np.ndarray:
+    """A scalar or (P,) parameter as a (P or 1, 1) column."""
+    v = np.asarray(v, dtype=float)
+    v = v.reshape(-1, 1) if v.ndim else v.reshape(1, 1)
+    if P is not None and v.shape[0] not in (1, P):
+        raise ValueError(f"a per-design parameter has {v.shape[0]} values for {P} designs")
+    return v
+
+
+def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
+    """Value and slope at angles ``x`` (rad) of each row's periodic cubic Hermite
+    interpolant through values ``y`` (P, N) and slopes ``dy`` (P, N) on the uniform grid
+    2 pi k / N. ``x`` has shape (P, ...) or (1, ...) (shared by every row)."""
+    P, N = y.shape
+    h = TWO_PI / N
+    x = np.asarray(x, dtype=float)
+    shape = (P,) + x.shape[1:]
+    u = np.broadcast_to(x, shape).reshape(P, -1) * (1.0 / h)
+    kf = np.floor(u)
+    s = u - kf
+    k = kf.astype(np.intp) % N
+    base = (np.arange(P) * N)[:, None]  # flat indices: one gather per table
+    i0 = k + base
+    i1 = np.where(k == N - 1, base, i0 + 1)
+    yf, df = y.ravel(), dy.ravel()
+    y0, y1 = yf.take(i0), yf.take(i1)
+    d0, d1 = df.take(i0) * h, df.take(i1) * h
+    s2 = s * s
+    s3 = s2 * s
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value.reshape(shape), slope.reshape(shape)
+
+
+@dataclass
+class Curve:
+    """P pitch curves tabulated on the uniform grid theta_k = 2 pi k / N (rad):
+    radii ``r`` (P, N) mm and slopes ``dr`` (P, N) mm/rad."""
+
+    r: np.ndarray
+    dr: np.ndarray
+    name: str = "pitch curve"
+
+    @property
+    def theta(self) -> np.ndarray:
+        return TWO_PI * np.arange(self.r.shape[1]) / self.r.shape[1]
+
+    @property
+    def designs(self) -> int:
+        return self.r.shape[0]
+
+    def __call__(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """(r, dr/dtheta) at body angles ``theta`` (rad), shape (P, ...) or (1, ...)."""
+        return hermite_periodic(self.r, self.dr, theta)
+
+    def take(self, k: int) -> Curve:
+        return Curve(self.r[k:k + 1], self.dr[k:k + 1], self.name)
+
+    def check_positive(self, min_radius: float = 0.0) -> None:
+        bad = self.r <= min_radius
+        if bad.any():
+            d, k = (int(i) for i in np.argwhere(bad)[0])
+            raise CurveError(f"{self.name}: radius {self.r[d, k]:.4g} mm at body angle "
+                             f"{np.degrees(self.theta[k]):.2f} deg"
+                             + (f" (design {d})" if self.designs > 1 else "")
+                             + f" is not above {min_radius:g} mm")
+
+
+def ellipse(semi_major, eccentricity, grid: int, name: str = "ellipse") -> Curve:
+    """Ellipse turning about a focus: r = A (1 - e^2) / (1 - e cos theta) (mm), theta
+    from the far end of the major axis; A = ``semi_major`` (mm), e = ``eccentricity``
+    (0 <= e < 1), scalars or (P,)."""
+    A, e = _column(semi_major), _column(eccentricity)
+    if np.any(A <= 0) or np.any((e < 0) | (e >= 1)):
+        raise CurveError(f"{name}: needs a positive semi-major axis and 0 <= e < 1")
+    th = TWO_PI * np.arange(grid) / grid
+    p = A * (1 - e**2)
+    den = 1 - e * np.cos(th)
+    r = p / den
+    dr = -p * e * np.sin(th) / den**2
+    r, dr = np.broadcast_arrays(r, dr)
+    return Curve(np.array(r), np.array(dr), name)
+
+
+def eccentric_circle(radius, offset, grid: int, name: str = "eccentric circle") -> Curve:
+    """Circle of radius R (mm) turning about a point at distance E < R (mm) from its
+    centre: r = E cos theta + sqrt(R^2 - E^2 sin^2 theta), theta from the far side."""
+    R, E = _column(radius), _column(offset)
+    if np.any(E < 0) or np.any(E >= R):
+        raise CurveError(f"{name}: the offset must be >= 0 and below the radius")
+    th = TWO_PI * np.arange(grid) / grid
+    root = np.sqrt(R**2 - (E * np.sin(th)) ** 2)
+    r = E * np.cos(th) + root
+    dr = -E * np.sin(th) - E**2 * np.sin(th) * np.cos(th) / root
+    r, dr = np.broadcast_arrays(r, dr)
+    return Curve(np.array(r), np.array(dr), name)
+
+
+def fourier(mean_radius, cos_mm, sin_mm, grid: int, name: str = "fourier") -> Curve:
+    """r = r0 + sum_k (c_k cos k theta + s_k sin k theta), k = 1.. (mm); r0 scalar or (P,),
+    c and s (K,) or (P, K)."""
+    r0 = _column(mean_radius)
+    c = np.atleast_2d(np.asarray(cos_mm, dtype=float))
+    s = np.atleast_2d(np.asarray(sin_mm, dtype=float))
+    K = max(c.shape[1], s.shape[1])
+    c = np.pad(c, ((0, 0), (0, K - c.shape[1])))
+    s = np.pad(s, ((0, 0), (0, K - s.shape[1])))
+    th = TWO_PI * np.arange(grid) / grid
+    k = np.arange(1, K + 1)
+    cos, sin = np.cos(np.outer(k, th)), np.sin(np.outer(k, th))  # (K, N)
+    r = r0 + c @ cos + s @ sin
+    dr = (s * k) @ cos - (c * k) @ sin
+    r, dr = np.broadcast_arrays(r, dr)
+    curve = Curve(np.array(r), np.array(dr), name)
+    curve.check_positive()
+    return curve
+
+
+def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1,
+                 name: str = "radii") -> Curve:
+    """Control radii (P, K) or (K,) mm at phases ``angles`` (K,) rad joined by a periodic
+    ``kind`` interpolant f (``hermite``: C1, tangents from centred differences; ``spline``:
+    C2), as ``geometry.periodic``. With ``lobes`` n the curve is n identical lobes,
+    r(theta) = f(n theta): the phases are body angles times n (for n = 1, body angles)."""
+    from plantmech.geometry.periodic import periodic_spline_matrix
+
+    radii = np.atleast_2d(np.asarray(radii, dtype=float))
+    th = TWO_PI * np.arange(grid) / grid
+    at = lobes * th
+    nodes = np.asarray(angles, dtype=float)
+    r = radii @ periodic_spline_matrix(nodes, at, 0, kind).T
+    dr = lobes * (radii @ periodic_spline_matrix(nodes, at, 1, kind).T)
+    curve = Curve(r, dr, name)
+    curve.check_positive()
+    return curve
+
+
+def convexity(curve: Curve) -> dict:
+    """Per design: is the polar curve convex (r^2 + 2 r'^2 - r r'' >= 0 everywhere), and
+    its smallest radius of curvature (mm, negative where concave). r'' from the slopes'
+    centred differences."""
+    h = TWO_PI / curve.r.shape[1]
+    r, r1 = curve.r, curve.dr
+    r2 = (np.roll(r1, -1, axis=1) - np.roll(r1, 1, axis=1)) / (2 * h)
+    den = r**2 + 2 * r1**2 - r * r2
+    rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
+    return {"convex": np.all(den >= 0, axis=1),
+            "min_radius_of_curvature_mm": np.nanmin(np.where(den > 0, rho, np.inf), axis=1),
+            "min_concave_radius_mm": np.nanmin(np.where(den < 0, -rho, np.inf), axis=1)}

@@ -1,0 +1,237 @@
+"""One gear pair of the general train: the transmission law of non-circular rolling.
+
+The driver's pitch curve r_d(theta_d) is given; the follower's radius at the contact is
+fixed by the centre distance a (mm):
+
+============================  =============  ====================  ==================
+kind                          r_f            sense (follower vs    contact direction
+                                             driver, ``sense``)    from both centres
+============================  =============  ====================  ==================
+``external``                  a - r_d        opposite (-1)         driver: delta,
+                                                                   follower: delta + pi
+``internal`` (driver = ring)  r_d - a        same (+1)             delta (both)
+``internal_ring_follower``    r_d + a        same (+1)             delta + pi (both)
+============================  =============  ====================  ==================
+
+delta: direction of the line of centres driver -> follower in the carrier frame.
+Pure rolling: the follower turns d alpha_f = sense * g d alpha_d with the ratio
+g = r_d / r_f (seed 000 Eq. 9-10, seed 001 Eq. 5). The law is written through the
+running integral F(theta) = integral_0^theta g(t) dt over the driver's body angle:
+with the contact at driver body angle theta_d, it lies at follower body angle
+
+    theta_f = sense * F(theta_d)
+
+(this defines the follower's body frame: theta_f = 0 touches theta_d = 0). F is the
+periodic cubic spline's exact running integral of g on the grid (``geometry.periodic``),
+F(theta + 2 pi) = F(theta) + 2 pi q with q the follower's turns per driver turn; the pair
+closes when q is the required number (``follower_turns``); the centre distance that
+closes it is solved when not given. Two identical ellipses about their foci at a = 2A:
+tan(F / 2) = ((1 - e) / (1 + e)) tan(theta_d / 2) (tests/test_trains.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from plantmech.trains.curves import TWO_PI, Curve, hermite_periodic
+
+KINDS = ("external", "internal", "internal_ring_follower")
+#: (sense, r_f = kappa * r_d + c * a, contact direction offsets from delta: driver, follower)
+_KIND = {"external": (-1, -1.0, 1.0, 0.0, np.pi),
+         "internal": (1, 1.0, -1.0, 0.0, 0.0),
+         "internal_ring_follower": (1, 1.0, 1.0, np.pi, np.pi)}
+
+
+class PairError(ValueError):
+    """A pair that cannot roll or close (message names the pair and the design)."""
+
+
+def _ratio(kind: str, r: np.ndarray, a: np.ndarray) -> np.ndarray:
+    _, kappa, c, _, _ = _KIND[kind]
+    return r / (kappa * r + c * a)
+
+
+def solve_centre_distance(kind: str, r: np.ndarray, follower_turns: float) -> np.ndarray:
+    """Centre distance a (P,) mm with mean(g) = q over one driver turn for driver radii r
+    (P, N) sampled uniformly (the periodic running integral's end value is exactly the
+    mean times 2 pi). The mean ratio is monotone in a on the admissible interval, so the
+    root is unique: bisection, then Newton. Raises PairError when no a can close it."""
+    q = float(follower_turns)
+    rmin, rmax = r.min(axis=1), r.max(axis=1)
+    if kind == "external":
+        lo, hi = rmax * (1 + 1e-12), rmax * (1 + 1 / q) * (1 + 1e-9)
+    elif kind == "internal":
+        if q <= 1:
+            raise PairError(f"an internal pair whose driver is the ring turns the follower "
+                            f"faster than the ring (q > 1); follower_turns = {q:g}")
+        lo, hi = np.zeros_like(rmin), rmin * (1 - 1e-12)
+    else:
+        if q >= 1:
+            raise PairError(f"a ring follower turns slower than its driver (q < 1); "
+                            f"follower_turns = {q:g}")
+        lo, hi = np.zeros_like(rmin), rmax * (1 - q) / q * (1 + 1e-9)
+
+    def excess(a):
+        return np.mean(_ratio(kind, r, a[:, None]), axis=1) - q
+
+    rising = kind == "internal"
+    for _ in range(64):
+        mid = 0.5 * (lo + hi)
+        below = (excess(mid) < 0) == rising
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    a = 0.5 * (lo + hi)
+    _, kappa, c, _, _ = _KIND[kind]
+    for _ in range(3):
+        rf = kappa * r + c * a[:, None]
+        f = np.mean(r / rf, axis=1) - q
+        df = np.mean(-c * r / rf**2, axis=1)
+        a = np.clip(a - f / df, lo, hi)
+    return a
+
+
+@dataclass
+class PairLaw:
+    """The transmission law of P pairs of one kind.
+
+    ``a`` (P,) mm; ``g`` (P, N) ratio r_d / r_f on the driver's grid and ``dg`` its slope
+    (1/rad); ``Fp`` (P, N) the periodic part F - q_e theta of the running integral, with
+    ``q_e`` (P,) the follower's turns per driver turn as rolled (= ``follower_turns``
+    when closed); ``closure_error`` (P,) rad: 2 pi (q_e - follower_turns), the follower's
+    extra turn per driver turn."""
+
+    kind: str
+    driver: Curve
+    a: np.ndarray
+    g: np.ndarray
+    dg: np.ndarray
+    Fp: np.ndarray
+    q_e: np.ndarray
+    follower_turns: float
+    name: str = "pair"
+
+    @property
+    def sense(self) -> int:
+        return _KIND[self.kind][0]
+
+    @property
+    def driver_direction(self) -> float:
+        """Offset (rad) of the contact direction from the driver centre to delta."""
+        return _KIND[self.kind][3]
+
+    @property
+    def follower_direction(self) -> float:
+        return _KIND[self.kind][4]
+
+    @property
+    def closure_error(self) -> np.ndarray:
+        return TWO_PI * (self.q_e - self.follower_turns)
+
+    def F(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """(F, g) at driver body angles ``theta`` (rad), shape (P, ...) or (1, ...)."""
+        fp, _ = hermite_periodic(self.Fp, self.g - self.q_e[:, None], theta)
+        g, _ = hermite_periodic(self.g, self.dg, theta)
+        q = self.q_e.reshape((-1,) + (1,) * (np.ndim(theta) - 1))
+        return fp + q * np.asarray(theta, dtype=float), g
+
+    def follower_radius(self, r_driver) -> np.ndarray:
+        _, kappa, c, _, _ = _KIND[self.kind]
+        a = self.a.reshape((-1,) + (1,) * (np.ndim(r_driver) - 1))
+        return kappa * r_driver + c * a
+
+    def invert(self, F_target: np.ndarray) -> np.ndarray:
+        """Driver body angles theta (P, M) with F(theta) = F_target (P, M) (F increases):
+        the table's linear inverse, then Newton on the Hermite law (quartic accuracy)."""
+        P, N = self.g.shape
+        h = TWO_PI / N
+        period = TWO_PI * self.q_e[:, None]
+        w = np.floor(F_target / period)
+        y = F_target - w * period  # in [0, 2 pi q_e)
+        th = np.arange(N + 1) * h
+        table = np.concatenate([self.Fp, self.Fp[:, :1]], axis=1) + self.q_e[:, None] * th
+        from plantmech.geometry.trajectory_batch import row_searchsorted
+
+        k = row_searchsorted(table, y)
+        rows = np.arange(P)[:, None]
+        f0, f1 = table[rows, k], table[rows, k + 1]
+        theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
+        q = self.q_e[:, None]
+        for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
+            fp, dfp = hermite_periodic(self.Fp, self.g - q, theta)
+            theta = theta - (fp + q * theta - y) / (dfp + q)
+        return theta + TWO_PI * w
+
+    def mate(self, name: str = "mate") -> Curve:
+        """The follower's pitch curve on its own uniform grid (r, dr/dtheta_f): at
+        follower angle phi the contact is at driver angle F^-1(sense * phi)."""
+        P, N = self.g.shape
+        phi = TWO_PI * np.arange(N) / N
+        theta_d = self.invert(np.broadcast_to(self.sense * phi, (P, N)))
+        r_d, dr_d = self.driver(theta_d)
+        g = r_d / self.follower_radius(r_d)
+        _, kappa, _, _, _ = _KIND[self.kind]
+        return Curve(self.follower_radius(r_d), kappa * dr_d / (self.sense * g), name)
+
+
+def pair_law(kind: str, driver: Curve, follower_turns: float, centre_distance=None,
+             tolerance: float = np.radians(0.01), min_radius: float = 0.0,
+             name: str = "pair") -> PairLaw:
+    """Transmission law of P pairs whose driver is ``driver`` (P designs).
+
+    ``centre_distance`` (mm, scalar or (P,)) None: solved so the follower turns
+    ``follower_turns`` times per driver turn; given: the pair must close within
+    ``tolerance`` (rad per driver turn) or PairError says the centre distance that
+    closes it. The follower's radius must stay above ``min_radius`` (mm), and the driver's
+    pitch curve must repeat every 1 / q turn (else the follower's curve would not close)."""
+    if kind not in KINDS:
+        raise PairError(f"{name}: unknown kind {kind!r} (expected one of {', '.join(KINDS)})")
+    q = float(follower_turns)
+    if not q > 0:
+        raise PairError(f"{name}: follower_turns must be positive, got {q:g}")
+    P, N = driver.r.shape
+    driver.check_positive(min_radius)
+    try:
+        solved = solve_centre_distance(kind, driver.r, q)
+    except PairError as exc:
+        raise PairError(f"{name}: {exc}") from None
+    if centre_distance is None:
+        a = solved
+    else:
+        a = np.broadcast_to(np.asarray(centre_distance, dtype=float), (P,)).astype(float)
+    _, kappa, c, _, _ = _KIND[kind]
+    rf = kappa * driver.r + c * a[:, None]
+    bad = rf <= min_radius
+    if bad.any():
+        d, k = (int(i) for i in np.argwhere(bad)[0])
+        raise PairError(f"{name}: the follower's pitch radius is {rf[d, k]:.4g} mm where the "
+                        f"driver's is {driver.r[d, k]:.4g} mm (body angle "
+                        f"{np.degrees(TWO_PI * k / N):.2f} deg, centre distance {a[d]:.4g} "
+                        f"mm), not above {min_radius:g} mm"
+                        + (f" (design {d})" if P > 1 else ""))
+    g = driver.r / rf
+    dg = driver.dr * (c * a[:, None]) / rf**2  # d/dtheta of r / (kappa r + c a)
+    from plantmech.geometry.periodic import periodic_spline_running_integral
+
+    h = TWO_PI / N
+    F = periodic_spline_running_integral(g.T, h).T  # (P, N + 1)
+    q_e = F[:, -1] / TWO_PI
+    Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
+    law = PairLaw(kind, driver, a, g, dg, Fp, q_e, q, name)
+    err = np.abs(law.closure_error)
+    if centre_distance is not None and np.any(err > tolerance):
+        d = int(np.argmax(err))
+        raise PairError(f"{name}: the pair does not close: per driver turn the follower "
+                        f"turns {360 * q_e[d]:.4f} deg, {360 * q:g} needed, at centre "
+                        f"distance {a[d]:.4f} mm; it closes at {solved[d]:.4f} mm (leave "
+                        "centre_distance_mm out to solve it)"
+                        + (f" (design {d})" if P > 1 else ""))
+    th = TWO_PI * np.arange(N) / N
+    gap = np.abs(driver(th[None, :] + TWO_PI / q)[0] - driver.r).max(axis=1)
+    if np.any(gap > 1e-6 * driver.r.max(axis=1)):
+        d = int(np.argmax(gap))
+        raise PairError(f"{name}: the follower turns {q:g} times per driver turn, but the "
+                        f"driver's pitch curve does not repeat every {360 / q:g} deg "
+                        f"(differs by up to {gap[d]:.4g} mm): the follower's pitch curve "
+                        "would not close")
+    return law
