@@ -151,6 +151,9 @@ def dump(path: Path) -> None:
     path.write_text(json.dumps(out))
 
 
+_LARGEST = [0.0]
+
+
 def _compare(a, b, where, tol, bad):
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b)):
@@ -167,6 +170,7 @@ def _compare(a, b, where, tol, bad):
     elif isinstance(a, (int, float)) and isinstance(b, (int, float)) \
             and not isinstance(a, bool) and not isinstance(b, bool):
         # 1e-6 in the value's units, relative for values above 1000 (printed digits)
+        _LARGEST[0] = max(_LARGEST[0], abs(a - b) / max(1.0, abs(a) / 1000.0))
         if abs(a - b) > tol * max(1.0, abs(a) / 1000.0):
             bad.append((where, f"{a!r} != {b!r}", abs(a - b)))
     elif a != b:
@@ -180,7 +184,8 @@ def compare(old: Path, new: Path, tol: float = 1e-6) -> int:
     worst = max((x[2] for x in bad if x[2] is not None), default=0.0)
     for w, msg, _ in bad[:40]:
         print(f"{w}: {msg}")
-    print(f"{len(bad)} differences beyond {tol:g} (largest numeric {worst:.3g})")
+    print(f"{len(bad)} differences beyond {tol:g} (largest numeric {worst:.3g}; largest "
+          f"difference of all numbers {_LARGEST[0]:.3g})")
     return 1 if bad else 0
 
 

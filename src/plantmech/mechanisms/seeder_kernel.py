@@ -1,0 +1,242 @@
+"""The fused per-design kernel of the seeder's population forward kinematics (numba).
+
+One pass per design, no (P, dense) temporaries: the pitch radii of gears 2 and 3 along
+``dense`` body-angle steps (the periodic piecewise-cubic interpolant through the node
+radii and node slopes, seed 000 section 4.3), the centre distances that close each pair
+(seed 000 Eq. 8, the Newton iteration of ``gears.closure.solve_centre_distances``), the
+rolling integrals psi(psi_2) = int r2 / (a1 - r2) and psi_4(psi_2) = int r3 / (a2 - r3)
+(the running integral of the cubic spline through the dense samples that SciPy's
+``CubicSpline(...).antiderivative()`` gave: one tridiagonal sweep per design, no spline
+objects), the inversion of psi(psi_2) at the carrier samples (a merge walk,
+then Newton on the Hermite cubic of each interval), the tip (Eq. 12-16) and the angular
+play. Imported only by ``seeder_batch.simulate_population``: numba stays out of the CLI's
+start-up; its compilation is cached on disk (``cache=True``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * np.pi
+
+
+@njit(cache=True, error_model="numpy")
+def _along(x, radii, slopes, n, c, h, D, value, slope):
+    """Values (mm) and slopes (mm/rad) of the periodic piecewise cubic Hermite through
+    (x[:n], radii) with node ``slopes`` (x: n + 1 knots, the last x[0] + 2 pi) at the body
+    angles c + j h, j = 0..D (rad): one march through the knots, no search per angle."""
+    u0 = c - x[0]
+    u0 = x[0] + (u0 - TWO_PI * np.floor(u0 / TWO_PI))
+    k = 0
+    while k < n - 1 and x[k + 1] <= u0:
+        k += 1
+    for j in range(D + 1):
+        u = u0 + j * h if j < D else u0 + TWO_PI
+        while u >= x[k + 1]:
+            k += 1
+            if k == n:
+                k = 0
+                u0 -= TWO_PI
+                u -= TWO_PI
+        hk = x[k + 1] - x[k]
+        t = (u - x[k]) / hk
+        k1 = k + 1 if k + 1 < n else 0
+        y0, y1 = radii[k], radii[k1]
+        d0, d1 = slopes[k] * hk, slopes[k1] * hk
+        t2 = t * t
+        t3 = t2 * t
+        dy = y0 - y1
+        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                    + (3 * t2 - 2 * t) * d1) / hk
+
+
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
+def _turn_sums(r, D, a):
+    """sum_k r_k / (a - r_k) and sum_k r_k / (a - r_k)^2 over r[:D] (reassociated: SIMD)."""
+    f = 0.0
+    df = 0.0
+    for j in range(D):
+        q = 1.0 / (a - r[j])
+        f += r[j] * q
+        df += r[j] * q * q
+    return f, df
+
+
+@njit(cache=True, error_model="numpy")
+def _closing_centre_distance(r, D, turn):
+    """a with mean_k r_k / (a - r_k) * 2 pi = turn over r[:D] (``solve_centre_distances``
+    for one design): Newton from a point left of the root, where the convex decreasing
+    left side is positive. The circle's centre distance at the mean radius, rbar (1 + 2 pi /
+    turn), is such a point (Jensen: mean r / (a - r) >= rbar / (a - rbar)) when it lies
+    beyond max r; else the gap to max r is halved from 2 rbar until the side is positive."""
+    rmax = r[0]
+    tot = 0.0
+    for j in range(D):
+        tot += r[j]
+        if r[j] > rmax:
+            rmax = r[j]
+    a = tot / D * (1.0 + TWO_PI / turn)
+    if not a > rmax:
+        a = 2.0 * tot / D
+        for _ in range(60):
+            if not a > rmax:
+                a = rmax + 0.5 * (a - rmax)
+                continue
+            f, _df = _turn_sums(r, D, a)
+            if f / D * TWO_PI - turn > 0:
+                break
+            a = rmax + 0.5 * (a - rmax)
+    for _ in range(100):
+        f, df = _turn_sums(r, D, a)
+        step = (f / D * TWO_PI - turn) / (df / D * TWO_PI)
+        a = a + step
+        if abs(step) <= 1e-12 * a:
+            break
+    return a
+
+
+@njit(cache=True, error_model="numpy")
+def _running_integral(y, D, h, cp, piv, s, out):
+    """Running integral out[0..D] (out[0] = 0) of the not-a-knot cubic spline through
+    the D + 1 samples y at uniform step h (the spline SciPy's ``CubicSpline(t, y)`` builds,
+    whose ``antiderivative()`` the population code used): node slopes s from the
+    tridiagonal system s[i-1] + 4 s[i] + s[i+1] = 3 (q[i-1] + q[i]) (q the chord slopes),
+    s[0] + 2 s[1] = (5 q[0] + q[1]) / 2 and 2 s[D-1] + s[D] = (q[D-2] + 5 q[D-1]) / 2 at
+    the ends, by the Thomas sweep with the shared factors ``cp``, ``piv``
+    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12."""
+    n = D + 1
+    q0 = (y[1] - y[0]) / h
+    q1 = (y[2] - y[1]) / h
+    s[0] = (0.5 * (5.0 * q0 + q1)) * piv[0]
+    for i in range(1, n - 1):
+        d = 3.0 * ((y[i] - y[i - 1]) + (y[i + 1] - y[i])) / h
+        s[i] = (d - s[i - 1]) * piv[i]
+    qa = (y[n - 2] - y[n - 3]) / h
+    qb = (y[n - 1] - y[n - 2]) / h
+    s[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s[n - 2]) * piv[n - 1]
+    for i in range(n - 2, -1, -1):
+        s[i] -= cp[i] * s[i + 1]
+    out[0] = 0.0
+    acc = 0.0
+    hh = h * h / 12.0
+    for i in range(D):
+        acc += 0.5 * h * (y[i] + y[i + 1]) + hh * (s[i] - s[i + 1])
+        out[i + 1] = acc
+
+
+def spline_factors(D: int):
+    """Shared factors of the not-a-knot system of ``_running_integral`` on D + 1 uniform
+    samples: the Thomas sweep's modified super-diagonal ``cp`` and reciprocal pivots."""
+    n = D + 1
+    sub = np.ones(n)
+    sub[-1] = 2.0
+    diag = np.full(n, 4.0)
+    diag[0] = diag[-1] = 1.0
+    sup = np.ones(n)
+    sup[0] = 2.0
+    cp, piv = np.zeros(n), np.zeros(n)
+    piv[0] = 1.0 / diag[0]
+    cp[0] = sup[0] * piv[0]
+    for i in range(1, n):
+        piv[i] = 1.0 / (diag[i] - sub[i] * cp[i - 1])
+        cp[i] = sup[i] * piv[i]
+    return cp, piv
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite(y0, y1, d0, d1, h, s):
+    """Cubic Hermite value at fraction s of an interval of width h."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1
+            + (s3 - s2) * h * d1)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite_slope(y0, y1, d0, d1, h, s):
+    """d/ds of ``_hermite``."""
+    s2 = s * s
+    return ((6 * s2 - 6 * s) * (y0 - y1) + (3 * s2 - 4 * s + 1) * h * d0
+            + (3 * s2 - 2 * s) * h * d1)
+
+
+@njit(cache=True, error_model="numpy")
+def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
+                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0,
+                  play, has_play, cp, piv, tip, arm, ratio, rate, gear2, closure, a1_out,
+                  a2_out):
+    """Every design p of the population, one after the other with one set of scratch
+    rows (parallelism is the callers' processes: optimizer workers, Dask): node radii R2,
+    R3 (P, N) with node slopes S2, S3 at knots x (N + 1), contact angles c2, c3 (P,),
+    centre distances a*_in (P,) or solved (``solve1``/``solve2``: for turns turn1 and
+    2 pi), ``D`` dense steps; carrier samples ``psi`` (S,) (their cos and sin) with their
+    meshing targets and dwell mask; per-design L1, L2, carrier0, arm0, play (P,). Writes
+    tip, rate (P, S, 2), arm, ratio, gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
+    P, N = R2.shape
+    S = psi.shape[0]
+    h = TWO_PI / D
+    r2 = np.empty(D + 1)
+    dr2 = np.empty(D + 1)
+    r3 = np.empty(D + 1)
+    dr3 = np.empty(D + 1)
+    f_sun = np.empty(D + 1)
+    f_pl = np.empty(D + 1)
+    sun = np.empty(D + 1)
+    planet = np.empty(D + 1)
+    slopes = np.empty(D + 1)
+    span = TWO_PI - theta1
+    for p in range(P):
+        _along(x, R2[p], S2[p], N, c2[p], h, D, r2, dr2)
+        _along(x, R3[p], S3[p], N, c3[p], h, D, r3, dr3)
+        a1 = _closing_centre_distance(r2, D, turn1) if solve1 else a1_in[p]
+        a2 = _closing_centre_distance(r3, D, TWO_PI) if solve2 else a2_in[p]
+        a1_out[p], a2_out[p] = a1, a2
+        for j in range(D + 1):
+            f_sun[j] = r2[j] / (a1 - r2[j])
+            f_pl[j] = r3[j] / (a2 - r3[j])
+        _running_integral(f_sun, D, h, cp, piv, slopes, sun)
+        _running_integral(f_pl, D, h, cp, piv, slopes, planet)
+        closure[p, 0] = abs(sun[D] + theta1 - TWO_PI)
+        closure[p, 1] = abs(planet[D] - TWO_PI)
+        scale = span / sun[D]
+        k = 0
+        ca = carrier0[p]
+        for i in range(S):
+            tg = target[i]
+            while k < D and sun[k + 1] * scale <= tg:
+                k += 1
+            kk = k if k < D else D - 1
+            y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
+            d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            s = (tg - y0) / max(y1 - y0, 1e-300)
+            for _ in range(3):
+                val = _hermite(y0, y1, d0, d1, h, s) - tg
+                s = s - val / _hermite_slope(y0, y1, d0, d1, h, s)
+                s = min(max(s, 0.0), 1.0)
+            gear2[p, i] = kk * h + s * h
+            rel = _hermite(planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1], h, s)
+            r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
+            r3s = _hermite(r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1], h, s)
+            ratio[p, i] = 0.0 if in_dwell[i] else (a1 - r2s) / r2s * r3s / (a2 - r3s)
+            arm[p, i] = (ca - psi[i]) + rel + (arm0[p] - ca)
+        cc0, sc0 = np.cos(ca), np.sin(ca)
+        for i in range(S):
+            b = arm[p, i]
+            if has_play:
+                ip = i + 1 if i + 1 < S else 0
+                slope = ratio[p, ip] - ratio[p, i - 1]
+                sg = 1.0 if slope > 0 else (-1.0 if slope < 0 else 0.0)
+                b = b - 0.5 * play[p] * sg
+                arm[p, i] = b
+            # cos, sin of the carrier direction carrier0 - psi by the difference formulae
+            cc = cc0 * cos_psi[i] + sc0 * sin_psi[i]
+            sc = sc0 * cos_psi[i] - cc0 * sin_psi[i]
+            cb, sb = np.cos(b), np.sin(b)
+            turn = ratio[p, i] - 1.0
+            tip[p, i, 0] = L1[p] * cc + L2[p] * cb
+            tip[p, i, 1] = L1[p] * sc + L2[p] * sb
+            rate[p, i, 0] = L1[p] * sc - L2[p] * turn * sb
+            rate[p, i, 1] = -L1[p] * cc + L2[p] * turn * cb
+
