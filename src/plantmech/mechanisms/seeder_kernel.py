@@ -240,3 +240,236 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
             rate[p, i, 0] = L1[p] * sc - L2[p] * turn * sb
             rate[p, i, 1] = -L1[p] * cc + L2[p] * turn * cb
 
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _nan_min(m, v):
+    """min that keeps a NaN once seen (numpy's ``min``)."""
+    return v if (v < m or v != v) and m == m else m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _nan_max(m, v):
+    """max that keeps a NaN once seen (numpy's ``max``)."""
+    return v if (v > m or v != v) and m == m else m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _curvature(rho, drho, ddrho, dphi, ddphi):
+    """(signed radius of curvature, arc speed) of a polar curve (rho(t), phi(t)) from its
+    t-derivatives: ``geometry.periodic.polar_curvature_radius`` for one sample."""
+    num = rho * rho * (dphi * dphi * dphi) + 2 * (drho * drho) * dphi - rho * ddrho * dphi \
+        + rho * drho * ddphi
+    speed = np.sqrt(drho * drho + (rho * dphi) * (rho * dphi))
+    return (np.inf if num == 0 else speed * speed * speed / num), speed
+
+
+@njit(cache=True, error_model="numpy")
+def pitch_extremes_rows(x, R, Sl, c, a, M, out):
+    """Per design p: the shape extremes of gear and mate of one external pair (a gear's
+    radii R (P, N) with node slopes Sl at knots x (N + 1), its body angle c (P,) at the
+    start, centre distance a (P,), M samples over a turn of the gear, as
+    ``manufacturability.shape_pair`` samples them): out (P, 14) = per curve (gear, then
+    the mate rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2) 6 columns: the
+    smallest convex radius of curvature, the smallest concave one (magnitude; inf where
+    none), the smallest radius, the perimeter (arc speed summed times the step), the
+    smallest curvature x radius and the number of concave spans (cyclic; one when all is
+    concave); then the largest angle mu = atan(|r'| / r) (rad) between the pitch tangent
+    and the normal to the radius vector, and the largest |mu| (NaN kept as numpy's min and
+    max keep it)."""
+    P, N = R.shape
+    step = TWO_PI / M
+    acc = np.empty(12)
+    for p in range(P):
+        for col in (0, 6):
+            acc[col] = acc[col + 1] = acc[col + 2] = acc[col + 4] = np.inf
+            acc[col + 3] = acc[col + 5] = 0.0
+        ratio_max = ratio_abs = -np.inf
+        prev = np.zeros(2, dtype=np.bool_)
+        first = np.zeros(2, dtype=np.bool_)
+        every = np.ones(2, dtype=np.bool_)
+        ap = a[p]
+        k = 0
+        for j in range(M):
+            # the angle as the matrix path wrapped it (a knot on a sample takes the span
+            # that starts there, where the second derivative of a C1 curve jumps)
+            u = x[0] + ((j * step + c[p]) - x[0]) % TWO_PI
+            if u < x[k]:
+                k = 0
+            while k < N - 1 and x[k + 1] <= u:
+                k += 1
+            hk = x[k + 1] - x[k]
+            t = (u - x[k]) / hk
+            k1 = k + 1 if k + 1 < N else 0
+            y0, y1 = R[p, k], R[p, k1]
+            d0, d1 = Sl[p, k] * hk, Sl[p, k1] * hk
+            t2 = t * t
+            t3 = t2 * t
+            dy = y0 - y1
+            r = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+            r1 = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                  + (3 * t2 - 2 * t) * d1) / hk
+            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) / (hk * hk)
+            m = ap - r
+            for curve in range(2):
+                if curve == 0:
+                    rho = r
+                    rc, speed = _curvature(r, r1, r2, 1.0, 0.0)
+                else:
+                    rho = m
+                    rc, speed = _curvature(m, -r1, -r2, r / m, ap * r1 / (m * m))
+                col = 6 * curve
+                if rc > 0 and rc < acc[col]:
+                    acc[col] = rc
+                if rc < 0 and -rc < acc[col + 1]:
+                    acc[col + 1] = -rc
+                acc[col + 2] = _nan_min(acc[col + 2], rho)
+                acc[col + 3] += speed
+                kappa = 1.0 / rc
+                acc[col + 4] = _nan_min(acc[col + 4], kappa * rho)
+                concave = kappa < 0
+                if j == 0:
+                    first[curve] = concave
+                elif concave and not prev[curve]:
+                    acc[col + 5] += 1.0
+                prev[curve] = concave
+                every[curve] = every[curve] and concave
+            # atan is monotonic: the largest angle is the angle of the largest |r'| / r
+            ratio = np.abs(r1) / r
+            ratio_max = _nan_max(ratio_max, ratio)
+            ratio_abs = _nan_max(ratio_abs, abs(ratio))
+        for curve in range(2):
+            col = 6 * curve
+            if first[curve] and not prev[curve]:  # a span starting at sample 0 (cyclic)
+                acc[col + 5] += 1.0
+            if every[curve]:
+                acc[col + 5] += 1.0
+            acc[col + 3] *= step
+        for i in range(12):
+            out[p, i] = acc[i]
+        out[p, 12] = np.arctan(ratio_max)
+        out[p, 13] = np.arctan(ratio_abs)
+
+
+@njit(cache=True, error_model="numpy")
+def locate_rows(tip, psi, points, near, out):
+    """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
+    section point (K, 2) among the samples ``near`` (K, S) of its reference angle, refined
+    by the parabola through the squared distances at the closest sample and its two
+    neighbours (``objectives.seeder_population.locate_sections`` / ``refine_minimum``):
+    out (P, K). The first smallest sample wins; a NaN distance is taken as numpy's argmin
+    takes it (the first NaN)."""
+    P, S = tip.shape[0], tip.shape[1]
+    step = psi[1] - psi[0]
+    for p in range(P):
+        for j in range(points.shape[0]):
+            px, py = points[j, 0], points[j, 1]
+            best = np.inf
+            k = 0
+            found = False
+            for i in range(S):
+                if not near[j, i]:
+                    continue
+                d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
+                if d2 != d2:
+                    k = i
+                    break
+                if not found or d2 < best:
+                    best, k, found = d2, i, True
+            km, kp = (k - 1) % S, (k + 1) % S
+            a = (tip[p, km, 0] - px) ** 2 + (tip[p, km, 1] - py) ** 2
+            b = (tip[p, k, 0] - px) ** 2 + (tip[p, k, 1] - py) ** 2
+            c = (tip[p, kp, 0] - px) ** 2 + (tip[p, kp, 1] - py) ** 2
+            curv = a - 2.0 * b + c
+            t = 0.5 * (a - c) / curv if curv > 0 else 0.0
+            t = min(max(t, -0.5), 0.5)
+            out[p, j] = (psi[k] + t * step) % TWO_PI
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _at_row(psi, values, where):
+    """values (S,) at carrier angle ``where`` (rad), linear between the uniform samples
+    psi (periodic): ``seeder_population._at`` for one design."""
+    S = values.shape[0]
+    f = (where % TWO_PI) / (psi[1] - psi[0])
+    fl = np.floor(f)
+    k = int(fl) % S
+    t = f - fl
+    return (1.0 - t) * values[k] + t * values[(k + 1) % S]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _speed_at(psi, vx, vy, where, travel):
+    """The speed samples |(vx - travel, vy)| (S,) at carrier angle ``where``, linear
+    between the uniform samples (periodic), as ``_at`` interpolates them."""
+    S = vx.shape[0]
+    f = (where % TWO_PI) / (psi[1] - psi[0])
+    fl = np.floor(f)
+    k = int(fl) % S
+    k1 = (k + 1) % S
+    t = f - fl
+    return ((1.0 - t) * np.hypot(vx[k] - travel, vy[k])
+            + t * np.hypot(vx[k1] - travel, vy[k1]))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _in_section(psi_i, start, span):
+    return (psi_i - start) % TWO_PI <= span
+
+
+@njit(cache=True, error_model="numpy")
+def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
+                            out):
+    """Section-4.1 values of every design (what ``section_swing``, ``_at`` and
+    ``section_extreme`` of ``objectives.seeder_population`` gave, fused): the attitude
+    rel = (angle - angle[:, 0]) * angle_scale (deg) of angles (P, S), the tip velocity
+    rate * rate_scale (m/s) of rates (P, S, 2), section angles ``sec`` (P, 6) rad of a..f,
+    the travel speed (P,) m/s when ``given`` (else the horizontal tip speed at e, Eq. 18).
+    out (P, 8): picking swing (ab), seeding swing (de) (largest |rel - rel(start)|), the
+    attitude at e (signed), the horizontal speed at e, the travel speed, the seeding
+    section's peak static speed (de), the return section's least static and least dynamic
+    speed (ef). Section ends are interpolated and included; NaN is kept as numpy's max and
+    min keep it."""
+    P, S = angle.shape
+    rel = np.empty(S)
+    vx = np.empty(S)
+    vy = np.empty(S)
+    for p in range(P):
+        for i in range(S):
+            rel[i] = (angle[p, i] - angle[p, 0]) * angle_scale
+            vx[i] = rate[p, i, 0] * rate_scale
+            vy[i] = rate[p, i, 1] * rate_scale
+        for col, s0, s1 in ((0, 0, 1), (1, 3, 4)):  # attitude swings over ab and de
+            start, end = sec[p, s0], sec[p, s1]
+            ref = _at_row(psi, rel, start)
+            span = (end - start) % TWO_PI
+            dev = -np.inf
+            for i in range(S):
+                d = abs(rel[i] - ref) if _in_section(psi[i], start, span) else 0.0
+                dev = _nan_max(dev, d)
+            out[p, col] = _nan_max(dev, abs(_at_row(psi, rel, end) - ref))
+        d_, e, f = sec[p, 3], sec[p, 4], sec[p, 5]
+        out[p, 2] = _at_row(psi, rel, e)
+        vx_e = _at_row(psi, vx, e)
+        tr = travel[p] if given else vx_e
+        out[p, 3] = vx_e
+        out[p, 4] = tr
+        span_de = (e - d_) % TWO_PI
+        span_ef = (f - e) % TWO_PI
+        peak = -np.inf
+        low_s = np.inf
+        low_d = np.inf
+        for i in range(S):
+            st = np.hypot(vx[i], vy[i])
+            if _in_section(psi[i], d_, span_de):
+                peak = _nan_max(peak, st)
+            if _in_section(psi[i], e, span_ef):
+                low_s = _nan_min(low_s, st)
+                low_d = _nan_min(low_d, np.hypot(vx[i] - tr, vy[i]))
+        # the section ends: the speed samples interpolated
+        for w in (d_, e):
+            peak = _nan_max(peak, _speed_at(psi, vx, vy, w, 0.0))
+        for w in (e, f):
+            low_s = _nan_min(low_s, _speed_at(psi, vx, vy, w, 0.0))
+            low_d = _nan_min(low_d, _speed_at(psi, vx, vy, w, tr))
+        out[p, 5], out[p, 6], out[p, 7] = peak, low_s, low_d
