@@ -40,7 +40,8 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
                 u0 -= TWO_PI
                 u -= TWO_PI
         hk = x[k + 1] - x[k]
-        t = (u - x[k]) / hk
+        inv = 1.0 / hk  # per sample: LLVM keeps it while k stays
+        t = (u - x[k]) * inv
         k1 = k + 1 if k + 1 < n else 0
         y0, y1 = radii[k], radii[k1]
         d0, d1 = slopes[k] * hk, slopes[k1] * hk
@@ -49,7 +50,7 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
         dy = y0 - y1
         value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
         slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
-                    + (3 * t2 - 2 * t) * d1) / hk
+                    + (3 * t2 - 2 * t) * d1) * inv
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
@@ -110,8 +111,9 @@ def _running_integral(y, D, h, cp, piv, s, out):
     q0 = (y[1] - y[0]) / h
     q1 = (y[2] - y[1]) / h
     s[0] = (0.5 * (5.0 * q0 + q1)) * piv[0]
+    three_over_h = 3.0 / h
     for i in range(1, n - 1):
-        d = 3.0 * ((y[i] - y[i - 1]) + (y[i + 1] - y[i])) / h
+        d = ((y[i] - y[i - 1]) + (y[i + 1] - y[i])) * three_over_h
         s[i] = (d - s[i - 1]) * piv[i]
     qa = (y[n - 2] - y[n - 3]) / h
     qb = (y[n - 1] - y[n - 2]) / h
@@ -121,8 +123,9 @@ def _running_integral(y, D, h, cp, piv, s, out):
     out[0] = 0.0
     acc = 0.0
     hh = h * h / 12.0
+    half = 0.5 * h
     for i in range(D):
-        acc += 0.5 * h * (y[i] + y[i + 1]) + hh * (s[i] - s[i + 1])
+        acc += half * (y[i] + y[i + 1]) + hh * (s[i] - s[i + 1])
         out[i + 1] = acc
 
 
