@@ -55,43 +55,53 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
 def _turn_sums(r, D, a):
-    """sum_k r_k / (a - r_k) and sum_k r_k / (a - r_k)^2 over r[:D] (reassociated: SIMD)."""
+    """sum_k r_k / (a - r_k)^j for j = 1, 2, 3 over r[:D] (reassociated: SIMD)."""
     f = 0.0
     df = 0.0
+    ddf = 0.0
     for j in range(D):
         q = 1.0 / (a - r[j])
-        f += r[j] * q
-        df += r[j] * q * q
-    return f, df
+        rq = r[j] * q
+        f += rq
+        df += rq * q
+        ddf += rq * q * q
+    return f, df, ddf
 
 
 @njit(cache=True, error_model="numpy")
 def _closing_centre_distance(r, D, turn):
-    """a with mean_k r_k / (a - r_k) * 2 pi = turn over r[:D] (``solve_centre_distances``
-    for one design): Newton from a point left of the root, where the convex decreasing
-    left side is positive. The circle's centre distance at the mean radius, rbar (1 + 2 pi /
-    turn), is such a point (Jensen: mean r / (a - r) >= rbar / (a - rbar)) when it lies
-    beyond max r; else the gap to max r is halved from 2 rbar until the side is positive."""
+    """a with mean_k r_k / (a - r_k) * 2 pi = turn over r[:D] (the root
+    ``gears.closure.solve_centre_distances`` finds, to the same 1e-12 relative step):
+    Halley's iteration (Newton's where Halley's correction is large) from a point left of
+    the root, where the convex decreasing left side is positive. The circle's centre
+    distance at the mean radius, rbar (1 + 2 pi / turn), is such a point (Jensen:
+    mean r / (a - r) >= rbar / (a - rbar)) when it lies beyond max r; else the gap to
+    max r is halved from 2 rbar until the side is positive."""
     rmax = r[0]
     tot = 0.0
     for j in range(D):
         tot += r[j]
         if r[j] > rmax:
             rmax = r[j]
+    w = TWO_PI / D
     a = tot / D * (1.0 + TWO_PI / turn)
     if not a > rmax:
         a = 2.0 * tot / D
         for _ in range(60):
-            if not a > rmax:
-                a = rmax + 0.5 * (a - rmax)
-                continue
-            f, _df = _turn_sums(r, D, a)
-            if f / D * TWO_PI - turn > 0:
-                break
+            if a > rmax:
+                f, _df, _ddf = _turn_sums(r, D, a)
+                if f * w - turn > 0:
+                    break
             a = rmax + 0.5 * (a - rmax)
     for _ in range(100):
-        f, df = _turn_sums(r, D, a)
-        step = (f / D * TWO_PI - turn) / (df / D * TWO_PI)
+        f, df, ddf = _turn_sums(r, D, a)
+        f = f * w - turn
+        df = -df * w
+        ddf = 2.0 * ddf * w
+        step = -f / df
+        den = 1.0 + 0.5 * step * ddf / df  # Halley: step / (1 - f f'' / (2 f'^2))
+        if den > 0.5:
+            step = step / den
         a = a + step
         if abs(step) <= 1e-12 * a:
             break
@@ -214,10 +224,12 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
             y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
             d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
             s = (tg - y0) / max(y1 - y0, 1e-300)
-            for _ in range(3):
+            for _ in range(3):  # Newton on the cubic (3 steps at most, as before)
                 val = _hermite(y0, y1, d0, d1, h, s) - tg
-                s = s - val / _hermite_slope(y0, y1, d0, d1, h, s)
-                s = min(max(s, 0.0), 1.0)
+                ds = val / _hermite_slope(y0, y1, d0, d1, h, s)
+                s = min(max(s - ds, 0.0), 1.0)
+                if abs(ds) < 1e-15:
+                    break
             gear2[p, i] = kk * h + s * h
             rel = _hermite(planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1], h, s)
             r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
