@@ -109,38 +109,46 @@ def _closing_centre_distance(r, D, turn):
 
 
 @njit(cache=True, error_model="numpy")
-def _running_integral(y, D, h, cp, piv, s, out):
-    """Running integral out[0..D] (out[0] = 0) of the not-a-knot cubic spline through
-    the D + 1 samples y at uniform step h (the spline SciPy's ``CubicSpline(t, y)`` builds,
-    whose ``antiderivative()`` the population code used): node slopes s from the
+def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
+    """Running integrals outa, outb [0..D] (from 0) of the not-a-knot cubic splines through
+    the D + 1 samples ya, yb at uniform step h (the splines SciPy's ``CubicSpline(t, y)``
+    builds, whose ``antiderivative()`` the population code used): node slopes s from the
     tridiagonal system s[i-1] + 4 s[i] + s[i+1] = 3 (q[i-1] + q[i]) (q the chord slopes),
     s[0] + 2 s[1] = (5 q[0] + q[1]) / 2 and 2 s[D-1] + s[D] = (q[D-2] + 5 q[D-1]) / 2 at
     the ends, by the Thomas sweep with the shared factors ``cp``, ``piv``
-    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12."""
+    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12.
+    Two rows at once: each sweep is a chain of dependent operations, two independent
+    chains side by side keep the core busy. sa, sb: scratch rows (D + 1)."""
     n = D + 1
-    q0 = (y[1] - y[0]) / h
-    q1 = (y[2] - y[1]) / h
-    s[0] = (0.5 * (5.0 * q0 + q1)) * piv[0]
     three_over_h = 3.0 / h
+    sa[0] = (0.5 * (5.0 * ((ya[1] - ya[0]) / h) + (ya[2] - ya[1]) / h)) * piv[0]
+    sb[0] = (0.5 * (5.0 * ((yb[1] - yb[0]) / h) + (yb[2] - yb[1]) / h)) * piv[0]
     for i in range(1, n - 1):
-        d = ((y[i] - y[i - 1]) + (y[i + 1] - y[i])) * three_over_h
-        s[i] = (d - s[i - 1]) * piv[i]
-    qa = (y[n - 2] - y[n - 3]) / h
-    qb = (y[n - 1] - y[n - 2]) / h
-    s[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s[n - 2]) * piv[n - 1]
+        da = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h
+        db = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h
+        sa[i] = (da - sa[i - 1]) * piv[i]
+        sb[i] = (db - sb[i - 1]) * piv[i]
+    for y, s_ in ((ya, sa), (yb, sb)):
+        qa = (y[n - 2] - y[n - 3]) / h
+        qb = (y[n - 1] - y[n - 2]) / h
+        s_[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s_[n - 2]) * piv[n - 1]
     for i in range(n - 2, -1, -1):
-        s[i] -= cp[i] * s[i + 1]
-    out[0] = 0.0
-    acc = 0.0
+        sa[i] -= cp[i] * sa[i + 1]
+        sb[i] -= cp[i] * sb[i + 1]
+    outa[0] = outb[0] = 0.0
+    acca = 0.0
+    accb = 0.0
     hh = h * h / 12.0
     half = 0.5 * h
     for i in range(D):
-        acc += half * (y[i] + y[i + 1]) + hh * (s[i] - s[i + 1])
-        out[i + 1] = acc
+        acca += half * (ya[i] + ya[i + 1]) + hh * (sa[i] - sa[i + 1])
+        accb += half * (yb[i] + yb[i + 1]) + hh * (sb[i] - sb[i + 1])
+        outa[i + 1] = acca
+        outb[i + 1] = accb
 
 
 def spline_factors(D: int):
-    """Shared factors of the not-a-knot system of ``_running_integral`` on D + 1 uniform
+    """Shared factors of the not-a-knot system of ``_running_integrals`` on D + 1 uniform
     samples: the Thomas sweep's modified super-diagonal ``cp`` and reciprocal pivots."""
     n = D + 1
     sub = np.ones(n)
@@ -199,6 +207,7 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
     sun = np.empty(D + 1)
     planet = np.empty(D + 1)
     slopes = np.empty(D + 1)
+    slopes_b = np.empty(D + 1)
     span = TWO_PI - theta1
     for p in range(P):
         _along(x, R2[p], S2[p], N, c2[p], h, D, r2, dr2)
@@ -209,8 +218,7 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
         for j in range(D + 1):
             f_sun[j] = r2[j] / (a1 - r2[j])
             f_pl[j] = r3[j] / (a2 - r3[j])
-        _running_integral(f_sun, D, h, cp, piv, slopes, sun)
-        _running_integral(f_pl, D, h, cp, piv, slopes, planet)
+        _running_integrals(f_sun, f_pl, D, h, cp, piv, slopes, slopes_b, sun, planet)
         closure[p, 0] = abs(sun[D] + theta1 - TWO_PI)
         closure[p, 1] = abs(planet[D] - TWO_PI)
         scale = span / sun[D]
