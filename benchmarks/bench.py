@@ -114,7 +114,8 @@ def main() -> None:
         d = design.model_copy(deep=True)
         d.trajectory.samples = samples
         t = timeit(lambda d=d: run_seeder_inverse(d))
-        print(f"inverse design (checks included), {samples} samples: {t * 1e3:.1f} ms")
+        print(f"inverse design (checks included), {samples} samples: {t * 1e3:.1f} ms "
+              f"(load average {os.getloadavg()[0]:.1f})")
     from plantmech.mechanisms.seeder_forward import simulate
     from plantmech.verification import train_from_inverse
 
@@ -150,7 +151,7 @@ def main() -> None:
             t4, R2, R3, samples=s, dense=d), repeat=2)
         print(f"population evaluation (Hermite, dwell, solved centre distances, located "
               f"sections, every objective), {P} designs x {samples} samples: {t:.2f} s "
-              f"({P / t:.0f} designs/s)")
+              f"({P / t:.0f} designs/s; load average {os.getloadavg()[0]:.1f})")
     from plantmech.workflows import evaluate_transplanter_population, run_transplanter
 
     rice = load_design(ROOT / "examples" / "rice_transplanter.toml")

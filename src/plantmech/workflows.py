@@ -170,20 +170,25 @@ def run_seeder_forward(design: SeederDesign) -> SeederForwardJob:
         train, fixes = train_from_design(design)
         samples = design.train.samples
     res = simulate(train, samples=samples)
-    dist = None
-    if design.train is not None and design.train.sections_deg is not None:
-        section_psi = {k: float(np.radians(v))
-                       for k, v in design.train.sections_deg.model_dump().items()}
-    elif inv is not None:
-        pc = inv.result.point_carrier_angle
-        section_psi = {k: float(pc[i]) for k, i in inv.sections.items()}
-    else:
-        section_psi, dist = locate_section_points(
-            res.tip, res.carrier_angle, traj.points, design.trajectory.sections.model_dump())
+    section_psi, dist = _section_angles(design, res, inv, traj)
     job = SeederForwardJob(design, train, fixes, res, section_psi, dist, 0.0, {}, traj, inv)
     _evaluate_forward(job)
     job.summary = forward_summary(job)
     return job
+
+
+def _section_angles(design: SeederDesign, res, inv, traj) -> tuple[dict, dict | None]:
+    """Carrier angles (rad) of the section points a..f of a simulated train ``res``: the
+    design's ``sections_deg``, else those of the inverse design ``inv`` behind it, else
+    located on its tip path (with the distances it misses them by, mm)."""
+    if design.train is not None and design.train.sections_deg is not None:
+        return {k: float(np.radians(v))
+                for k, v in design.train.sections_deg.model_dump().items()}, None
+    if inv is not None:
+        pc = inv.result.point_carrier_angle
+        return {k: float(pc[i]) for k, i in inv.sections.items()}, None
+    return locate_section_points(res.tip, res.carrier_angle, traj.points,
+                                 design.trajectory.sections.model_dump())
 
 
 def _evaluate_forward(job: SeederForwardJob) -> None:
@@ -293,10 +298,33 @@ class SeederPopulation:
 
 def section_reference_psi(design: SeederDesign) -> np.ndarray:
     """Carrier angles (6,) rad where the design's own train passes the section points
-    a..f (the forward job's located sections): where ``evaluate_seeder_population``
-    searches each variant's. Depends on the design only: optimizers compute it once."""
-    base = run_seeder_forward(design)
-    return np.array([base.section_psi[k] for k in "abcdef"])
+    a..f (the forward job's ``section_psi``: its simulation and section location, without
+    its objectives): where ``evaluate_seeder_population`` searches each variant's.
+    Depends on the design only, so it is kept per design content (the last 16; a
+    read-only array)."""
+    key = design.model_dump_json()
+    hit = _REFERENCE_PSI.get(key)
+    if hit is not None:
+        return hit
+    if design.train is None:
+        section_psi = run_seeder_forward(design).section_psi
+    else:
+        from plantmech.mechanisms.seeder_forward import simulate
+
+        train, _ = train_from_design(design)
+        traj = (None if design.trajectory is None else
+                ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float)))
+        res = simulate(train, samples=design.train.samples)
+        section_psi, _ = _section_angles(design, res, None, traj)
+    out = np.array([section_psi[k] for k in "abcdef"])
+    out.flags.writeable = False
+    if len(_REFERENCE_PSI) >= 16:
+        _REFERENCE_PSI.pop(next(iter(_REFERENCE_PSI)))
+    _REFERENCE_PSI[key] = out
+    return out
+
+
+_REFERENCE_PSI: dict[str, np.ndarray] = {}
 
 
 # per-design overrides of [train] / [operation] scalars for populations (name -> (P,));

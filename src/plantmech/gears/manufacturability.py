@@ -187,6 +187,33 @@ def _argmin_angle(values: np.ndarray, angle: np.ndarray) -> np.ndarray:
     return np.degrees(np.mod(np.take_along_axis(ang, k[:, None], 1)[:, 0], 2 * np.pi))
 
 
+def module_bounds(name: str, convex_min, concave_min, radius_min, perimeter,
+                  rules: CuttingRules, internal: bool = False) -> dict:
+    """Upper module bounds (mm, (P,)) of one gear from its extremes: the smallest convex
+    and concave (magnitude) radius of curvature on its toothed spans (inf where none), its
+    smallest pitch radius and its perimeter (mm, (P,) each): undercut / pointed teeth,
+    shaper-cut concave spans, the hub (external gears) and the tooth count."""
+    bounds = {f"undercut/pointed {name}": 2.0 * np.asarray(convex_min)
+              / rules.min_equivalent_teeth,
+              # an internal gear is cut by a shaper everywhere: its concave spans too
+              f"concave span {name}": 2.0 * np.asarray(concave_min)
+              / (rules.min_cutter_teeth + rules.min_internal_difference)}
+    if not internal:  # a ring's material (its rim) lies outside: no hub question
+        bounds[f"hub {name}"] = ((np.asarray(radius_min) - rules.min_bore_mm / 2.0)
+                                 / (rules.dedendum + rules.hub_modules))
+    bounds[f"teeth {name}"] = np.asarray(perimeter) / (np.pi * rules.min_teeth)
+    return bounds
+
+
+def module_high(bounds: dict) -> np.ndarray:
+    """The largest module (P,) mm all ``bounds`` allow (a NaN bound does not bind)."""
+    high = None
+    for b in bounds.values():
+        b = np.where(np.isnan(b), np.inf, b)
+        high = b if high is None else np.minimum(high, b)
+    return high
+
+
 def _gear_bounds(g: GearShape, rules: CuttingRules) -> tuple[dict, dict]:
     """Upper module bounds (mm, (P,)) of one gear and where each binds (body angle, deg)."""
     rho = np.asarray(g.curvature_radius, dtype=float)
@@ -194,19 +221,13 @@ def _gear_bounds(g: GearShape, rules: CuttingRules) -> tuple[dict, dict]:
     big = np.inf
     convex = np.where(mask & (rho > 0), rho, big)
     concave = np.where(mask & (rho < 0), -rho, big)
-    bounds, where = {}, {}
-    bounds[f"undercut/pointed {g.name}"] = 2.0 * convex.min(axis=1) / rules.min_equivalent_teeth
-    where[f"undercut/pointed {g.name}"] = (g.name, _argmin_angle(convex, g.angle))
-    # an internal gear is cut by a shaper everywhere: its concave (material) spans too
-    bounds[f"concave span {g.name}"] = (2.0 * concave.min(axis=1)
-                                        / (rules.min_cutter_teeth + rules.min_internal_difference))
-    where[f"concave span {g.name}"] = (g.name, _argmin_angle(concave, g.angle))
-    if not g.internal:  # a ring's material (its rim) lies outside: no hub question
-        r = np.where(mask, g.radius, big)
-        bounds[f"hub {g.name}"] = ((r.min(axis=1) - rules.min_bore_mm / 2.0)
-                                   / (rules.dedendum + rules.hub_modules))
+    r = np.where(mask, g.radius, big)
+    bounds = module_bounds(g.name, convex.min(axis=1), concave.min(axis=1), r.min(axis=1),
+                           g.perimeter, rules, g.internal)
+    where = {f"undercut/pointed {g.name}": (g.name, _argmin_angle(convex, g.angle)),
+             f"concave span {g.name}": (g.name, _argmin_angle(concave, g.angle))}
+    if not g.internal:
         where[f"hub {g.name}"] = (g.name, _argmin_angle(r, g.angle))
-    bounds[f"teeth {g.name}"] = np.asarray(g.perimeter) / (np.pi * rules.min_teeth)
     where[f"teeth {g.name}"] = (g.name, np.full(rho.shape[0], np.nan))
     return bounds, where
 
@@ -224,9 +245,7 @@ def assess_pair(pair: PairShape, rules: CuttingRules) -> PairVerdict:
         where[f"internal difference {pair.name}"] = (pair.gears[0].name,
                                                      _argmin_angle(d, pair.gears[0].angle))
     P = np.asarray(pair.mu).shape[0]
-    high = np.full(P, np.inf)
-    for b in bounds.values():
-        high = np.minimum(high, np.where(np.isnan(b), np.inf, b))
+    high = np.minimum(np.full(P, np.inf), module_high(bounds))
     low = np.full(P, rules.min_module_mm)
     if pair.module is not None:
         module = np.broadcast_to(np.asarray(pair.module, dtype=float), (P,)).copy()

@@ -144,22 +144,31 @@ def _extreme_radii(traj: ClosedTrajectory) -> tuple[tuple[float, float], tuple[f
     return tuple(out)
 
 
-def _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner):
-    """Absolute carrier angle phi_1 = beta_3 + sigma*beta_1 (Eq. 2-3), unwrapped.
-
-    sigma switches sign where the curve touches rho = L1+L2 and rho = L2-L1
-    (beta_1 = 0 and pi): it is ``sigma_inner`` on the arc from u_min to u_max
-    (in traversal order) and its opposite on the other arc.
-    """
+def _carrier_geometry(traj, u, L1, L2, u_min, u_max):
+    """The parts of the carrier direction both assembly branches share at parameters u:
+    (tip xy, its polar angle beta_3, the unsigned angle beta_1 at O between the carrier
+    and the tip (Eq. 2-3), whether u lies on the arc from u_min to u_max)."""
     xy = traj(u)
     rho = np.hypot(xy[:, 0], xy[:, 1])
     beta3 = np.arctan2(xy[:, 1], xy[:, 0])
     cos_b1 = np.clip((L1**2 + rho**2 - L2**2) / (2 * L1 * rho), -1.0, 1.0)
     period = traj.period
     on_inner = np.mod(u - u_min, period) < np.mod(u_max - u_min, period)
-    sigma = np.where(on_inner, sigma_inner, -sigma_inner)
-    signed_sin = sigma * np.sqrt(np.clip(1.0 - cos_b1**2, 0.0, None))
-    return beta3 + np.arctan2(signed_sin, cos_b1), xy
+    return xy, beta3, np.arctan2(np.sqrt(np.clip(1.0 - cos_b1**2, 0.0, None)), cos_b1), \
+        on_inner
+
+
+def _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner, geometry=None):
+    """Absolute carrier angle phi_1 = beta_3 + sigma*beta_1 (Eq. 2-3), and the tip xy.
+
+    sigma switches sign where the curve touches rho = L1+L2 and rho = L2-L1
+    (beta_1 = 0 and pi): it is ``sigma_inner`` on the arc from u_min to u_max
+    (in traversal order) and its opposite on the other arc. ``geometry``: the
+    ``_carrier_geometry`` at u when already known (atan2 is odd in its first argument,
+    so the sign may multiply beta_1).
+    """
+    xy, beta3, beta1, on_inner = geometry or _carrier_geometry(traj, u, L1, L2, u_min, u_max)
+    return beta3 + np.where(on_inner, sigma_inner, -sigma_inner) * beta1, xy
 
 
 def dense_grid_size(samples: int, points: int) -> int:
@@ -251,8 +260,9 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     m = dense_grid_size(n, len(traj.points))
     u_dense = u_max + np.linspace(0.0, traj.period, m + 1)
     best = None
+    shared = _carrier_geometry(traj, u_dense, L1, L2, u_min, u_max)
     for sigma_inner in (1.0, -1.0):
-        phi, _ = _carrier_direction(traj, u_dense, L1, L2, u_min, u_max, sigma_inner)
+        phi, _ = _carrier_direction(traj, u_dense, L1, L2, u_min, u_max, sigma_inner, shared)
         phi = np.unwrap(phi)
         if abs((phi[-1] - phi[0]) + TWO_PI) < 1e-3:  # clockwise, one revolution
             best = (sigma_inner, phi)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from plantmech.geometry.trajectory_batch import TrajectoryBatch
-from plantmech.objectives.seeder_population import _at, section_extreme, section_swing
+from plantmech.objectives.seeder_population import section_values
 
 TWO_PI = 2.0 * np.pi
 PLANNING = ("small_ring_height", "small_ring_width", "large_ring_height", "large_ring_width",
@@ -96,17 +96,20 @@ def planning_values(tb: TrajectoryBatch, sections: dict[str, int]):
     return values, reason
 
 
+def _sections(point_psi, sections: dict[str, int]) -> np.ndarray:
+    """(P, 6) carrier angles (rad) of the section points a..f."""
+    return np.stack([point_psi[:, sections[k]] for k in "abcdef"], axis=1)
+
+
 def attitude_values(psi, arm_deg, point_psi, sections: dict[str, int]) -> np.ndarray:
     """(P, 3) picking swing, seeding swing, |sowing angle| (deg, to 4 decimals as
     ``attitude_checks`` reports them): the arm attitude relative to the initial one,
-    largest change from a within ab, from d within de, and its value at e."""
-    rel = arm_deg - arm_deg[:, :1]
-    pp = {k: point_psi[:, v] for k, v in sections.items()}
-    out = np.empty((rel.shape[0], 3))
-    for col, (s, e) in enumerate((("a", "b"), ("d", "e"))):
-        out[:, col] = np.round(section_swing(psi, rel, pp[s], pp[e]), 4)
-    out[:, 2] = np.abs(np.round(_at(psi, rel, pp["e"]), 4))
-    return out
+    largest change from a within ab, from d within de, and its value at e
+    (``seeder_population.section_values``)."""
+    P, n = np.shape(arm_deg)
+    vals = section_values(psi, arm_deg, _sections(point_psi, sections), np.zeros((P, n, 2)))
+    return np.c_[np.round(vals[:, 0], 4), np.round(vals[:, 1], 4),
+                 np.abs(np.round(vals[:, 2], 4))]
 
 
 def speed_values(psi, velocity, point_psi, sections: dict[str, int],
@@ -114,14 +117,9 @@ def speed_values(psi, velocity, point_psi, sections: dict[str, int],
     """((P, 3) seeding peak (static, over de), return minimum static and dynamic (over
     ef) in m/s; travel speeds (P,) m/s) from tip velocities (P, n, 2) m/s. ``travel_m_s``
     None: zero-speed seeding at e (the machine cancels the tip's horizontal velocity
-    there, seed 000 Eq. 18 as read in docs/conventions.md)."""
-    vx, vy = velocity[..., 0], velocity[..., 1]
-    pd, pe, pf = (point_psi[:, sections[k]] for k in ("d", "e", "f"))
-    travel = (_at(psi, vx, pe) if travel_m_s is None
-              else np.full(len(pe), float(travel_m_s)))
-    static = np.hypot(vx, vy)
-    dynamic = np.hypot(vx - travel[:, None], vy)
-
-    return np.c_[section_extreme(psi, static, pd, pe, True),
-                 section_extreme(psi, static, pe, pf, False),
-                 section_extreme(psi, dynamic, pe, pf, False)], travel
+    there, seed 000 Eq. 18 as read in docs/conventions.md)
+    (``seeder_population.section_values``)."""
+    P, n = np.shape(velocity)[:2]
+    vals = section_values(psi, np.zeros((P, n)), _sections(point_psi, sections), velocity,
+                          travel_m_s=None if travel_m_s is None else float(travel_m_s))
+    return vals[:, 5:8], vals[:, 4]

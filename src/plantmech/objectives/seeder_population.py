@@ -37,104 +37,89 @@ def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
                     reference: np.ndarray, window: float = np.radians(40.0)) -> np.ndarray:
     """(P, 6) carrier angles (rad) where each design's tip passes closest to each
     section point (6, 2), searched within +-window of the reference angles (6,), refined
-    between samples (``refine_minimum``)."""
-    P = tip.shape[0]
-    out = np.empty((P, len(points)))
-    step = float(psi[1] - psi[0])
-    for j, (pt, ref) in enumerate(zip(points, reference, strict=True)):  # 6 points
-        d2 = (tip[..., 0] - pt[0]) ** 2 + (tip[..., 1] - pt[1]) ** 2
-        near = np.abs(np.angle(np.exp(1j * (psi - ref)))) <= window
-        k = np.argmin(np.where(near[None, :], d2, np.inf), axis=1)
-        shift, _ = refine_minimum(d2, k[:, None], step)
-        out[:, j] = np.mod(psi[k] + shift[:, 0], TWO_PI)
+    between samples (the parabola of ``refine_minimum``), one pass per design
+    (``seeder_kernel.locate_rows``)."""
+    from plantmech.mechanisms.seeder_kernel import locate_rows
+
+    psi = np.asarray(psi, dtype=float)
+    points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
+    reference = np.asarray(reference, dtype=float).reshape(-1)
+    near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
+    out = np.empty((tip.shape[0], len(points)))
+    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points, near, out)
     return out
 
 
-def _mask(psi, start, end):
-    """(P, S) membership of carrier angles psi (S,) in clockwise sections [start, end]
-    given per design (P,)."""
-    span = np.mod(end - start, TWO_PI)[:, None]
-    return np.mod(psi[None, :] - start[:, None], TWO_PI) <= span
+def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
+                   rate_scale: float = 1.0, travel_m_s=None) -> np.ndarray:
+    """Section-4.1 values (P, 8) of P designs sampled at uniform carrier angles psi (S,):
+    attitude rel = (angle - angle[:, 0]) * angle_scale (deg) from angles (P, S), tip
+    velocity rate * rate_scale (m/s) from rates (P, S, 2), sections a..f at
+    ``section_psi`` ((6,) or (P, 6) rad), travel speed ``travel_m_s`` (m/s, shared or (P,);
+    None: zero-speed seeding at e, the horizontal tip speed there, Eq. 18). Columns:
+    picking swing over ab and seeding swing over de (deg, largest change from the
+    section's start), attitude at e (deg, signed), horizontal tip speed at e, travel speed,
+    seeding peak static speed over de, return minimum static and dynamic speed over ef
+    (m/s); section ends interpolated and included. One pass per design
+    (``seeder_kernel.section_objectives_rows``): the forward population and the inverse
+    population (layer 1) both evaluate their sections here."""
+    from plantmech.mechanisms.seeder_kernel import section_objectives_rows
 
-
-def _at(psi, values, where):
-    """values (P, S) at angles ``where`` (P,) or (P, k), linearly interpolated between the
-    uniform samples psi (S,) (periodic)."""
-    S = values.shape[1]
-    w = np.asarray(where, dtype=float)
-    squeeze = w.ndim == 1
-    f = np.mod(w[:, None] if squeeze else w, TWO_PI) / (psi[1] - psi[0])
-    k = np.floor(f).astype(int) % S
-    t = f - np.floor(f)
-    rows = np.arange(values.shape[0])[:, None]
-    out = (1.0 - t) * values[rows, k] + t * values[rows, (k + 1) % S]
-    return out[:, 0] if squeeze else out
-
-
-def section_swing(psi, rel, start, end) -> np.ndarray:
-    """(P,) largest |rel - rel(start)| over the clockwise sections [start, end] (P,) of
-    rows ``rel`` (P, S) sampled at psi (S,), both section ends included."""
-    s = _at(psi, rel, start)
-    dev = np.where(_mask(psi, start, end), np.abs(rel - s[:, None]), 0.0)
-    return np.maximum(dev.max(axis=1), np.abs(_at(psi, rel, end) - s))
-
-
-def section_extreme(psi, values, start, end, largest: bool) -> np.ndarray:
-    """(P,) largest (or smallest) of rows ``values`` (P, S) over the clockwise sections
-    [start, end] (P,), the values at both section ends (interpolated) included."""
-    ends = _at(psi, values, np.c_[start, end])
-    if largest:
-        return np.maximum(np.where(_mask(psi, start, end), values, -np.inf).max(axis=1),
-                          ends.max(axis=1))
-    return np.minimum(np.where(_mask(psi, start, end), values, np.inf).min(axis=1),
-                      ends.min(axis=1))
+    angle = np.ascontiguousarray(np.asarray(angle, dtype=float))
+    P = angle.shape[0]
+    sec = np.ascontiguousarray(np.broadcast_to(np.asarray(section_psi, dtype=float), (P, 6)))
+    given = travel_m_s is not None
+    travel = np.ascontiguousarray(np.broadcast_to(
+        np.asarray(travel_m_s if given else 0.0, dtype=float), (P,)))
+    out = np.empty((P, 8))
+    section_objectives_rows(np.asarray(psi, dtype=float), angle, float(angle_scale),
+                            np.ascontiguousarray(np.asarray(rate, dtype=float)),
+                            float(rate_scale), sec, travel, given, out)
+    return out
 
 
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
-                        dense: int = 2048, turn_scale=None) -> dict:
-    """Shape of a gear (P, N radii) and of its mate at centre distance a (P,), vectorized:
-    ``shapes`` (gear, mate) as ``manufacturability.GearShape`` (signed radius of curvature
-    on the material, radius, body angle, perimeter), ``mu`` (P, dense) the angle (rad)
-    between the pitch tangent and the normal to the radius vector at the contact, and per
-    curve ``min_kappa_r`` (min curvature x radius: 1 for a circle, negative where concave),
-    ``concave_spans`` and ``min_radius_mm``.
+                        dense: int = 2048, rules=None,
+                        names: tuple[str, str] = ("gear", "mate")) -> dict:
+    """Shape of a gear (P, N radii at ``nodes``) and of its mate at centre distance a (P,),
+    at ``dense`` body angles from ``contact0`` (shared or (P,)), and what it allows
+    (``gears.manufacturability``): per curve ("gear", "mate") ``min_kappa_r`` (min
+    curvature x radius: 1 for a circle, negative where concave), ``concave_spans`` and
+    ``min_radius_mm``; ``pressure_proxy_deg`` (the largest angle between the pitch tangent
+    and the normal to the radius vector); with ``rules`` (``CuttingRules``) the pair's
+    ``module_high`` (mm, the largest module its curves can be cut with) and
+    ``working_pressure_angle_deg``, bounds named by ``names``.
 
     The mate is the polar curve rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2
-    in the gear's body angle t (one gear turn is one mate turn in both papers' closed pairs).
+    in the gear's body angle t (one gear turn is one mate turn in both papers' closed pairs),
+    as ``manufacturability.shape_pair``; one fused pass per design (``seeder_kernel``): no
+    (P, dense) arrays.
     """
-    from plantmech.gears.manufacturability import shape_pair
+    from plantmech.gears.manufacturability import module_bounds, module_high
+    from plantmech.mechanisms.seeder_kernel import pitch_extremes_rows
 
-    t = contact0 + np.linspace(0.0, TWO_PI, dense, endpoint=False)
-    R = np.atleast_2d(radii)
-    r, r1, r2 = (R @ periodic_spline_matrix(nodes, t, nu, kind).T for nu in (0, 1, 2))
-    shapes, mu = shape_pair(t, r, r1, r2, a)
-    out = {"shapes": list(shapes), "mu": mu}
-    for shape in shapes:
-        kappa = 1.0 / shape.curvature_radius
-        concave = kappa < 0
-        starts = concave & ~np.roll(concave, 1, axis=1)
-        out[shape.name] = {"min_kappa_r": (kappa * shape.radius).min(axis=1),
-                           "concave_spans": starts.sum(axis=1) + (concave.all(axis=1)),
-                           "min_radius_mm": shape.radius.min(axis=1)}
-    out["pressure_proxy_deg"] = np.degrees(mu).max(axis=1)
+    R = np.ascontiguousarray(np.atleast_2d(np.asarray(radii, dtype=float)))
+    P = R.shape[0]
+    nodes = np.asarray(nodes, dtype=float)
+    slopes = np.ascontiguousarray(R @ periodic_spline_matrix(nodes, nodes, 1, kind).T)
+    row = lambda v: np.ascontiguousarray(  # noqa: E731
+        np.broadcast_to(np.asarray(v, dtype=float), (P,)))
+    ext = np.empty((P, 14))
+    pitch_extremes_rows(np.r_[nodes, nodes[0] + TWO_PI], R, slopes, row(contact0), row(a),
+                        int(dense), ext)
+    out = {}
+    for key, col in (("gear", 0), ("mate", 6)):
+        out[key] = {"min_kappa_r": ext[:, col + 4], "concave_spans": ext[:, col + 5],
+                    "min_radius_mm": ext[:, col + 2]}
+    out["pressure_proxy_deg"] = np.degrees(ext[:, 12])
+    if rules is not None:
+        bounds = {}
+        for name, col in zip(names, (0, 6), strict=True):
+            bounds.update(module_bounds(name, ext[:, col], ext[:, col + 1], ext[:, col + 2],
+                                        ext[:, col + 3], rules))
+        out["module_high"] = np.minimum(np.full(P, np.inf), module_high(bounds))
+        out["working_pressure_angle_deg"] = rules.pressure_angle_deg + np.degrees(ext[:, 13])
     return out
-
-
-def add_manufacturability(add, pair: str, pm: dict, names: tuple[str, str], rules) -> object:
-    """Add the manufacturability checks of one pair (from ``pitch_curve_metrics``) through
-    ``add(name, value, limit, upper, unit)``: the largest module its pitch curves can be cut
-    with (``cuttable_module_<pair>``, at least the smallest module) and the working pressure
-    angle. Returns the ``PairVerdict``."""
-    from plantmech.gears.manufacturability import CuttingRules, PairShape, assess_pair
-
-    rules = rules or CuttingRules()
-    for shape, name in zip(pm["shapes"], names, strict=True):
-        shape.name = name
-    v = assess_pair(PairShape(pair, tuple(pm["shapes"]), pm["mu"]), rules)
-    add(f"cuttable_module_{pair}", v.module_high, rules.min_module_mm, False, "mm")
-    add(f"working_pressure_angle_{pair}", v.working_pressure_angle_deg,
-        rules.max_working_pressure_angle_deg, True, "deg")
-    return v
 
 
 @dataclass
@@ -166,60 +151,55 @@ def evaluate_population(motion: PopulationMotion, section_psi: np.ndarray,
     zero-speed seeding at e per design (Eq. 18, horizontal tip velocity at e), else the
     machine's travel speed (m/s), shared or (P,).
     gear2/gear3: optional dicts(nodes, radii, contact0, kind) to add the pitch-curve
-    manufacturability checks of each pair (``add_manufacturability`` with ``rules``, a
-    ``manufacturability.CuttingRules``), evaluated at ``curve_samples`` body angles per curve.
+    manufacturability checks of each pair (``pitch_curve_metrics`` with ``rules``, a
+    ``manufacturability.CuttingRules``: the largest module the pair can be cut with and its
+    working pressure angle), evaluated at ``curve_samples`` body angles per curve.
     """
     from plantmech.design import Attitude, SpeedLimits
 
     attitude = attitude or Attitude()
     speed = speed or SpeedLimits()
     psi = motion.carrier_angle
-    P = motion.tip.shape[0]
-    sec = np.broadcast_to(np.asarray(section_psi, dtype=float), (P, 6))
-    A = dict(zip(LETTERS, sec.T, strict=True))
-    rel = np.degrees(motion.arm_angle - motion.arm_angle[:, :1])  # attitude (P, S)
-    names, units, limits, vals, viol = [], [], [], [], []
+    vals = section_values(psi, motion.arm_angle, section_psi, motion.tip_rate,
+                          np.degrees(1.0), np.radians(carrier_speed_deg_s) / 1000.0,
+                          travel_m_s)
+    names, units, limits, vals_, viol = [], [], [], [], []
 
     def add(name, value, lim, upper, unit, note_scale=None):
         names.append(name)
         units.append(unit)
         limits.append(f"{'<' if upper else '>'} {lim:g} {unit}")
-        vals.append(value)
+        vals_.append(value)
         lo, hi = (None, lim) if upper else (lim, None)
         viol.append(relative_violation(value, lo, hi,
                                        abs(lim) if note_scale is None else note_scale, np.nan))
         return value
 
-    add("picking_swing", section_swing(psi, rel, A["a"], A["b"]),
-        attitude.picking_swing_max_deg, True, "deg")
-    add("seeding_swing", section_swing(psi, rel, A["d"], A["e"]),
-        attitude.seeding_swing_max_deg, True, "deg")
-    sowing = _at(psi, rel, A["e"])
-    add("sowing_angle", np.abs(sowing), attitude.sowing_angle_max_deg, True, "deg")
-    v = motion.tip_rate * (np.radians(carrier_speed_deg_s) / 1000.0)  # (P, S, 2) m/s
-    vx_e = _at(psi, v[..., 0], A["e"])
-    travel = vx_e if travel_m_s is None else np.broadcast_to(np.asarray(travel_m_s, float), (P,))
-    static = np.hypot(v[..., 0], v[..., 1])
-    dynamic = np.hypot(v[..., 0] - travel[:, None], v[..., 1])
-    add("seeding_peak_speed", section_extreme(psi, static, A["d"], A["e"], True),
-        speed.seeding_max_m_s, True, "m/s")
-    add("return_min_speed_static", section_extreme(psi, static, A["e"], A["f"], False),
-        speed.return_min_m_s, False, "m/s")
-    add("return_min_speed_dynamic", section_extreme(psi, dynamic, A["e"], A["f"], False),
-        speed.return_min_m_s, False, "m/s")
-    metrics = {"zero_speed_travel_m_s": vx_e, "travel_m_s": travel, "sowing_angle_deg": sowing,
-               "closure_error_rad": motion.closure_error, "a1_mm": motion.a1,
-               "a2_mm": motion.a2}
+    add("picking_swing", vals[:, 0], attitude.picking_swing_max_deg, True, "deg")
+    add("seeding_swing", vals[:, 1], attitude.seeding_swing_max_deg, True, "deg")
+    add("sowing_angle", np.abs(vals[:, 2]), attitude.sowing_angle_max_deg, True, "deg")
+    add("seeding_peak_speed", vals[:, 5], speed.seeding_max_m_s, True, "m/s")
+    add("return_min_speed_static", vals[:, 6], speed.return_min_m_s, False, "m/s")
+    add("return_min_speed_dynamic", vals[:, 7], speed.return_min_m_s, False, "m/s")
+    metrics = {"zero_speed_travel_m_s": vals[:, 3], "travel_m_s": vals[:, 4],
+               "sowing_angle_deg": vals[:, 2], "closure_error_rad": motion.closure_error,
+               "a1_mm": motion.a1, "a2_mm": motion.a2}
     for label, g, a, pair in (("gear2", gear2, motion.a1, "sun_gear2"),
                               ("gear3", gear3, motion.a2, "gear3_planet")):
         if g is None:
             continue
+        from plantmech.gears.manufacturability import CuttingRules
+
+        rules = rules or CuttingRules()
         pm = pitch_curve_metrics(g["nodes"], g["radii"], a, g.get("contact0", 0.0),
-                                 g.get("kind", "spline"), dense=curve_samples)
-        mate = "sun" if label == "gear2" else "planet"
-        add_manufacturability(add, pair, pm, (label, mate), rules)
-        metrics[label] = {k: v for k, v in pm.items() if k not in ("shapes", "mu")}
-    values = np.stack(vals, axis=1)
+                                 g.get("kind", "spline"), curve_samples, rules,
+                                 (label, "sun" if label == "gear2" else "planet"))
+        add(f"cuttable_module_{pair}", pm.pop("module_high"), rules.min_module_mm, False,
+            "mm")
+        add(f"working_pressure_angle_{pair}", pm.pop("working_pressure_angle_deg"),
+            rules.max_working_pressure_angle_deg, True, "deg")
+        metrics[label] = pm
+    values = np.stack(vals_, axis=1)
     violation = np.stack(viol, axis=1)
     ok = violation <= 0.0
     return PopulationEvaluation(names, units, limits, values, ok, violation, metrics)

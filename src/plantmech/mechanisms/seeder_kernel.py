@@ -1,0 +1,498 @@
+"""The fused per-design kernel of the seeder's population forward kinematics (numba).
+
+One pass per design, no (P, dense) temporaries: the pitch radii of gears 2 and 3 along
+``dense`` body-angle steps (the periodic piecewise-cubic interpolant through the node
+radii and node slopes, seed 000 section 4.3), the centre distances that close each pair
+(seed 000 Eq. 8, the Newton iteration of ``gears.closure.solve_centre_distances``), the
+rolling integrals psi(psi_2) = int r2 / (a1 - r2) and psi_4(psi_2) = int r3 / (a2 - r3)
+(the running integral of the cubic spline through the dense samples that SciPy's
+``CubicSpline(...).antiderivative()`` gave: one tridiagonal sweep per design, no spline
+objects), the inversion of psi(psi_2) at the carrier samples (a merge walk,
+then Newton on the Hermite cubic of each interval), the tip (Eq. 12-16) and the angular
+play. Imported only by ``seeder_batch.simulate_population``: numba stays out of the CLI's
+start-up; its compilation is cached on disk (``cache=True``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * np.pi
+
+
+@njit(cache=True, error_model="numpy")
+def _along(x, radii, slopes, n, c, h, D, value, slope):
+    """Values (mm) and slopes (mm/rad) of the periodic piecewise cubic Hermite through
+    (x[:n], radii) with node ``slopes`` (x: n + 1 knots, the last x[0] + 2 pi) at the body
+    angles c + j h, j = 0..D (rad): one march through the knots, no search per angle."""
+    u0 = c - x[0]
+    u0 = x[0] + (u0 - TWO_PI * np.floor(u0 / TWO_PI))
+    k = 0
+    while k < n - 1 and x[k + 1] <= u0:
+        k += 1
+    for j in range(D + 1):
+        u = u0 + j * h if j < D else u0 + TWO_PI
+        while u >= x[k + 1]:
+            k += 1
+            if k == n:
+                k = 0
+                u0 -= TWO_PI
+                u -= TWO_PI
+        hk = x[k + 1] - x[k]
+        inv = 1.0 / hk  # per sample: LLVM keeps it while k stays
+        t = (u - x[k]) * inv
+        k1 = k + 1 if k + 1 < n else 0
+        y0, y1 = radii[k], radii[k1]
+        d0, d1 = slopes[k] * hk, slopes[k1] * hk
+        t2 = t * t
+        t3 = t2 * t
+        dy = y0 - y1
+        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                    + (3 * t2 - 2 * t) * d1) * inv
+
+
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
+def _turn_sums(r, D, a):
+    """sum_k r_k / (a - r_k)^j for j = 1, 2, 3 over r[:D] (reassociated: SIMD)."""
+    f = 0.0
+    df = 0.0
+    ddf = 0.0
+    for j in range(D):
+        q = 1.0 / (a - r[j])
+        rq = r[j] * q
+        f += rq
+        df += rq * q
+        ddf += rq * q * q
+    return f, df, ddf
+
+
+@njit(cache=True, error_model="numpy")
+def _closing_centre_distance(r, D, turn):
+    """a with mean_k r_k / (a - r_k) * 2 pi = turn over r[:D] (the root
+    ``gears.closure.solve_centre_distances`` finds, to the same 1e-12 relative step):
+    Halley's iteration (Newton's where Halley's correction is large) from a point left of
+    the root, where the convex decreasing left side is positive. The circle's centre
+    distance at the mean radius, rbar (1 + 2 pi / turn), is such a point (Jensen:
+    mean r / (a - r) >= rbar / (a - rbar)) when it lies beyond max r; else the gap to
+    max r is halved from 2 rbar until the side is positive."""
+    rmax = r[0]
+    tot = 0.0
+    for j in range(D):
+        tot += r[j]
+        if r[j] > rmax:
+            rmax = r[j]
+    w = TWO_PI / D
+    a = tot / D * (1.0 + TWO_PI / turn)
+    if not a > rmax:
+        a = 2.0 * tot / D
+        for _ in range(60):
+            if a > rmax:
+                f, _df, _ddf = _turn_sums(r, D, a)
+                if f * w - turn > 0:
+                    break
+            a = rmax + 0.5 * (a - rmax)
+    for _ in range(100):
+        f, df, ddf = _turn_sums(r, D, a)
+        f = f * w - turn
+        df = -df * w
+        ddf = 2.0 * ddf * w
+        step = -f / df
+        den = 1.0 + 0.5 * step * ddf / df  # Halley: step / (1 - f f'' / (2 f'^2))
+        if den > 0.5:
+            step = step / den
+        a = a + step
+        if abs(step) <= 1e-12 * a:
+            break
+    return a
+
+
+@njit(cache=True, error_model="numpy")
+def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
+    """Running integrals outa, outb [0..D] (from 0) of the not-a-knot cubic splines through
+    the D + 1 samples ya, yb at uniform step h (the splines SciPy's ``CubicSpline(t, y)``
+    builds, whose ``antiderivative()`` the population code used): node slopes s from the
+    tridiagonal system s[i-1] + 4 s[i] + s[i+1] = 3 (q[i-1] + q[i]) (q the chord slopes),
+    s[0] + 2 s[1] = (5 q[0] + q[1]) / 2 and 2 s[D-1] + s[D] = (q[D-2] + 5 q[D-1]) / 2 at
+    the ends, by the Thomas sweep with the shared factors ``cp``, ``piv``
+    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12.
+    Two rows at once: each sweep is a chain of dependent operations, two independent
+    chains side by side keep the core busy. sa, sb: scratch rows (D + 1)."""
+    n = D + 1
+    three_over_h = 3.0 / h
+    sa[0] = (0.5 * (5.0 * ((ya[1] - ya[0]) / h) + (ya[2] - ya[1]) / h)) * piv[0]
+    sb[0] = (0.5 * (5.0 * ((yb[1] - yb[0]) / h) + (yb[2] - yb[1]) / h)) * piv[0]
+    for i in range(1, n - 1):
+        da = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h
+        db = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h
+        sa[i] = (da - sa[i - 1]) * piv[i]
+        sb[i] = (db - sb[i - 1]) * piv[i]
+    for y, s_ in ((ya, sa), (yb, sb)):
+        qa = (y[n - 2] - y[n - 3]) / h
+        qb = (y[n - 1] - y[n - 2]) / h
+        s_[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s_[n - 2]) * piv[n - 1]
+    for i in range(n - 2, -1, -1):
+        sa[i] -= cp[i] * sa[i + 1]
+        sb[i] -= cp[i] * sb[i + 1]
+    outa[0] = outb[0] = 0.0
+    acca = 0.0
+    accb = 0.0
+    hh = h * h / 12.0
+    half = 0.5 * h
+    for i in range(D):
+        acca += half * (ya[i] + ya[i + 1]) + hh * (sa[i] - sa[i + 1])
+        accb += half * (yb[i] + yb[i + 1]) + hh * (sb[i] - sb[i + 1])
+        outa[i + 1] = acca
+        outb[i + 1] = accb
+
+
+def spline_factors(D: int):
+    """Shared factors of the not-a-knot system of ``_running_integrals`` on D + 1 uniform
+    samples: the Thomas sweep's modified super-diagonal ``cp`` and reciprocal pivots."""
+    n = D + 1
+    sub = np.ones(n)
+    sub[-1] = 2.0
+    diag = np.full(n, 4.0)
+    diag[0] = diag[-1] = 1.0
+    sup = np.ones(n)
+    sup[0] = 2.0
+    cp, piv = np.zeros(n), np.zeros(n)
+    piv[0] = 1.0 / diag[0]
+    cp[0] = sup[0] * piv[0]
+    for i in range(1, n):
+        piv[i] = 1.0 / (diag[i] - sub[i] * cp[i - 1])
+        cp[i] = sup[i] * piv[i]
+    return cp, piv
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite(y0, y1, d0, d1, h, s):
+    """Cubic Hermite value at fraction s of an interval of width h."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1
+            + (s3 - s2) * h * d1)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite_slope(y0, y1, d0, d1, h, s):
+    """d/ds of ``_hermite``."""
+    s2 = s * s
+    return ((6 * s2 - 6 * s) * (y0 - y1) + (3 * s2 - 4 * s + 1) * h * d0
+            + (3 * s2 - 2 * s) * h * d1)
+
+
+@njit(cache=True, error_model="numpy")
+def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
+                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0,
+                  play, has_play, cp, piv, tip, arm, ratio, rate, gear2, closure, a1_out,
+                  a2_out):
+    """Every design p of the population, one after the other with one set of scratch
+    rows (parallelism is the callers' processes: optimizer workers, Dask): node radii R2,
+    R3 (P, N) with node slopes S2, S3 at knots x (N + 1), contact angles c2, c3 (P,),
+    centre distances a*_in (P,) or solved (``solve1``/``solve2``: for turns turn1 and
+    2 pi), ``D`` dense steps; carrier samples ``psi`` (S,) (their cos and sin) with their
+    meshing targets and dwell mask; per-design L1, L2, carrier0, arm0, play (P,). Writes
+    tip, rate (P, S, 2), arm, ratio, gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
+    P, N = R2.shape
+    S = psi.shape[0]
+    h = TWO_PI / D
+    r2 = np.empty(D + 1)
+    dr2 = np.empty(D + 1)
+    r3 = np.empty(D + 1)
+    dr3 = np.empty(D + 1)
+    f_sun = np.empty(D + 1)
+    f_pl = np.empty(D + 1)
+    sun = np.empty(D + 1)
+    planet = np.empty(D + 1)
+    slopes = np.empty(D + 1)
+    slopes_b = np.empty(D + 1)
+    span = TWO_PI - theta1
+    for p in range(P):
+        _along(x, R2[p], S2[p], N, c2[p], h, D, r2, dr2)
+        _along(x, R3[p], S3[p], N, c3[p], h, D, r3, dr3)
+        a1 = _closing_centre_distance(r2, D, turn1) if solve1 else a1_in[p]
+        a2 = _closing_centre_distance(r3, D, TWO_PI) if solve2 else a2_in[p]
+        a1_out[p], a2_out[p] = a1, a2
+        for j in range(D + 1):
+            f_sun[j] = r2[j] / (a1 - r2[j])
+            f_pl[j] = r3[j] / (a2 - r3[j])
+        _running_integrals(f_sun, f_pl, D, h, cp, piv, slopes, slopes_b, sun, planet)
+        closure[p, 0] = abs(sun[D] + theta1 - TWO_PI)
+        closure[p, 1] = abs(planet[D] - TWO_PI)
+        scale = span / sun[D]
+        k = 0
+        ca = carrier0[p]
+        for i in range(S):
+            tg = target[i]
+            while k < D and sun[k + 1] * scale <= tg:
+                k += 1
+            kk = k if k < D else D - 1
+            y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
+            d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            s = (tg - y0) / max(y1 - y0, 1e-300)
+            for _ in range(3):  # Newton on the cubic (3 steps at most, as before)
+                val = _hermite(y0, y1, d0, d1, h, s) - tg
+                ds = val / _hermite_slope(y0, y1, d0, d1, h, s)
+                s = min(max(s - ds, 0.0), 1.0)
+                if abs(ds) < 1e-15:
+                    break
+            gear2[p, i] = kk * h + s * h
+            rel = _hermite(planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1], h, s)
+            r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
+            r3s = _hermite(r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1], h, s)
+            ratio[p, i] = 0.0 if in_dwell[i] else (a1 - r2s) / r2s * r3s / (a2 - r3s)
+            arm[p, i] = (ca - psi[i]) + rel + (arm0[p] - ca)
+        cc0, sc0 = np.cos(ca), np.sin(ca)
+        for i in range(S):
+            b = arm[p, i]
+            if has_play:
+                ip = i + 1 if i + 1 < S else 0
+                slope = ratio[p, ip] - ratio[p, i - 1]
+                sg = 1.0 if slope > 0 else (-1.0 if slope < 0 else 0.0)
+                b = b - 0.5 * play[p] * sg
+                arm[p, i] = b
+            # cos, sin of the carrier direction carrier0 - psi by the difference formulae
+            cc = cc0 * cos_psi[i] + sc0 * sin_psi[i]
+            sc = sc0 * cos_psi[i] - cc0 * sin_psi[i]
+            cb, sb = np.cos(b), np.sin(b)
+            turn = ratio[p, i] - 1.0
+            tip[p, i, 0] = L1[p] * cc + L2[p] * cb
+            tip[p, i, 1] = L1[p] * sc + L2[p] * sb
+            rate[p, i, 0] = L1[p] * sc - L2[p] * turn * sb
+            rate[p, i, 1] = -L1[p] * cc + L2[p] * turn * cb
+
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _nan_min(m, v):
+    """min that keeps a NaN once seen (numpy's ``min``)."""
+    return v if (v < m or v != v) and m == m else m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _nan_max(m, v):
+    """max that keeps a NaN once seen (numpy's ``max``)."""
+    return v if (v > m or v != v) and m == m else m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _curvature(rho, drho, ddrho, dphi, ddphi):
+    """(signed radius of curvature, arc speed) of a polar curve (rho(t), phi(t)) from its
+    t-derivatives: ``geometry.periodic.polar_curvature_radius`` for one sample."""
+    num = rho * rho * (dphi * dphi * dphi) + 2 * (drho * drho) * dphi - rho * ddrho * dphi \
+        + rho * drho * ddphi
+    speed = np.sqrt(drho * drho + (rho * dphi) * (rho * dphi))
+    return (np.inf if num == 0 else speed * speed * speed / num), speed
+
+
+@njit(cache=True, error_model="numpy")
+def pitch_extremes_rows(x, R, Sl, c, a, M, out):
+    """Per design p: the shape extremes of gear and mate of one external pair (a gear's
+    radii R (P, N) with node slopes Sl at knots x (N + 1), its body angle c (P,) at the
+    start, centre distance a (P,), M samples over a turn of the gear, as
+    ``manufacturability.shape_pair`` samples them): out (P, 14) = per curve (gear, then
+    the mate rho = a - r, phi' = r / (a - r), phi'' = a r' / (a - r)^2) 6 columns: the
+    smallest convex radius of curvature, the smallest concave one (magnitude; inf where
+    none), the smallest radius, the perimeter (arc speed summed times the step), the
+    smallest curvature x radius and the number of concave spans (cyclic; one when all is
+    concave); then the largest angle mu = atan(|r'| / r) (rad) between the pitch tangent
+    and the normal to the radius vector, and the largest |mu| (NaN kept as numpy's min and
+    max keep it)."""
+    P, N = R.shape
+    step = TWO_PI / M
+    acc = np.empty(12)
+    for p in range(P):
+        for col in (0, 6):
+            acc[col] = acc[col + 1] = acc[col + 2] = acc[col + 4] = np.inf
+            acc[col + 3] = acc[col + 5] = 0.0
+        ratio_max = ratio_abs = -np.inf
+        prev = np.zeros(2, dtype=np.bool_)
+        first = np.zeros(2, dtype=np.bool_)
+        every = np.ones(2, dtype=np.bool_)
+        ap = a[p]
+        k = 0
+        for j in range(M):
+            # the angle as the matrix path wrapped it (a knot on a sample takes the span
+            # that starts there, where the second derivative of a C1 curve jumps)
+            u = x[0] + ((j * step + c[p]) - x[0]) % TWO_PI
+            if u < x[k]:
+                k = 0
+            while k < N - 1 and x[k + 1] <= u:
+                k += 1
+            hk = x[k + 1] - x[k]
+            t = (u - x[k]) / hk
+            k1 = k + 1 if k + 1 < N else 0
+            y0, y1 = R[p, k], R[p, k1]
+            d0, d1 = Sl[p, k] * hk, Sl[p, k1] * hk
+            t2 = t * t
+            t3 = t2 * t
+            dy = y0 - y1
+            r = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+            r1 = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                  + (3 * t2 - 2 * t) * d1) / hk
+            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) / (hk * hk)
+            m = ap - r
+            for curve in range(2):
+                if curve == 0:
+                    rho = r
+                    rc, speed = _curvature(r, r1, r2, 1.0, 0.0)
+                else:
+                    rho = m
+                    rc, speed = _curvature(m, -r1, -r2, r / m, ap * r1 / (m * m))
+                col = 6 * curve
+                if rc > 0 and rc < acc[col]:
+                    acc[col] = rc
+                if rc < 0 and -rc < acc[col + 1]:
+                    acc[col + 1] = -rc
+                acc[col + 2] = _nan_min(acc[col + 2], rho)
+                acc[col + 3] += speed
+                kappa = 1.0 / rc
+                acc[col + 4] = _nan_min(acc[col + 4], kappa * rho)
+                concave = kappa < 0
+                if j == 0:
+                    first[curve] = concave
+                elif concave and not prev[curve]:
+                    acc[col + 5] += 1.0
+                prev[curve] = concave
+                every[curve] = every[curve] and concave
+            # atan is monotonic: the largest angle is the angle of the largest |r'| / r
+            ratio = np.abs(r1) / r
+            ratio_max = _nan_max(ratio_max, ratio)
+            ratio_abs = _nan_max(ratio_abs, abs(ratio))
+        for curve in range(2):
+            col = 6 * curve
+            if first[curve] and not prev[curve]:  # a span starting at sample 0 (cyclic)
+                acc[col + 5] += 1.0
+            if every[curve]:
+                acc[col + 5] += 1.0
+            acc[col + 3] *= step
+        for i in range(12):
+            out[p, i] = acc[i]
+        out[p, 12] = np.arctan(ratio_max)
+        out[p, 13] = np.arctan(ratio_abs)
+
+
+@njit(cache=True, error_model="numpy")
+def locate_rows(tip, psi, points, near, out):
+    """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
+    section point (K, 2) among the samples ``near`` (K, S) of its reference angle, refined
+    by the parabola through the squared distances at the closest sample and its two
+    neighbours (``objectives.seeder_population.locate_sections`` / ``refine_minimum``):
+    out (P, K). The first smallest sample wins; a NaN distance is taken as numpy's argmin
+    takes it (the first NaN)."""
+    P, S = tip.shape[0], tip.shape[1]
+    step = psi[1] - psi[0]
+    for p in range(P):
+        for j in range(points.shape[0]):
+            px, py = points[j, 0], points[j, 1]
+            best = np.inf
+            k = 0
+            found = False
+            for i in range(S):
+                if not near[j, i]:
+                    continue
+                d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
+                if d2 != d2:
+                    k = i
+                    break
+                if not found or d2 < best:
+                    best, k, found = d2, i, True
+            km, kp = (k - 1) % S, (k + 1) % S
+            a = (tip[p, km, 0] - px) ** 2 + (tip[p, km, 1] - py) ** 2
+            b = (tip[p, k, 0] - px) ** 2 + (tip[p, k, 1] - py) ** 2
+            c = (tip[p, kp, 0] - px) ** 2 + (tip[p, kp, 1] - py) ** 2
+            curv = a - 2.0 * b + c
+            t = 0.5 * (a - c) / curv if curv > 0 else 0.0
+            t = min(max(t, -0.5), 0.5)
+            out[p, j] = (psi[k] + t * step) % TWO_PI
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _at_row(psi, values, where):
+    """values (S,) at carrier angle ``where`` (rad), linear between the uniform samples
+    psi (periodic): ``seeder_population._at`` for one design."""
+    S = values.shape[0]
+    f = (where % TWO_PI) / (psi[1] - psi[0])
+    fl = np.floor(f)
+    k = int(fl) % S
+    t = f - fl
+    return (1.0 - t) * values[k] + t * values[(k + 1) % S]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _speed_at(psi, vx, vy, where, travel):
+    """The speed samples |(vx - travel, vy)| (S,) at carrier angle ``where``, linear
+    between the uniform samples (periodic), as ``_at`` interpolates them."""
+    S = vx.shape[0]
+    f = (where % TWO_PI) / (psi[1] - psi[0])
+    fl = np.floor(f)
+    k = int(fl) % S
+    k1 = (k + 1) % S
+    t = f - fl
+    return ((1.0 - t) * np.hypot(vx[k] - travel, vy[k])
+            + t * np.hypot(vx[k1] - travel, vy[k1]))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _in_section(psi_i, start, span):
+    return (psi_i - start) % TWO_PI <= span
+
+
+@njit(cache=True, error_model="numpy")
+def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
+                            out):
+    """Section-4.1 values of every design (what ``section_swing``, ``_at`` and
+    ``section_extreme`` of ``objectives.seeder_population`` gave, fused): the attitude
+    rel = (angle - angle[:, 0]) * angle_scale (deg) of angles (P, S), the tip velocity
+    rate * rate_scale (m/s) of rates (P, S, 2), section angles ``sec`` (P, 6) rad of a..f,
+    the travel speed (P,) m/s when ``given`` (else the horizontal tip speed at e, Eq. 18).
+    out (P, 8): picking swing (ab), seeding swing (de) (largest |rel - rel(start)|), the
+    attitude at e (signed), the horizontal speed at e, the travel speed, the seeding
+    section's peak static speed (de), the return section's least static and least dynamic
+    speed (ef). Section ends are interpolated and included; NaN is kept as numpy's max and
+    min keep it."""
+    P, S = angle.shape
+    rel = np.empty(S)
+    vx = np.empty(S)
+    vy = np.empty(S)
+    for p in range(P):
+        for i in range(S):
+            rel[i] = (angle[p, i] - angle[p, 0]) * angle_scale
+            vx[i] = rate[p, i, 0] * rate_scale
+            vy[i] = rate[p, i, 1] * rate_scale
+        for col, s0, s1 in ((0, 0, 1), (1, 3, 4)):  # attitude swings over ab and de
+            start, end = sec[p, s0], sec[p, s1]
+            ref = _at_row(psi, rel, start)
+            span = (end - start) % TWO_PI
+            dev = -np.inf
+            for i in range(S):
+                d = abs(rel[i] - ref) if _in_section(psi[i], start, span) else 0.0
+                dev = _nan_max(dev, d)
+            out[p, col] = _nan_max(dev, abs(_at_row(psi, rel, end) - ref))
+        d_, e, f = sec[p, 3], sec[p, 4], sec[p, 5]
+        out[p, 2] = _at_row(psi, rel, e)
+        vx_e = _at_row(psi, vx, e)
+        tr = travel[p] if given else vx_e
+        out[p, 3] = vx_e
+        out[p, 4] = tr
+        span_de = (e - d_) % TWO_PI
+        span_ef = (f - e) % TWO_PI
+        peak = -np.inf
+        low_s = np.inf
+        low_d = np.inf
+        for i in range(S):
+            st = np.hypot(vx[i], vy[i])
+            if _in_section(psi[i], d_, span_de):
+                peak = _nan_max(peak, st)
+            if _in_section(psi[i], e, span_ef):
+                low_s = _nan_min(low_s, st)
+                low_d = _nan_min(low_d, np.hypot(vx[i] - tr, vy[i]))
+        # the section ends: the speed samples interpolated
+        for w in (d_, e):
+            peak = _nan_max(peak, _speed_at(psi, vx, vy, w, 0.0))
+        for w in (e, f):
+            low_s = _nan_min(low_s, _speed_at(psi, vx, vy, w, 0.0))
+            low_d = _nan_min(low_d, _speed_at(psi, vx, vy, w, tr))
+        out[p, 5], out[p, 6], out[p, 7] = peak, low_s, low_d
