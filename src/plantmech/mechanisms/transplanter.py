@@ -96,9 +96,10 @@ class TransplanterMotion:
 def _arm_points(centre, phi2, dcentre, dphi2, arm: ArmGeometry):
     S, H1 = arm.column("S"), arm.column("H1")
     ang = phi2 + arm.column("beta")
-    B = centre + S * np.exp(1j * ang)
-    A = centre + H1 * np.exp(1j * (ang + arm.column("break_angle")))
-    rate = dcentre + 1j * S * dphi2 * np.exp(1j * ang)
+    along = np.exp(1j * ang)  # one complex exponential for B, A and the rate
+    B = centre + S * along
+    A = centre + H1 * (along * np.exp(1j * arm.column("break_angle")))
+    rate = dcentre + (1j * S) * dphi2 * along
     return A, B, ang, rate
 
 
@@ -150,16 +151,20 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
     p, h = pair.p, pair.p[1] - pair.p[0]
     k = np.clip((frac / h).astype(int), 0, len(p) - 2)
     s = (frac - p[k]) / h
-    rows = np.arange(P)[:, None, None]
     rp = pair.planet_radius
     q_rate = pair.R / (n * rp)  # dQ/dp (P, D+1)
     dq_rate = (pair.dR * rp - pair.R * pair.dR) / (n * rp**2)  # d2Q/dp2
+    # cubic Hermite on the dense grid: the basis once, flat gathers of both ends
+    flat = k + (np.arange(P) * len(p))[:, None, None]
+    s2 = s * s
+    s3 = s2 * s
+    h00, h10 = 2 * s3 - 3 * s2 + 1, (s3 - 2 * s2 + s) * h
+    h01, h11 = -2 * s3 + 3 * s2, (s3 - s2) * h
 
     def herm(y, dy):
-        y0, y1 = y[rows, k], y[rows, k + 1]
-        d0, d1 = dy[rows, k], dy[rows, k + 1]
-        return ((2 * s**3 - 3 * s**2 + 1) * y0 + (s**3 - 2 * s**2 + s) * h * d0
-                + (-2 * s**3 + 3 * s**2) * y1 + (s**3 - s**2) * h * d1)
+        y, dy = y.ravel(), dy.ravel()
+        return (h00 * y.take(flat) + h10 * dy.take(flat) + h01 * y.take(flat + 1)
+                + h11 * dy.take(flat + 1))
 
     Q = herm(pair.Q, q_rate) + TWO_PI * turns  # (P, J, S), closed pair: Q(p + 2pi) = Q + 2pi
     rate = herm(q_rate, dq_rate)  # dQ/dp at the mesh point

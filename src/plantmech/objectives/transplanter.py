@@ -163,7 +163,8 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     st = stages(motion, setup)
     P, J, S = motion.B.shape
     psi_deg = np.degrees(motion.carrier_angle)
-    needle = motion.needle_angle
+    # the needle direction of arm 0 (the objectives' arm), deg: A -> B, as needle_angle
+    needle = np.mod(np.degrees(np.angle(motion.B[:, 0] - motion.A[:, 0])), 360.0)  # (P, S)
     names, units, lims, vals, viol, notes = [], [], [], [], [], {}
 
     def add(name, value, lo, hi, unit, note=""):
@@ -190,10 +191,10 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     # --- (iii)-(v) angles over the stages of arm 0 ---------------------------------
     p0, p1 = st["pick"]
     g0, g1 = st["plant"]
-    pick_mask = _span_mask(S, p0, p1) & st["has_pick"][..., None]
-    plant_mask = _span_mask(S, g0, g1)
-    pick_ang = _circular_mean_deg(needle, pick_mask)[:, 0]
-    push_ang = _circular_mean_deg(needle, plant_mask)[:, 0]
+    pick_mask = _span_mask(S, p0[:, 0], p1[:, 0]) & st["has_pick"][:, :1]
+    plant_mask = _span_mask(S, g0[:, 0], g1[:, 0])
+    pick_ang = _circular_mean_deg(needle, pick_mask)
+    push_ang = _circular_mean_deg(needle, plant_mask)
     add("picking_angle", pick_ang, *limits.picking_angle_deg, "deg",
         "(iii) mean needle angle (A -> B, CCW from +x) while the tip is in the seedling mat")
     add("pushing_angle", push_ang, *limits.pushing_angle_deg, "deg",
@@ -256,7 +257,7 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     add("module", module, limits.min_module_mm, None, "mm",
         f"(xi) pitch-curve perimeter / (pi z), z = {teeth}")
     # --- (xii) needle vs seedlings at picking ------------------------------------------
-    nd = np.radians(_take(needle[:, 0], a0))
+    nd = np.radians(_take(needle, a0))
     into_mat = np.radians(np.asarray(setup.box_inclination_deg, float)) - np.pi / 2  # -v
     ang = np.degrees(np.arccos(np.abs(np.cos(nd - into_mat))))
     ang = np.where(st["has_pick"][:, 0], ang, np.nan)
