@@ -116,8 +116,11 @@ def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
         raise InternalPairError(f"internal gear radius r_{k[1]} = {radii[tuple(k)]:g} mm "
                                 "is not positive")
     p = np.linspace(0.0, TWO_PI, dense + 1)
-    R = radii @ periodic_spline_matrix(phases, p, 0, kind).T
-    dR = radii @ periodic_spline_matrix(phases, p, 1, kind).T
+    # (P, N) x (D+1, N) by einsum's own loop, not BLAS: a dozen nodes give OpenBLAS's
+    # threads nothing to share, and on a busy machine they cost ~50 ms a product waiting
+    # for each other (0.1-1 ms this way)
+    R = np.einsum("pn,dn->pd", radii, periodic_spline_matrix(phases, p, 0, kind))
+    dR = np.einsum("pn,dn->pd", radii, periodic_spline_matrix(phases, p, 1, kind))
     if np.any(R <= 0):
         k = np.argwhere(R <= 0)[0]
         raise InternalPairError(f"the interpolated internal pitch curve reaches "
