@@ -12,7 +12,8 @@ SQUARE = np.array([0, 1, 1 + 1j, 1j])  # unit square, counter-clockwise
 
 def one(a, b, rot_b=1.0, shift_b=0.0):
     """Clearance of a (fixed) and b placed at one pose."""
-    return smallest_clearance(a, (1.0, 0.0), b, (np.array([[rot_b]]), np.array([[shift_b]])))[0]
+    pose_b = (np.array([[rot_b]]), np.array([[shift_b]]))
+    return smallest_clearance([(a, b)], (1.0, 0.0), pose_b)[0]
 
 
 def test_closed_forms():
@@ -46,7 +47,7 @@ def test_smallest_over_poses_and_designs():
     centred = SQUARE - (0.5 + 0.5j)
     shifts = np.array([[3.0], [6.0]]) * rot  # two designs
     fixed = 2 * SQUARE - (1 + 1j)  # 2 x 2 square about the origin
-    got = smallest_clearance(fixed, (1.0, 0.0), centred, (rot, shifts))
+    got = smallest_clearance([(fixed, centred)], (1.0, 0.0), (rot, shifts))
     each = [[one(fixed, centred, rot[0, m], shifts[p, m]) for m in range(t.size)]
             for p in range(2)]
     assert got == pytest.approx(np.min(each, axis=1), abs=1e-12)
@@ -56,7 +57,7 @@ def test_smallest_over_poses_and_designs():
     assert got[0] == pytest.approx(2.5 - np.sqrt(2), abs=1e-12)
     bad = shifts.copy()
     bad[1, 5] = np.nan
-    assert np.isnan(smallest_clearance(fixed, (1.0, 0.0), centred, (rot, bad))[1])
+    assert np.isnan(smallest_clearance([(fixed, centred)], (1.0, 0.0), (rot, bad))[1])
 
 
 def test_bounding_capsule_holds_the_polygon():
@@ -101,10 +102,10 @@ def test_against_shapely_on_random_polygons(seed):
         per_pose = np.array([[one(wa[p, m], wb[p, m]) for m in range(M)] for p in range(P)])
         assert np.array_equal(per_pose < 0, ref < 0)
         assert per_pose == pytest.approx(ref, abs=1e-9)
-        got = smallest_clearance(a, (rot_a, shift_a), b, (rot_b, shift_b))
+        got = smallest_clearance([(a, b)], (rot_a, shift_a), (rot_b, shift_b))
         assert got == pytest.approx(ref.min(axis=1), abs=1e-9)
         # far apart: every design clear, the minimum a positive distance
-        got = smallest_clearance(a, (rot_a, shift_a + 60), b, (rot_b, shift_b))
+        got = smallest_clearance([(a, b)], (rot_a, shift_a + 60), (rot_b, shift_b))
         ref = shapely_clearance(wa.reshape(-1, a.size) + 60, wb.reshape(-1, b.shape[-1]))
         assert got == pytest.approx(ref.reshape(P, M).min(axis=1), abs=1e-9)
         assert (got > 0).all()

@@ -31,40 +31,46 @@ def bounding_capsule(z):
     return c0, c1, np.abs(loc.imag).max(axis=-1)
 
 
-def smallest_clearance(a, pose_a, b, pose_b):
-    """Smallest clearance (mm, (P,)) over M poses between polygon a and polygon b, each
-    carried rigidly: world = rot * z + shift.
+def smallest_clearance(pairs, pose_a, pose_b):
+    """Smallest clearance (mm, (P,)) over M poses and over polygon pairs (a, b), every a
+    carried by pose_a and every b by pose_b: world = rot * z + shift.
 
-    a (P or 1, Ka), b (P or 1, Kb): vertices in their own frames (complex); pose_a,
-    pose_b: (rot, shift), complex arrays broadcasting to (P, M) (|rot| = 1; a fixed
-    polygon has rot 1, shift 0). -1 for a design where the polygons overlap or touch at
-    some pose; NaN where a pose is not finite.
+    pairs: [(a, b), ...], a (P or 1, Ka), b (P or 1, Kb): vertices in their own frames
+    (complex); pose_a, pose_b: (rot, shift), complex arrays broadcasting to (P, M)
+    (|rot| = 1; a fixed polygon has rot 1, shift 0). -1 for a design where a pair
+    overlaps or touches at some pose; NaN where a pose is not finite.
 
-    Every pose is first bounded below by the distance between the two polygons' bounding
-    capsules; the exact clearance is then computed at the pose with the smallest bound
-    (an upper bound of the result) and at the poses whose bound is below the smallest
-    clearance found so far, which are the only ones that can be smaller: the result
-    equals the exact clearance at every pose, minimised. The loop over designs and poses
-    is compiled (numba, cached): a polygon pair per pose is too small for numpy."""
+    Each polygon lies in a bounding capsule, and each capsule in a circle. The exact
+    clearance is computed first at the pose where the circles' centres are nearest, then
+    at every pose whose circle bound and then capsule bound (distances between the
+    circles, between the capsules) are below the smallest clearance found so far; a pose
+    skipped cannot be smaller, so the result equals the exact clearance at every pose,
+    minimised. The loop over designs and poses is compiled (numba, cached): a polygon
+    pair per pose is too small for numpy."""
     rot_a, shift_a = (np.asarray(v, complex) for v in pose_a)
     rot_b, shift_b = (np.asarray(v, complex) for v in pose_b)
-    a, b = np.atleast_2d(np.asarray(a, complex)), np.atleast_2d(np.asarray(b, complex))
     shape = np.broadcast_shapes(rot_a.shape, shift_a.shape, rot_b.shape, shift_b.shape)
-    P = max(a.shape[0], b.shape[0], shape[0] if len(shape) == 2 else 1)
+    polys = [(np.atleast_2d(np.asarray(a, complex)), np.atleast_2d(np.asarray(b, complex)))
+             for a, b in pairs]
+    P = max([shape[0] if len(shape) == 2 else 1]
+            + [max(a.shape[0], b.shape[0]) for a, b in polys])
     M = shape[-1] if shape else 1
-    # b in the frame of a: z -> rel_rot z + rel_shift
+    # b in the frame of a: z -> rel_rot z + rel_shift (once for every pair)
     back = np.conj(rot_a)
     rel_rot = np.ascontiguousarray(np.broadcast_to(rot_b * back, (P, M)))
     rel_shift = np.ascontiguousarray(np.broadcast_to((shift_b - shift_a) * back, (P, M)))
-    a0, a1, ra = bounding_capsule(a)
-    b0, b1, rb = bounding_capsule(b)
-    caps = np.ascontiguousarray(np.broadcast_to(
-        np.stack(np.broadcast_arrays(a0, a1, b0, b1, ra + rb + 0j), axis=-1), (P, 5)))
-    out = np.empty(P)
-    _smallest_clearance(np.ascontiguousarray(np.broadcast_to(a, (P, a.shape[-1]))),
-                        np.ascontiguousarray(np.broadcast_to(b, (P, b.shape[-1]))),
-                        rel_rot, rel_shift, caps, out)
-    return out
+    best = np.full(P, np.inf)
+    for a, b in polys:
+        a0, a1, ra = bounding_capsule(a)
+        b0, b1, rb = bounding_capsule(b)
+        caps = np.ascontiguousarray(np.broadcast_to(
+            np.stack(np.broadcast_arrays(a0, a1, b0, b1, ra + rb + 0j), axis=-1), (P, 5)))
+        out = np.empty(P)
+        _smallest_clearance(np.ascontiguousarray(np.broadcast_to(a, (P, a.shape[-1]))),
+                            np.ascontiguousarray(np.broadcast_to(b, (P, b.shape[-1]))),
+                            rel_rot, rel_shift, caps, out)
+        best = np.minimum(best, out)
+    return best
 
 
 @numba.njit(cache=True)
@@ -147,33 +153,43 @@ def _pt_seg2(px, py, ax, ay, bx, by):
 def _smallest_clearance(a, b, rel_rot, rel_shift, caps, out):
     P, M = rel_rot.shape
     ka, kb = a.shape[1], b.shape[1]
-    bound = np.empty(M)
     ax, ay = np.empty(ka), np.empty(ka)
     bx, by = np.empty(kb), np.empty(kb)
     for p in range(P):
         for i in range(ka):
             ax[i], ay[i] = a[p, i].real, a[p, i].imag
         a0, a1, b0, b1, r = caps[p, 0], caps[p, 1], caps[p, 2], caps[p, 3], caps[p, 4].real
+        # each capsule inside a circle: a bound cheaper still
+        ca, cb = 0.5 * (a0 + a1), 0.5 * (b0 + b1)
+        reach = 0.5 * (abs(a1 - a0) + abs(b1 - b0)) + r
         finite = True
-        first = 0
+        first, near = 0, np.inf
         for m in range(M):
-            q0 = rel_rot[p, m] * b0 + rel_shift[p, m]
-            q1 = rel_rot[p, m] * b1 + rel_shift[p, m]
-            bound[m] = _seg_seg(a0.real, a0.imag, a1.real, a1.imag,
-                                q0.real, q0.imag, q1.real, q1.imag) - r
-            if not np.isfinite(bound[m]):
+            g = rel_rot[p, m] * cb + rel_shift[p, m] - ca
+            gap2 = g.real * g.real + g.imag * g.imag
+            if not (np.isfinite(gap2) and np.isfinite(rel_rot[p, m])):
                 finite = False
                 break
-            if bound[m] < bound[first]:
-                first = m
+            if gap2 < near:
+                first, near = m, gap2
         if not finite:
             out[p] = np.nan
             continue
         best = np.inf
-        for step in range(M + 1):
+        for step in range(M + 1):  # the nearest circles first, then every pose in turn
             m = first if step == 0 else step - 1
-            if step > 0 and (m == first or not bound[m] < best):
-                continue
+            if step > 0:
+                if m == first:
+                    continue
+                rr, sh = rel_rot[p, m], rel_shift[p, m]
+                g = rr * cb + sh - ca
+                lim = best + reach  # circles apart by at least best: no smaller here
+                if lim <= 0.0 or g.real * g.real + g.imag * g.imag >= lim * lim:
+                    continue
+                q0, q1 = rr * b0 + sh, rr * b1 + sh
+                if _seg_seg(a0.real, a0.imag, a1.real, a1.imag,
+                            q0.real, q0.imag, q1.real, q1.imag) - r >= best:
+                    continue
             for k in range(kb):
                 z = rel_rot[p, m] * b[p, k] + rel_shift[p, m]
                 bx[k], by[k] = z.real, z.imag

@@ -381,17 +381,14 @@ def _interference(motion: TransplanterMotion, setup: FieldSetup):
         xy = np.asarray(coords, float)
         return np.atleast_2d(xy[..., 0] + 1j * xy[..., 1])  # (P or 1, K)
 
+    same_layer = [(polygon(c), polygon(c)) for c in layers.values()]
     clear_arms = np.full(P, np.inf if J > 1 else np.nan)
-    for coords in layers.values():
-        z = polygon(coords)
-        for j in range(J):
-            for jj in range(j + 1, J):
-                clear_arms = np.minimum(clear_arms, smallest_clearance(
-                    z, (rot[:, j], shift[:, j]), z, (rot[:, jj], shift[:, jj])))
+    for j in range(J):
+        for jj in range(j + 1, J):
+            clear_arms = np.minimum(clear_arms, smallest_clearance(
+                same_layer, (rot[:, j], shift[:, j]), (rot[:, jj], shift[:, jj])))
     poses = (rot.reshape(P, J * S), shift.reshape(P, J * S))
-    clear_box = np.full(P, np.inf)
-    for coords in cut.values():
-        z = polygon(coords)
-        for part in box_parts(setup, P):
-            clear_box = np.minimum(clear_box, smallest_clearance(z, poses, part, (1.0, 0.0)))
+    parts = box_parts(setup, P)
+    clear_box = smallest_clearance([(polygon(c), part) for c in cut.values() for part in parts],
+                                   poses, (1.0, 0.0))
     return clear_arms, clear_box
