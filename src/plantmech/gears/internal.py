@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plantmech.geometry.periodic import periodic_spline_matrix
+from plantmech.geometry.periodic import periodic_spline_matrix, periodic_spline_running_integral
 
 TWO_PI = 2.0 * np.pi
 
@@ -107,8 +107,6 @@ def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
     Raises InternalPairError naming the lobe phase where the planet radius is not
     above ``min_planet_radius``, or the turn an unclosed pair makes.
     """
-    from scipy.interpolate import CubicSpline
-
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
     phases = np.asarray(phases, dtype=float)
     if np.any(radii <= 0):
@@ -141,7 +139,9 @@ def lobed_internal_pair(phases, radii, lobes: float, kind: str = "hermite",
             f"{np.degrees(p[k]):.2f} deg (internal radius {R[d, k]:.3f} mm, centre distance "
             f"{a[d]:.3f} mm), not above {min_planet_radius:g} mm between lobe phases "
             f"{span.min():.1f} and {span.max():.1f} deg: the planet cannot mesh there")
-    Q = CubicSpline(p, R / (lobes * rp), axis=1).antiderivative()(p)
+    # planet turn: running integral of the periodic cubic spline through dQ/dp (the
+    # integrand is periodic over the lobe; FFT, no per-call spline set-up)
+    Q = periodic_spline_running_integral((R[:, :-1] / (lobes * rp[:, :-1])).T, p[1] - p[0]).T
     if centre_distance is not None:
         err = np.abs(Q[:, -1] - TWO_PI)
         if np.any(err > tolerance):
