@@ -41,12 +41,13 @@ def smallest_clearance(pairs, pose_a, pose_b):
     overlaps or touches at some pose; NaN where a pose is not finite.
 
     Each polygon lies in a bounding capsule, and each capsule in a circle. The exact
-    clearance is computed first at the pose where the circles' centres are nearest, then
-    at every pose whose circle bound and then capsule bound (distances between the
-    circles, between the capsules) are below the smallest clearance found so far; a pose
-    skipped cannot be smaller, so the result equals the exact clearance at every pose,
-    minimised. The loop over designs and poses is compiled (numba, cached): a polygon
-    pair per pose is too small for numpy."""
+    clearance is computed first at the pose where the circles' centres are nearest; the
+    capsule bound (distance between the capsules) then at every pose whose circle bound
+    is below it, the exact clearance at the pose of the smallest capsule bound, and at
+    every pose whose capsule bound is below the smallest clearance so far. A pose skipped
+    cannot be smaller, so the result equals the exact clearance at every pose, minimised.
+    The loop over designs and poses is compiled (numba, cached): a polygon pair per pose
+    is too small for numpy."""
     rot_a, shift_a = (np.asarray(v, complex) for v in pose_a)
     rot_b, shift_b = (np.asarray(v, complex) for v in pose_b)
     shape = np.broadcast_shapes(rot_a.shape, shift_a.shape, rot_b.shape, shift_b.shape)
@@ -149,22 +150,33 @@ def _pt_seg2(px, py, ax, ay, bx, by):
     return dx * dx + dy * dy
 
 
+@numba.njit(cache=True)
+def _exact_at(ax, ay, b, bx, by, rr, sh):
+    """Clearance of polygon (ax, ay) and polygon b placed at rr b + sh."""
+    for k in range(b.shape[0]):
+        z = rr * b[k] + sh
+        bx[k], by[k] = z.real, z.imag
+    return _clearance_one(ax, ay, bx, by)
+
+
 @numba.njit(cache=True, nogil=True)
 def _smallest_clearance(a, b, rel_rot, rel_shift, caps, out):
     P, M = rel_rot.shape
     ka, kb = a.shape[1], b.shape[1]
     ax, ay = np.empty(ka), np.empty(ka)
     bx, by = np.empty(kb), np.empty(kb)
+    capsule = np.empty(M)
     for p in range(P):
         for i in range(ka):
             ax[i], ay[i] = a[p, i].real, a[p, i].imag
+        bp = b[p]
         a0, a1, b0, b1, r = caps[p, 0], caps[p, 1], caps[p, 2], caps[p, 3], caps[p, 4].real
         # each capsule inside a circle: a bound cheaper still
         ca, cb = 0.5 * (a0 + a1), 0.5 * (b0 + b1)
         reach = 0.5 * (abs(a1 - a0) + abs(b1 - b0)) + r
         finite = True
         first, near = 0, np.inf
-        for m in range(M):
+        for m in range(M):  # the pose where the circles are nearest
             g = rel_rot[p, m] * cb + rel_shift[p, m] - ca
             gap2 = g.real * g.real + g.imag * g.imag
             if not (np.isfinite(gap2) and np.isfinite(rel_rot[p, m])):
@@ -175,25 +187,31 @@ def _smallest_clearance(a, b, rel_rot, rel_shift, caps, out):
         if not finite:
             out[p] = np.nan
             continue
-        best = np.inf
-        for step in range(M + 1):  # the nearest circles first, then every pose in turn
-            m = first if step == 0 else step - 1
-            if step > 0:
-                if m == first:
-                    continue
-                rr, sh = rel_rot[p, m], rel_shift[p, m]
-                g = rr * cb + sh - ca
-                lim = best + reach  # circles apart by at least best: no smaller here
-                if lim <= 0.0 or g.real * g.real + g.imag * g.imag >= lim * lim:
-                    continue
-                q0, q1 = rr * b0 + sh, rr * b1 + sh
-                if _seg_seg(a0.real, a0.imag, a1.real, a1.imag,
-                            q0.real, q0.imag, q1.real, q1.imag) - r >= best:
-                    continue
-            for k in range(kb):
-                z = rel_rot[p, m] * b[p, k] + rel_shift[p, m]
-                bx[k], by[k] = z.real, z.imag
-            best = min(best, _clearance_one(ax, ay, bx, by))
+        best = _exact_at(ax, ay, bp, bx, by, rel_rot[p, first], rel_shift[p, first])
+        # capsule bounds where the circles are nearer than that; the smallest one next
+        second = first
+        for m in range(M):
+            capsule[m] = np.inf
+            if m == first or best <= -1.0:
+                continue
+            rr, sh = rel_rot[p, m], rel_shift[p, m]
+            g = rr * cb + sh - ca
+            lim = best + reach  # circles apart by at least best: no smaller here
+            if lim <= 0.0 or g.real * g.real + g.imag * g.imag >= lim * lim:
+                continue
+            q0, q1 = rr * b0 + sh, rr * b1 + sh
+            capsule[m] = _seg_seg(a0.real, a0.imag, a1.real, a1.imag,
+                                  q0.real, q0.imag, q1.real, q1.imag) - r
+            if capsule[m] < capsule[second] or second == first:
+                second = m
+        if second != first and capsule[second] < best:
+            best = min(best, _exact_at(ax, ay, bp, bx, by, rel_rot[p, second],
+                                       rel_shift[p, second]))
+            capsule[second] = np.inf
+        # every other pose whose capsule bound is below the smallest so far
+        for m in range(M):
             if best <= -1.0:
                 break
+            if capsule[m] < best:
+                best = min(best, _exact_at(ax, ay, bp, bx, by, rel_rot[p, m], rel_shift[p, m]))
         out[p] = best
