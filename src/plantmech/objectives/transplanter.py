@@ -374,7 +374,7 @@ def _interference(motion: TransplanterMotion, setup: FieldSetup):
 
     P, J, S = motion.B.shape
     layers, cut = outline_layers(motion.arm_geometry, setup)
-    rot = np.exp(1j * motion.arm_angle)  # arm frame -> world: rot z + centre
+    rot = motion.arm_direction  # arm frame -> world: rot z + centre
     shift = motion.centre
 
     def polygon(coords):
