@@ -316,15 +316,21 @@ def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_heig
 
 def _hole_width(B, start, end, fwd_sign, advances):
     """Horizontal extent (mm) of the absolute path under the ground for each machine
-    advance per carrier turn (P, len(advances))."""
+    advance per carrier turn (P, len(advances)). Only the samples under the ground enter
+    (a short run of the cycle), grouped by design."""
     P, S = B.shape
-    k = np.arange(S)
-    mask = _span_mask(S, start, end)  # (P, S)
-    t = np.mod(k - start[:, None], S) / S
-    x = B.real * fwd_sign[:, None]
-    xa = x[:, None, :] + advances[None, :, None] * t[:, None, :]
-    m = mask[:, None, :]
-    return np.where(m, xa, -np.inf).max(axis=-1) - np.where(m, xa, np.inf).min(axis=-1)
+    rows, cols = np.nonzero(_span_mask(S, start, end))  # row-major: design by design
+    out = np.full((P, len(advances)), -np.inf)  # a design with no sample: -inf, as max - min
+    if rows.size == 0:
+        return out
+    t = np.mod(cols - start[rows], S) / S
+    x = B.real[rows, cols] * fwd_sign[rows]
+    xa = x[None, :] + advances[:, None] * t[None, :]  # (A, N)
+    has = np.bincount(rows, minlength=P) > 0
+    first = np.searchsorted(rows, np.flatnonzero(has))
+    out[has] = (np.maximum.reduceat(xa, first, axis=1)
+                - np.minimum.reduceat(xa, first, axis=1)).T
+    return out
 
 
 def box_parts(setup: FieldSetup, P: int) -> list[np.ndarray]:
