@@ -105,3 +105,164 @@ def test_interference_detects_crossing_arms():
     d2.arm.outline = {"whole": [tuple(p) for p in hull]}
     job2 = run_transplanter(d2)
     assert job2.evaluation.values[0, i] < 0
+
+
+# --- interference: the compiled clearance kernel against shapely ------------------------
+
+
+def shapely_interference(motion, setup):
+    """(i), (ii) as plantmech computed them before the compiled kernel (main at 34d81d3):
+    a shapely polygon per arm, layer and sample, shapely.distance / intersects; the
+    reference. The outline layers and box corners are the module's own."""
+    import shapely
+
+    from plantmech.objectives.transplanter import box_parts, outline_layers
+
+    P, J, S = motion.B.shape
+    layers, cut = outline_layers(motion.arm_geometry, setup)
+
+    def place(coords):
+        xy = np.asarray(coords, float)
+        z = xy[..., 0] + 1j * xy[..., 1]
+        z = z[None] if z.ndim == 1 else z
+        rot = (np.exp(1j * motion.arm_angle[..., None]) * z[:, None, None, :]
+               + motion.centre[..., None])
+        out = np.stack([rot.real, rot.imag], axis=-1)
+        return shapely.polygons(out.reshape(-1, z.shape[-1], 2)).reshape(P, J, S)
+
+    clear_arms = np.full(P, np.inf if J > 1 else np.nan)
+    for coords in layers.values():
+        placed = place(coords)
+        for j in range(J):
+            for jj in range(j + 1, J):
+                dist = shapely.distance(placed[:, j], placed[:, jj])
+                hit = shapely.intersects(placed[:, j], placed[:, jj])
+                clear_arms = np.minimum(clear_arms, np.where(hit, -1.0, dist).min(axis=-1))
+    parts = [shapely.polygons(np.stack([z.real, z.imag], -1)) for z in box_parts(setup, P)]
+    box = shapely.union(*parts)[:, None, None]
+    clear_box = np.full(P, np.inf)
+    for coords in cut.values():
+        placed = place(coords)
+        dist = np.where(shapely.intersects(placed, box), -1.0, shapely.distance(placed, box))
+        clear_box = np.minimum(clear_box, dist.min(axis=(1, 2)))
+    return clear_arms, clear_box
+
+
+def assert_same_interference(motion, setup):
+    from plantmech.objectives.transplanter import _interference
+
+    got, ref = _interference(motion, setup), shapely_interference(motion, setup)
+    for g, r in zip(got, ref, strict=True):
+        assert np.array_equal(g < 0, r < 0)  # the same verdicts
+        assert g == pytest.approx(r, abs=1e-9, nan_ok=True)  # the same clearances (mm)
+    return got
+
+
+@pytest.mark.parametrize("name", ["rice_transplanter", "rice_transplanter_khv",
+                                  "rice_transplanter_manufacturable",
+                                  "rice_transplanter_toothed"])
+def test_interference_equals_shapely_on_the_examples(name):
+    from plantmech.design import load_design
+    from plantmech.workflows import field_setup, simulate_transplanter
+
+    from .conftest import EXAMPLES
+
+    d = load_design(EXAMPLES / f"{name}.toml")
+    _, motion, *_ = simulate_transplanter(d, samples=720)
+    arms, box = assert_same_interference(motion, field_setup(d))
+    if name == "rice_transplanter_khv":
+        assert arms[0] == box[0] == -1.0  # its arms overlap (pinned below too)
+    else:
+        assert arms[0] > 0 and box[0] > 0
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_interference_equals_shapely_on_random_designs(seed):
+    """Seeded random variants (gear radii, arm, carrier start, box place, backlash,
+    carrier offset): both verdicts occur, and each design's clearances are shapely's."""
+    from plantmech.design import load_design
+    from plantmech.workflows import field_setup, simulate_transplanter
+
+    from .conftest import EXAMPLES
+
+    rng = np.random.default_rng(seed)
+    d = load_design(EXAMPLES / "rice_transplanter.toml")
+    P = 40
+    R = np.asarray(d.internal_gear.radii_mm) + rng.uniform(-6, 6, (P, 12))
+    params = {"S_mm": rng.uniform(120, 190, P), "H1_mm": rng.uniform(50, 110, P),
+              "beta_deg": rng.uniform(-70, 0, P), "initial_angle_deg": rng.uniform(0, 120, P),
+              "box_x_mm": rng.uniform(120, 200, P), "box_y_mm": rng.uniform(30, 110, P),
+              "backlash_deg": rng.uniform(0, 1, P), "carrier_offset_mm": rng.uniform(-.5, .5, P)}
+    _, motion, *_ = simulate_transplanter(d, R, samples=180, dense=1024, params=params)
+    arms, box = assert_same_interference(motion, field_setup(d, params))
+    for v in (arms, box):
+        assert (v < 0).any() and (v > 0).any()
+    # a design-file outline (one layer: the arm's hull) and two arms
+    from shapely.geometry import MultiPoint
+
+    from plantmech.objectives.transplanter import default_outline
+
+    both = default_outline(motion.arm_geometry.take(0))
+    hull = MultiPoint([tuple(p) for p in np.vstack([both["housing"], both["fork"]])])
+    d.arm.outline = {"whole": [tuple(p) for p in np.asarray(hull.convex_hull.exterior.coords)]}
+    d.carrier.arms = 2
+    _, motion, *_ = simulate_transplanter(d, R[:10], samples=180, dense=1024)
+    assert_same_interference(motion, field_setup(d))
+
+
+# every bundled transplanter example's objectives, recorded from main at 34d81d3 (before
+# the population rewrite of issue 16: shapely interference, the single-design job) by
+# run_transplanter(load_design(example)).evaluation.values[0]; units as in the names' rows
+EXAMPLE_OBJECTIVES = {
+    "rice_transplanter": {
+        "arms_clearance": 4.511056999427086, "arm_box_clearance": 7.8805321193885565,
+        "picking_angle": 340.12370842004816, "pushing_angle": 295.13035952022426,
+        "angle_difference": 44.9933488998239, "seedling_block_skew": 3.8580786928214437,
+        "trajectory_height": 263.89400711313465, "forward_inclination": 79.41776282314983,
+        "hole_width": 16.95801475332138, "gearbox_clearance": 21.594540226283243,
+        "module": 2.8037135541572282, "needle_seedling_angle": 20.361687135070802,
+        "equivalent_teeth": 1.8530918743992824,
+        "internal_teeth_difference": 0.14645097569356336,
+        "working_pressure_angle": 85.0901972703755,
+        "cuttable_module_margin": -2.7523877309607787},
+    "rice_transplanter_khv": {
+        "arms_clearance": -1.0, "arm_box_clearance": -1.0, "picking_angle": np.nan,
+        "pushing_angle": 273.11227641067524, "angle_difference": np.nan,
+        "seedling_block_skew": np.nan, "trajectory_height": 102.4846243482782,
+        "forward_inclination": 67.70320935006198, "hole_width": 59.63673416472349,
+        "gearbox_clearance": -105.55659676624238, "module": 2.862928082803897,
+        "needle_seedling_angle": np.nan},
+    "rice_transplanter_manufacturable": {
+        "arms_clearance": 18.93908935754313, "arm_box_clearance": 15.051538104152225,
+        "picking_angle": 333.54319031760707, "pushing_angle": 287.5008824853283,
+        "angle_difference": 46.042307832278766, "seedling_block_skew": 0.2833498436136779,
+        "trajectory_height": 242.10658395667636, "forward_inclination": 73.9225876009658,
+        "hole_width": 20.37433317663286, "gearbox_clearance": 37.2013301675218,
+        "module": 2.556788318230233, "needle_seedling_angle": 11.4800831752942,
+        "equivalent_teeth": 10.54090517887183, "internal_teeth_difference": 9.22928552377859,
+        "working_pressure_angle": 69.4872339701543,
+        "cuttable_module_margin": 0.39287785837082856},
+    "rice_transplanter_toothed": {
+        "arms_clearance": 17.997899818133448, "arm_box_clearance": 14.686337614010087,
+        "picking_angle": 333.61611041686, "pushing_angle": 288.2385822324125,
+        "angle_difference": 45.3775281844475, "seedling_block_skew": 0.4771654502669076,
+        "trajectory_height": 240.44705043495878, "forward_inclination": 75.8868968862349,
+        "hole_width": 20.87535698736403, "gearbox_clearance": 34.59271283535779,
+        "module": 2.566925581565756, "needle_seedling_angle": 12.199188514578152,
+        "equivalent_teeth": 8.477577654735938, "internal_teeth_difference": 9.321068382922164,
+        "working_pressure_angle": 68.67371431785415,
+        "cuttable_module_margin": -1.2941306760270552},
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLE_OBJECTIVES))
+def test_examples_keep_their_objectives(name):
+    from plantmech.design import load_design
+    from plantmech.workflows import run_transplanter
+
+    from .conftest import EXAMPLES
+
+    ev = run_transplanter(load_design(EXAMPLES / f"{name}.toml")).evaluation
+    assert ev.names == list(EXAMPLE_OBJECTIVES[name])
+    assert ev.values[0] == pytest.approx(list(EXAMPLE_OBJECTIVES[name].values()), abs=1e-6,
+                                         nan_ok=True)

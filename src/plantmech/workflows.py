@@ -526,35 +526,42 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
 
 
 def run_transplanter(design) -> TransplanterJob:
-    """Simulate a transplanting mechanism and evaluate objectives (i)-(xii)."""
-    from plantmech.objectives.transplanter import evaluate
+    """Simulate a transplanting mechanism and evaluate objectives (i)-(xii): the population
+    evaluation with P = 1, at the design's samples and a 4096-point pitch curve."""
     from plantmech.outputs.transplanter_report import transplanter_summary
 
-    pair, motion, perimeter, box = simulate_transplanter(design)
-    teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
-             else design.sun_gear.teeth)
-    ev = evaluate(motion, field_setup(design), transplanter_limits(design), perimeter, teeth,
-                  box, gear_fit=_gear_fit(design, pair, perimeter, teeth))
+    pair, motion, perimeter, box, ev = _transplanter_population(
+        design, None, design.samples, 4096, True, None)
     job = TransplanterJob(design, pair, motion, ev, float(perimeter[0]), float(box[0]), {})
     job.summary = transplanter_summary(job)
     return job
 
 
 def evaluate_transplanter_population(design, radii=None, samples: int = 720,
-                                    interference: bool = False, params: dict | None = None):
+                                    interference: bool = False, params: dict | None = None,
+                                    dense: int = 1024):
     """Simulate and evaluate P variants of the design at once: gear radii (P, N) and
-    scalars ``params`` (name -> (P,)): (motion, evaluation). Interference checks
-    (shapely) are optional: they dominate the cost."""
+    scalars ``params`` (name -> (P,)): (motion, evaluation). ``dense``: points of the
+    pitch curve over one lobe (turn). Interference (exact polygon clearances, compiled)
+    is optional: it costs about as much as the rest."""
+    _, motion, _, _, ev = _transplanter_population(design, radii, samples, dense,
+                                                   interference, params)
+    return motion, ev
+
+
+def _transplanter_population(design, radii, samples, dense, interference, params):
+    """(pair, motion, perimeter, gearbox radius, evaluation) of P designs: the one path of
+    the single-design job and of populations."""
     from plantmech.objectives.transplanter import evaluate
 
-    pair, motion, perimeter, box = simulate_transplanter(design, radii, samples, dense=1024,
+    pair, motion, perimeter, box = simulate_transplanter(design, radii, samples, dense=dense,
                                                          params=params)
     teeth = (design.internal_gear.teeth if design.mechanism == "rice_transplanter"
              else design.sun_gear.teeth)
     ev = evaluate(motion, field_setup(design, params), transplanter_limits(design), perimeter,
                   teeth, box, interference=interference,
                   gear_fit=_gear_fit(design, pair, perimeter, teeth))
-    return motion, ev
+    return pair, motion, perimeter, box, ev
 
 
 def _gear_fit(design, pair, perimeter, teeth):

@@ -127,10 +127,13 @@ def polar_curvature_radius(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
     (rho'^2 + rho^2 phi'^2)^(3/2) / (rho^2 phi'^3 + 2 rho'^2 phi' - rho rho'' phi'
     + rho rho' phi''). Positive where the curve turns towards its centre (convex seen
     from outside), negative on concave spans, inf on straight ones."""
-    num = rho**2 * dphi**3 + 2 * drho**2 * dphi - rho * ddrho * dphi + rho * drho * ddphi
-    speed = np.sqrt(drho**2 + (rho * dphi) ** 2)
+    # cubes as products: numpy's power(x, 3) calls pow() per element, ~5x slower
+    dphi2 = dphi * dphi
+    num = rho * rho * (dphi2 * dphi) + 2 * drho * drho * dphi - rho * ddrho * dphi \
+        + rho * drho * ddphi
+    speed = np.sqrt(drho * drho + rho * rho * dphi2)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(num == 0, np.inf, speed**3 / np.where(num == 0, 1.0, num))
+        return np.where(num == 0, np.inf, speed * speed * speed / np.where(num == 0, 1.0, num))
 
 
 def pressure_angle_proxy(curve: RadiusCurve, samples: int = 3600) -> tuple[float, float]:

@@ -84,6 +84,12 @@ class TransplanterMotion:
     kind: str
 
     @property
+    def arm_direction(self) -> np.ndarray:
+        """Unit vector of the arm line, e^{i (phi_2 + beta)} (P, J, S): (B - centre) / S,
+        without another complex exponential."""
+        return (self.B - self.centre) / self.arm_geometry.column("S")
+
+    @property
     def needle_angle(self) -> np.ndarray:
         """Direction of the needle A -> B, deg in [0, 360) (the paper's arm angle)."""
         return np.mod(np.degrees(np.angle(self.B - self.A)), 360.0)
@@ -96,9 +102,12 @@ class TransplanterMotion:
 def _arm_points(centre, phi2, dcentre, dphi2, arm: ArmGeometry):
     S, H1 = arm.column("S"), arm.column("H1")
     ang = phi2 + arm.column("beta")
-    B = centre + S * np.exp(1j * ang)
-    A = centre + H1 * np.exp(1j * (ang + arm.column("break_angle")))
-    rate = dcentre + 1j * S * dphi2 * np.exp(1j * ang)
+    along = np.empty(ang.shape, complex)  # e^{i ang} for B, A and the rate: cos and sin
+    np.cos(ang, out=along.real)  # (numpy's complex exp costs twice as much)
+    np.sin(ang, out=along.imag)
+    B = centre + S * along
+    A = centre + H1 * (along * np.exp(1j * arm.column("break_angle")))
+    rate = dcentre + (1j * S) * dphi2 * along
     return A, B, ang, rate
 
 
@@ -138,31 +147,16 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
             f"{m:.6g} lobes per carrier turn; the arms repeat their motion every carrier turn "
             f"only for a whole non-zero number (1 for a swinging arm: omega_1/omega_2 = "
             f"{(n - 1) / n:.6g})")
+    from plantmech.mechanisms.transplanter_kernels import differential_motion
+
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
     P = pair.R.shape[0]
-    j = np.arange(arms)
-    offset = TWO_PI * j / arms  # (J,)
-    # mesh point of arm j: lobe phase (P, J, S)
-    ph = _column(phase0) + (m * psi[None, :] + n * offset[:, None])[None]
-    ph = np.broadcast_to(ph, (P, arms, samples))
-    turns = np.floor(ph / TWO_PI)
-    frac = ph - turns * TWO_PI
+    offset = TWO_PI * np.arange(arms) / arms  # (J,)
     p, h = pair.p, pair.p[1] - pair.p[0]
-    k = np.clip((frac / h).astype(int), 0, len(p) - 2)
-    s = (frac - p[k]) / h
-    rows = np.arange(P)[:, None, None]
     rp = pair.planet_radius
     q_rate = pair.R / (n * rp)  # dQ/dp (P, D+1)
     dq_rate = (pair.dR * rp - pair.R * pair.dR) / (n * rp**2)  # d2Q/dp2
-
-    def herm(y, dy):
-        y0, y1 = y[rows, k], y[rows, k + 1]
-        d0, d1 = dy[rows, k], dy[rows, k + 1]
-        return ((2 * s**3 - 3 * s**2 + 1) * y0 + (s**3 - 2 * s**2 + s) * h * d0
-                + (-2 * s**3 + 3 * s**2) * y1 + (s**3 - s**2) * h * d1)
-
-    Q = herm(pair.Q, q_rate) + TWO_PI * turns  # (P, J, S), closed pair: Q(p + 2pi) = Q + 2pi
-    rate = herm(q_rate, dq_rate)  # dQ/dp at the mesh point
+    # Q at arm 0's start: cubic Hermite on the dense grid
     phase0 = np.broadcast_to(np.asarray(phase0, dtype=float), (P,))
     f0 = np.mod(phase0, TWO_PI)
     kk = np.clip((f0 / h).astype(int), 0, len(p) - 2)
@@ -171,15 +165,23 @@ def simulate_differential(pair: LobedInternalPair, speed_ratio: float, carrier0:
     Q0 = ((2 * s0**3 - 3 * s0**2 + 1) * pair.Q[r0, kk] + (s0**3 - 2 * s0**2 + s0) * h
           * q_rate[r0, kk] + (-2 * s0**3 + 3 * s0**2) * pair.Q[r0, kk + 1]
           + (s0**3 - s0**2) * h * q_rate[r0, kk + 1])
-    Q0 = (Q0 + TWO_PI * np.floor(phase0 / TWO_PI)).reshape(-1, 1, 1)
-    phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (P or 1, J, S)
-    a = pair.a[:, None, None] + _column(carrier_offset)
-    centre = a * np.exp(1j * phiH)
-    phi2 = phiH + (Q - Q0)
-    planet_rate = m * rate  # d gamma_2 / d psi
-    if backlash is not None:
-        phi2 = phi2 + backlash_offset(planet_rate, _column(backlash))
-    A, B, ang, trate = _arm_points(centre, phi2, -1j * centre, planet_rate - 1.0, arm)
+    Q0 = Q0 + TWO_PI * np.floor(phase0 / TWO_PI)
+
+    def per_design(v):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), (P,)))
+
+    shape = (P, arms, samples)
+    centre, A, B, trate = (np.empty(shape, complex) for _ in range(4))
+    phi2, ang, planet_rate = (np.empty(shape) for _ in range(3))
+    # mesh point of arm j at lobe phase phase0 + m psi + n 2 pi j / J; Hermite Q and
+    # dQ/dp there; the planet axis a e^{i phi_H}; phi_2 = phi_H + Q - Q0 (+ the play's
+    # offset); the arm's points: one compiled pass per design, arm and sample
+    differential_motion(
+        p, pair.Q, q_rate, dq_rate, float(n), float(m), np.ascontiguousarray(phase0), Q0,
+        per_design(carrier0), per_design(pair.a + np.asarray(carrier_offset, float)), offset,
+        psi, per_design(arm.S), per_design(arm.H1), per_design(arm.beta),
+        per_design(arm.break_angle), per_design(0.0 if backlash is None else backlash),
+        centre, A, B, phi2, ang, trate, planet_rate)
     return TransplanterMotion(psi, centre, A, B, phi2, ang, trate, planet_rate,
                               pair.closure_error, pair.a.copy(), arm, "differential")
 

@@ -163,7 +163,8 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     st = stages(motion, setup)
     P, J, S = motion.B.shape
     psi_deg = np.degrees(motion.carrier_angle)
-    needle = motion.needle_angle
+    # the needle direction of arm 0 (the objectives' arm), deg: A -> B, as needle_angle
+    needle = np.mod(np.degrees(np.angle(motion.B[:, 0] - motion.A[:, 0])), 360.0)  # (P, S)
     names, units, lims, vals, viol, notes = [], [], [], [], [], {}
 
     def add(name, value, lo, hi, unit, note=""):
@@ -190,10 +191,10 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     # --- (iii)-(v) angles over the stages of arm 0 ---------------------------------
     p0, p1 = st["pick"]
     g0, g1 = st["plant"]
-    pick_mask = _span_mask(S, p0, p1) & st["has_pick"][..., None]
-    plant_mask = _span_mask(S, g0, g1)
-    pick_ang = _circular_mean_deg(needle, pick_mask)[:, 0]
-    push_ang = _circular_mean_deg(needle, plant_mask)[:, 0]
+    pick_mask = _span_mask(S, p0[:, 0], p1[:, 0]) & st["has_pick"][:, :1]
+    plant_mask = _span_mask(S, g0[:, 0], g1[:, 0])
+    pick_ang = _circular_mean_deg(needle, pick_mask)
+    push_ang = _circular_mean_deg(needle, plant_mask)
     add("picking_angle", pick_ang, *limits.picking_angle_deg, "deg",
         "(iii) mean needle angle (A -> B, CCW from +x) while the tip is in the seedling mat")
     add("pushing_angle", push_ang, *limits.pushing_angle_deg, "deg",
@@ -256,7 +257,7 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     add("module", module, limits.min_module_mm, None, "mm",
         f"(xi) pitch-curve perimeter / (pi z), z = {teeth}")
     # --- (xii) needle vs seedlings at picking ------------------------------------------
-    nd = np.radians(_take(needle[:, 0], a0))
+    nd = np.radians(_take(needle, a0))
     into_mat = np.radians(np.asarray(setup.box_inclination_deg, float)) - np.pi / 2  # -v
     ang = np.degrees(np.arccos(np.abs(np.cos(nd - into_mat))))
     ang = np.where(st["has_pick"][:, 0], ang, np.nan)
@@ -315,87 +316,85 @@ def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_heig
 
 def _hole_width(B, start, end, fwd_sign, advances):
     """Horizontal extent (mm) of the absolute path under the ground for each machine
-    advance per carrier turn (P, len(advances))."""
+    advance per carrier turn (P, len(advances)). Only the samples under the ground enter
+    (a short run of the cycle), grouped by design."""
     P, S = B.shape
-    k = np.arange(S)
-    mask = _span_mask(S, start, end)  # (P, S)
-    t = np.mod(k - start[:, None], S) / S
-    x = B.real * fwd_sign[:, None]
-    xa = x[:, None, :] + advances[None, :, None] * t[:, None, :]
-    m = mask[:, None, :]
-    return np.where(m, xa, -np.inf).max(axis=-1) - np.where(m, xa, np.inf).min(axis=-1)
+    rows, cols = np.nonzero(_span_mask(S, start, end))  # row-major: design by design
+    out = np.full((P, len(advances)), -np.inf)  # a design with no sample: -inf, as max - min
+    if rows.size == 0:
+        return out
+    t = np.mod(cols - start[rows], S) / S
+    x = B.real[rows, cols] * fwd_sign[rows]
+    xa = x[None, :] + advances[:, None] * t[None, :]  # (A, N)
+    has = np.bincount(rows, minlength=P) > 0
+    first = np.searchsorted(rows, np.flatnonzero(has))
+    out[has] = (np.maximum.reduceat(xa, first, axis=1)
+                - np.minimum.reduceat(xa, first, axis=1)).T
+    return out
 
 
-def _place(motion: TransplanterMotion, coords):
-    """Polygons (P, J, S) of an outline (K, 2) or (P, K, 2) carried by every arm."""
-    import shapely
-
-    P, J, S = motion.B.shape
-    xy = np.asarray(coords, float)
-    z = xy[..., 0] + 1j * xy[..., 1]
-    z = z[None] if z.ndim == 1 else z  # (P or 1, K)
-    rot = (np.exp(1j * motion.arm_angle[..., None]) * z[:, None, None, :]
-           + motion.centre[..., None])
-    out = np.stack([rot.real, rot.imag], axis=-1)  # (P, J, S, K, 2)
-    return shapely.polygons(out.reshape(-1, z.shape[-1], 2)).reshape(P, J, S)
-
-
-def _box_polygons(setup: FieldSetup, P: int):
-    """(P,) polygons of the solid parts of the seedling box: the mat on the floor and
-    the floor plate (slotted over ``door_length`` at the door)."""
-    import shapely
-
+def box_parts(setup: FieldSetup, P: int) -> list[np.ndarray]:
+    """The solid parts of the seedling box for P designs, as polygons (P, 4) (complex, mm):
+    the mat on the floor and the floor plate (slotted over ``door_length`` at the door).
+    They share the floor line: the box is their union."""
     col = lambda v: np.broadcast_to(np.asarray(v, float), (P,))  # noqa: E731
     u = np.exp(1j * np.radians(col(setup.box_inclination_deg)))[:, None]
     o = (col(setup.box_x) + 1j * col(setup.box_y))[:, None]
     L, t, door, fl = setup.box_length, setup.mat_thickness, setup.door_length, setup.floor_thickness
-    parts = []
-    for corners in ([0, L, L + 1j * t, 1j * t],
-                    [door - 1j * fl, L - 1j * fl, L + 0j, door + 0j]):
-        z = o + np.asarray(corners, complex)[None, :] * u
-        parts.append(shapely.polygons(np.stack([z.real, z.imag], -1)))
-    return shapely.union(parts[0], parts[1])
+    return [o + np.asarray(corners, complex)[None, :] * u
+            for corners in ([0, L, L + 1j * t, 1j * t],
+                            [door - 1j * fl, L - 1j * fl, L + 0j, door + 0j])]
+
+
+def outline_layers(arm, setup: FieldSetup) -> tuple[dict, dict]:
+    """The arm's outline layers (name -> polygon (K, 2) or (P, K, 2), mm, arm frame) and
+    the same without the needle (the last ``needle_length`` of A -> B, which may pass the
+    seedling door) for the box check: the design file's outline or ``default_outline``."""
+    if not setup.outline:
+        return default_outline(arm), default_outline(arm, needle_cut=setup.needle_length)
+    import shapely
+
+    layers = {k: np.asarray(v, float) for k, v in setup.outline.items()}
+    a0 = arm.take(0)
+    a = a0.H1 * np.exp(1j * a0.break_angle)
+    d = (a0.S - a) / abs(a0.S - a)
+    cut_at = a0.S - setup.needle_length * d
+    big = 1e4
+    keep = shapely.Polygon([(p.real, p.imag) for p in (
+        cut_at + 1j * d * big - d * big, cut_at - 1j * d * big - d * big,
+        cut_at - 1j * d * big, cut_at + 1j * d * big)])
+    cut = {}
+    for k, v in layers.items():
+        part = shapely.Polygon(v).intersection(keep)
+        if not part.is_empty:
+            cut[k] = np.asarray(part.exterior.coords)[:-1]
+    return layers, cut
 
 
 def _interference(motion: TransplanterMotion, setup: FieldSetup):
     """Smallest clearance (mm) between parts of different arms on the same layer (i) and
-    between an arm without its needle and the seedling box (ii), for every design, with
-    shapely; -1 where outlines overlap."""
-    import shapely
+    between an arm without its needle and the seedling box (ii), for every design; -1
+    where outlines overlap. Exact polygon clearances over every sample, all designs at
+    once (``geometry.polygons.smallest_clearance``)."""
+    from plantmech.geometry.polygons import smallest_clearance
 
     P, J, S = motion.B.shape
-    arm = motion.arm_geometry
-    if setup.outline:
-        layers = {k: np.asarray(v, float) for k, v in setup.outline.items()}
-        # the needle: the last needle_length of A -> B, cut away for the box check
-        a0 = arm.take(0)
-        a = a0.H1 * np.exp(1j * a0.break_angle)
-        d = (a0.S - a) / abs(a0.S - a)
-        cut_at = a0.S - setup.needle_length * d
-        big = 1e4
-        keep = shapely.Polygon([(p.real, p.imag) for p in (
-            cut_at + 1j * d * big - d * big, cut_at - 1j * d * big - d * big,
-            cut_at - 1j * d * big, cut_at + 1j * d * big)])
-        cut = {}
-        for k, v in layers.items():
-            part = shapely.Polygon(v).intersection(keep)
-            if not part.is_empty:
-                cut[k] = np.asarray(part.exterior.coords)[:-1]
-    else:
-        layers = default_outline(arm)
-        cut = default_outline(arm, needle_cut=setup.needle_length)
+    layers, cut = outline_layers(motion.arm_geometry, setup)
+    rot = motion.arm_direction  # arm frame -> world: rot z + centre
+    shift = motion.centre
+
+    def polygon(coords):
+        xy = np.asarray(coords, float)
+        return np.atleast_2d(xy[..., 0] + 1j * xy[..., 1])  # (P or 1, K)
+
+    same_layer = [(polygon(c), polygon(c)) for c in layers.values()]
     clear_arms = np.full(P, np.inf if J > 1 else np.nan)
-    for coords in layers.values():
-        placed = _place(motion, coords)
-        for j in range(J):
-            for jj in range(j + 1, J):
-                dist = shapely.distance(placed[:, j], placed[:, jj])
-                hit = shapely.intersects(placed[:, j], placed[:, jj])
-                clear_arms = np.minimum(clear_arms, np.where(hit, -1.0, dist).min(axis=-1))
-    box = _box_polygons(setup, P)[:, None, None]
-    clear_box = np.full(P, np.inf)
-    for coords in cut.values():
-        placed = _place(motion, coords)
-        dist = np.where(shapely.intersects(placed, box), -1.0, shapely.distance(placed, box))
-        clear_box = np.minimum(clear_box, dist.min(axis=(1, 2)))
+    for j in range(J):
+        for jj in range(j + 1, J):
+            clear_arms = np.minimum(clear_arms, smallest_clearance(
+                same_layer, (rot[:, j], shift[:, j]), (rot[:, jj], shift[:, jj])))
+    poses = (rot.reshape(P, J * S), shift.reshape(P, J * S))
+    parts = box_parts(setup, P)
+    clear_box = smallest_clearance([(polygon(c), part) for c in cut.values() for part in parts],
+                                   poses, (1.0, 0.0))
     return clear_arms, clear_box
