@@ -13,13 +13,15 @@ from pathlib import Path
 EXIT_OK, EXIT_INPUT, EXIT_NOT_MET = 0, 2, 4
 SEEDER_GEARS = ("gear2", "sun", "gear3", "planet")
 TRANSPLANTER_GEARS = ("internal", "planet")
+KHV_GEARS = ("sun", "middle", "planet")
 
 
 def register(subparsers) -> None:
     from plantmech.interfaces.cli import _number
 
     p = subparsers.add_parser("verify", help="tooth-contact check of the written gear files "
-                              "through the whole train (seeder, differential transplanter)")
+                              "through the whole train (seeder, differential and K-H-V "
+                              "transplanters)")
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
     p.add_argument("--out", required=True, help="output directory")
@@ -60,19 +62,19 @@ def run(args) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism not in ("sugarcane_seeder", "rice_transplanter"):
+    names = {"sugarcane_seeder": SEEDER_GEARS, "rice_transplanter": TRANSPLANTER_GEARS,
+             "rice_transplanter_khv": KHV_GEARS}.get(design.mechanism)
+    if names is None:
         print(f"error: {args.design}: field 'mechanism' = {design.mechanism!r}: 'plantmech "
-              "verify' drives the sugarcane seeder's and the differential rice "
-              "transplanter's trains (the K-H-V train is not implemented yet)",
+              "verify' drives the sugarcane seeder's and the rice transplanters' trains",
               file=sys.stderr)
         return EXIT_INPUT
-    names = SEEDER_GEARS if design.mechanism == "sugarcane_seeder" else TRANSPLANTER_GEARS
     try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
     except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism == "rice_transplanter":
+    if design.mechanism.startswith("rice_transplanter"):
         rec = _run_transplanter(args, design, gears, out)
         return _report(args, design, gears, gears_dir, out, rec, None)
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
@@ -128,13 +130,17 @@ def _limits(args) -> dict:
 
 
 def _run_transplanter(args, design, gears, out) -> dict:
-    """The differential transplanter: every arm's planet against the internal gear."""
+    """The differential transplanter (every arm's planet against the internal gear) or
+    the K-H-V train (every arm's middle gear against the sun, its planet against the
+    middle)."""
+    from plantmech.contact.khv import analyse_khv, khv_record
     from plantmech.contact.transplanter import analyse_transplanter, transplanter_record
 
     t0 = time.perf_counter()
-    contact = analyse_transplanter(design, gears, steps=args.steps)
+    khv = design.mechanism == "rice_transplanter_khv"
+    contact = (analyse_khv if khv else analyse_transplanter)(design, gears, steps=args.steps)
     limits = _limits(args)
-    rec = transplanter_record(contact, limits)
+    rec = (khv_record if khv else transplanter_record)(contact, limits)
     rec["loads"] = {"skipped": "the multibody loads are computed for the seeder's train "
                                "only"}
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
@@ -142,7 +148,8 @@ def _run_transplanter(args, design, gears, out) -> dict:
     if not args.no_plots:
         from plantmech.outputs import verify_plots as vp
 
-        vp.plot_transplanter_transmission_error(out / "transmission_error.png", contact)
+        (vp.plot_khv_transmission_error if khv else vp.plot_transplanter_transmission_error)(
+            out / "transmission_error.png", contact)
         vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
         files += ["transmission_error.png", "tip_band.png"]
     rec["files"] = files
@@ -164,7 +171,8 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
     for p in rec["pairs"]:
         te, bl = p["transmission_error_deg"], p["backlash_band_deg"]
         print(f"  {p['pair']}: transmission error max |mid| "
-              + ("n/a" if te["max_abs_mid"] is None else f"{te['max_abs_mid']:.4f} deg")
+              + ("n/a" if te["max_abs_mid"] is None else f"{te['max_abs_mid']:.4f} deg"
+                 + _where(te.get("max_abs_mid_at")))
               + ", backlash band "
               + ("n/a" if bl["median"] is None else
                  f"{bl['min']:.4f}-{bl['max']:.4f} deg (median {bl['median']:.4f})")
@@ -195,6 +203,14 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
         print(check_line(c, 40, 4))
     print("wrote: " + ", ".join(str(out / f) for f in files))
     return EXIT_OK if rec["ok"] else EXIT_NOT_MET
+
+
+def _where(at: dict | None) -> str:
+    """' (at carrier X deg, <gear> tooth N)' for a located figure, else ''."""
+    if not at:
+        return ""
+    tooth = next((f"{k[:-6]} tooth {v}" for k, v in at.items() if k.endswith("_tooth")), "")
+    return f" (at carrier {at['carrier_angle_deg']:.1f} deg, {tooth})"
 
 
 def _face_width(gears_dir: Path) -> float:
