@@ -169,7 +169,12 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
         assert p["backlash_band_deg"]["median"] > 0
         assert a["tip_band_mm"]["max"] > 0
     assert rec["teeth_found_on_outlines"]["internal"] >= 60
-    for png in ("transmission_error", "tip_band"):
+    # the loads of both drives (exudyn), cross-checked by the energy balance
+    assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
+    assert set(rec["loads"]["input_torque_N_m"]) >= {"carrier", "internal"}
+    assert len(rec["loads"]["tangential_tooth_force_N"]) == 3
+    assert "loads: energy balance error" in {c["name"] for c in rec["checks"]}
+    for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
     assert "internal -> planet (arm 3)" in capsys.readouterr().out
 
@@ -180,7 +185,7 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     planet = read_gear_dxf(bad / "planet.dxf")
     _turn_dxf(bad / "planet.dxf", np.pi / planet.teeth)
     rc = main(["verify", str(TRANSPLANTER), "--gears", str(bad), "--out",
-               str(tmp_path / "v2"), "--steps", "36", "--no-plots"])
+               str(tmp_path / "v2"), "--steps", "36", "--no-plots", "--no-loads"])
     assert rc == 4
     rec = json.loads((tmp_path / "v2" / "verification.json").read_text())
     for p in rec["pairs"]:
@@ -233,7 +238,10 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     for a in rec["arms"]:
         assert a["arm_not_held_steps"] == 0 and 0 < a["tip_band_mm"]["max"] < 5
     assert rec["teeth_found_on_outlines"] == {"sun": 20, "middle": 20, "planet": 20}
-    for png in ("transmission_error", "tip_band"):
+    assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
+    assert len(rec["loads"]["tangential_tooth_force_N"]) == 4  # 2 pairs x 2 arms
+    assert rec["ok"] and rc == 0
+    for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
     assert "middle -> planet (arm 2)" in capsys.readouterr().out
 
@@ -244,7 +252,7 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     middle = read_gear_dxf(bad / "middle.dxf")
     _turn_dxf(bad / "middle.dxf", np.pi / middle.teeth)
     rc = main(["verify", str(KHV), "--gears", str(bad), "--out", str(tmp_path / "v2"),
-               "--steps", "36", "--no-plots"])
+               "--steps", "36", "--no-plots", "--no-loads"])
     assert rc == 4
     rec = json.loads((tmp_path / "v2" / "verification.json").read_text())
     for p in rec["pairs"]:

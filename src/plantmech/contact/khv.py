@@ -98,8 +98,6 @@ def analyse_khv(design, gears: dict[str, GearOutline], steps: int = 720) -> KHVC
     a = float(pair.a[0])
     S = float(design.arm.S_mm)
     beta = float(np.radians(design.arm.beta_deg))
-    # the middle's rate against the planet (d phi_p / d phi_m = -r_m / (a - r_m) at the
-    # planet contact), sampled on the dense grid as the nominal's slope
     s1, s2, s2lo, s2hi = [], [], [], []
     lo_all, hi_all, tips = [], [], []
     for j in range(arms):

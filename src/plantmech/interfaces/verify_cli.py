@@ -76,7 +76,7 @@ def run(args) -> int:
         return EXIT_INPUT
     if design.mechanism.startswith("rice_transplanter"):
         rec = _run_transplanter(args, design, gears, out)
-        return _report(args, design, gears, gears_dir, out, rec, None)
+        return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
     t0 = time.perf_counter()
@@ -90,14 +90,11 @@ def run(args) -> int:
     rec = seeder_record(contact, train, limits)
     loads = None
     if not args.no_loads:
-        from plantmech.contact.loads import LoadSpec, seeder_loads
+        from plantmech.contact.loads import seeder_loads
         from plantmech.mechanisms.seeder_forward import simulate
         from plantmech.objectives import Check
 
-        face = args.face_width or _face_width(gears_dir)
-        spec = LoadSpec(density_kg_m3=args.density, face_width_mm=face,
-                        arm_mass_kg=args.arm_mass, payload_kg=args.payload,
-                        carrier_speed_deg_s=args.carrier_speed)
+        spec = _load_spec(args, gears_dir)
         try:
             loads = seeder_loads(train, simulate(train, samples=3600), gears, spec)
         except ValueError as exc:
@@ -141,8 +138,22 @@ def _run_transplanter(args, design, gears, out) -> dict:
     contact = (analyse_khv if khv else analyse_transplanter)(design, gears, steps=args.steps)
     limits = _limits(args)
     rec = (khv_record if khv else transplanter_record)(contact, limits)
-    rec["loads"] = {"skipped": "the multibody loads are computed for the seeder's train "
-                               "only"}
+    loads = None
+    if not args.no_loads:
+        from plantmech.contact.transplanter_loads import differential_loads, khv_loads
+        from plantmech.objectives import Check
+
+        try:
+            loads = (khv_loads if khv else differential_loads)(
+                design, gears, _load_spec(args, Path(args.gears)))
+        except ValueError as exc:
+            rec["loads"] = {"skipped": str(exc)}
+        else:
+            rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
+            err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
+            ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
+            rec["checks"].append(ch.as_dict())
+            rec["ok"] = rec["ok"] and ch.ok
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -152,8 +163,22 @@ def _run_transplanter(args, design, gears, out) -> dict:
             out / "transmission_error.png", contact)
         vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
         files += ["transmission_error.png", "tip_band.png"]
+        if loads is not None:
+            vp.plot_transplanter_loads(out / "loads.png", loads)
+            files.append("loads.png")
     rec["files"] = files
+    rec["_loads"] = loads
     return rec
+
+
+def _load_spec(args, gears_dir: Path):
+    """The loads' inputs from the command line (face width: the gears' record's)."""
+    from plantmech.contact.loads import LoadSpec
+
+    return LoadSpec(density_kg_m3=args.density,
+                    face_width_mm=args.face_width or _face_width(gears_dir),
+                    arm_mass_kg=args.arm_mass, payload_kg=args.payload,
+                    carrier_speed_deg_s=args.carrier_speed)
 
 
 def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
@@ -192,11 +217,14 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
                         f"{j['carrier_angle_deg'][1]:.1f} deg (gear 2 tooth "
                         f"{j['gear2_tooth']})" for j in d["jammed"][:3]))
     if loads is not None:
+        tq = loads["input_torque_N_m"]
+        per_input = "".join(f", {k} {v['min']:.2f} to {v['max']:.2f}" for k, v in tq.items()
+                            if isinstance(v, dict))
+        forces = ", ".join(f"{v:.0f} N ({k.removesuffix('_max').replace('_', '-')})"
+                           for k, v in loads["tangential_tooth_force_N"].items())
         print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
-              f"input torque {loads['input_torque_N_m']['min']:.2f} to "
-              f"{loads['input_torque_N_m']['max']:.2f} N m, tangential tooth force up to "
-              f"{loads['tangential_tooth_force_N']['sun_gear2_max']:.0f} N (sun-gear 2), "
-              f"{loads['tangential_tooth_force_N']['gear3_planet_max']:.0f} N (gear 3-planet)")
+              f"input torque {tq['min']:.2f} to {tq['max']:.2f} N m{per_input}; "
+              f"tangential tooth force up to {forces}")
     elif "loads" in rec:
         print(f"  loads skipped: {rec['loads']['skipped']}")
     for c in rec["checks"]:

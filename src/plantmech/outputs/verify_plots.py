@@ -189,3 +189,33 @@ def plot_khv_transmission_error(path: Path, c) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     _save(plt, fig, path)
+
+
+def plot_transplanter_loads(path: Path, loads: dict) -> None:
+    """A transplanter's input torque(s) and tangential tooth forces over the carrier turn
+    (exudyn), and the energy balance (drives' work vs change of kinetic + potential
+    energy)."""
+    plt = _plt()
+    s = loads["series"]
+    psi = s["carrier_angle_deg"]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    for k, v in s.items():
+        if k.startswith("input_torque_"):
+            axes[0].plot(psi, v, label=k.removeprefix("input_torque_").removesuffix("_N_m")
+                         + " drive")
+        elif k.startswith("tooth_force_"):
+            axes[1].plot(psi, v, lw=0.8,
+                         label=k.removeprefix("tooth_force_").removesuffix("_N"))
+    axes[0].set_ylabel("input torque / N m")
+    axes[1].set_ylabel("tangential tooth force / N")
+    axes[2].plot(psi, s["work_J"], label="work of the drives")
+    axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
+    axes[2].set_ylabel("energy / J")
+    axes[2].set_xlabel("carrier angle / deg")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
+    axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
+                      f"balance error {err:.2f} %", fontsize=10)
+    _save(plt, fig, path)
