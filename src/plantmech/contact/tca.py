@@ -95,10 +95,12 @@ def _crossings(pts, s0, s1):
     order = np.argsort(key, kind="stable")
     skey = key[order]
     d = s1 - s0
-    dd = np.einsum("tsk,tsk->ts", d, d)
-    u0 = np.clip(-np.einsum("tsk,tsk->ts", s0, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
-    near = np.hypot(s0[..., 0] + u0 * d[..., 0], s0[..., 1] + u0 * d[..., 1])
-    far = np.maximum(np.hypot(s0[..., 0], s0[..., 1]), np.hypot(s1[..., 0], s1[..., 1]))
+    dx, dy = d[..., 0], d[..., 1]
+    x0, y0 = s0[..., 0], s0[..., 1]
+    dd = dx * dx + dy * dy
+    u0 = np.clip(-(x0 * dx + y0 * dy) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    near = np.hypot(x0 + u0 * dx, y0 + u0 * dy)
+    far = np.maximum(np.hypot(x0, y0), np.hypot(s1[..., 0], s1[..., 1]))
     lo = np.searchsorted(skey, (near - 1e-12 + off).ravel(), side="left")
     hi = np.searchsorted(skey, (far + 1e-12 + off).ravel(), side="right")
     counts = hi - lo
@@ -106,32 +108,30 @@ def _crossings(pts, s0, s1):
     seg = np.repeat(np.arange(t * ns), counts)
     start = np.repeat(np.cumsum(counts) - counts, counts)
     flat_p = order[np.repeat(lo, counts) + np.arange(total) - start]
-    step = seg // ns
-    si = seg % ns
-    pi_ = flat_p % npt
-    p = pts[step, pi_]
-    a0 = s0[step, si]
-    dv = d[step, si]
-    a = dd[step, si]
-    b = 2.0 * np.einsum("ck,ck->c", a0, dv)
-    c = np.einsum("ck,ck->c", a0, a0) - rho[step, pi_] ** 2
-    disc = np.maximum(b * b - 4.0 * a * c, 0.0)
-    sq = np.sqrt(disc)
+    # gathers by flat index (segment k of step i is i * ns + k, point likewise)
+    ax, ay = x0.ravel()[seg], y0.ravel()[seg]
+    vx, vy = dx.ravel()[seg], dy.ravel()[seg]
+    a = dd.ravel()[seg]
+    b = 2.0 * (ax * vx + ay * vy)
+    c = ax * ax + ay * ay - rho.ravel()[flat_p] ** 2
+    sq = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
     a2 = np.where(a > 0, 2.0 * a, np.inf)
-    phi = np.arctan2(p[:, 1], p[:, 0])
-    out_step, out_p, out_s, out_dq = [], [], [], []
+    pf = pts.reshape(-1, 2)
+    out_seg, out_p, out_dq = [], [], []
     for sign in (-1.0, 1.0):
         u = (-b + sign * sq) / a2
-        good = (u >= -1e-12) & (u <= 1.0 + 1e-12)
-        x = a0[:, 0] + u * dv[:, 0]
-        y = a0[:, 1] + u * dv[:, 1]
-        dq = np.angle(np.exp(1j * (np.arctan2(y, x) - phi)))
-        out_step.append(step[good])
-        out_p.append(pi_[good])
-        out_s.append(si[good])
-        out_dq.append(dq[good])
-    return (np.concatenate(out_step), np.concatenate(out_p), np.concatenate(out_s),
-            np.concatenate(out_dq))
+        k = np.flatnonzero((u >= -1e-12) & (u <= 1.0 + 1e-12))
+        uk = u[k]
+        x = ax[k] + uk * vx[k]
+        y = ay[k] + uk * vy[k]
+        fp = flat_p[k]
+        px, py = pf[fp, 0], pf[fp, 1]
+        # the rotation from the point to the crossing (both at its radius), (-pi, pi]
+        out_dq.append(np.arctan2(px * y - py * x, px * x + py * y))
+        out_seg.append(seg[k])
+        out_p.append(fp)
+    sg, fp = np.concatenate(out_seg), np.concatenate(out_p)
+    return sg // ns, fp % npt, sg % ns, np.concatenate(out_dq)
 
 
 def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
@@ -143,11 +143,12 @@ def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
     best = np.full(t, np.inf)
     arg = np.full(t, -1)
     if len(idx):
-        order = idx[np.lexsort((v[idx], step[idx]))]
-        first = np.r_[True, step[order][1:] != step[order][:-1]]
-        win = order[first]
-        best[step[win]] = v[win]
-        arg[step[win]] = win
+        si, vi = step[idx], v[idx]
+        np.minimum.at(best, si, vi)
+        # the first crossing (in candidate order) at each step's smallest rotation
+        hit = np.flatnonzero(vi == best[si])
+        first_steps, first = np.unique(si[hit], return_index=True)
+        arg[first_steps] = idx[hit[first]]
     best_tooth = np.where(arg >= 0, tooth[np.maximum(arg, 0)], -1)
     other = np.full(t, np.inf)
     sel = idx[tooth[idx] != best_tooth[step[idx]]]

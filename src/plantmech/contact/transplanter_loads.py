@@ -34,46 +34,13 @@ or of the mean kinetic energy if that is larger).
 
 from __future__ import annotations
 
-from bisect import bisect_right
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
-from plantmech.contact.loads import G, LoadSpec, polygon_mass_properties
+from plantmech.contact.loads import G, LoadSpec, PeriodicLaw, polygon_mass_properties
 
 TWO_PI = 2.0 * np.pi
-
-
-class PeriodicLaw:
-    """F(x) = slope x + s(x), s a periodic cubic spline of period ``period`` through
-    samples (x (N,) increasing over less than one period, y (N,)); a scalar evaluation
-    without array overhead (the multibody solver calls it at every Newton iteration)."""
-
-    def __init__(self, x, y, slope: float, period: float = TWO_PI):
-        x = np.asarray(x, dtype=float)
-        y = np.asarray(y, dtype=float) - slope * x
-        xs = np.r_[x, x[0] + period]
-        sp = CubicSpline(xs, np.r_[y, y[0]], bc_type="periodic")
-        self.slope, self.period, self.x0 = float(slope), float(period), float(xs[0])
-        self.breaks = sp.x.tolist()
-        self.coef = sp.c.T.tolist()  # (N, 4): highest power first
-        self.n = len(self.coef)
-
-    def __call__(self, x: float, nu: int = 0) -> float:
-        x = float(x)
-        xm = self.x0 + (x - self.x0) % self.period
-        i = min(max(bisect_right(self.breaks, xm) - 1, 0), self.n - 1)
-        d = xm - self.breaks[i]
-        c3, c2, c1, c0 = self.coef[i]
-        if nu == 0:
-            return self.slope * x + ((c3 * d + c2) * d + c1) * d + c0
-        if nu == 1:
-            return self.slope + (3.0 * c3 * d + 2.0 * c2) * d + c1
-        return 6.0 * c3 * d + 2.0 * c2
-
-    def array(self, x, nu: int = 0) -> np.ndarray:
-        return np.array([self(v, nu) for v in np.ravel(x)])
 
 
 @dataclass
