@@ -79,12 +79,16 @@ def _nearest(ring: np.ndarray, point: np.ndarray, k: int, farthest: bool = False
     return np.argpartition(d, k - 1, axis=1)[:, :k]
 
 
-def _crossings(pts, s0, s1):
+def _crossings(pts, s0, s1, max_turn: float | None = None):
     """Every (step, point, segment) where the circle about the origin through the point
     (t, P, 2) meets the segment s0 -> s1 (t, S, 2), and the rotation (rad, wrapped to
-    (-pi, pi]) that brings the point there. Candidates come from a sort of the points'
-    radii against each segment's exact distance range (closest point to farthest end),
-    so the work grows with the crossings, not with points x segments."""
+    (-pi, pi]) that brings the point there; with ``max_turn`` (rad) only the rotations
+    up to that size (every caller discards the others). Candidates come from a sort of
+    the points' radii against each segment's exact distance range (closest point to
+    farthest end), so the work grows with the crossings, not with points x segments;
+    with ``max_turn`` a candidate whose point lies farther than max_turn in polar angle
+    from its segment's sector is dropped before the quadratic is solved (the crossing
+    lies in that sector: exact, no crossing within max_turn is lost)."""
     t, npt, _ = pts.shape
     ns = s0.shape[1]
     rho = np.hypot(pts[..., 0], pts[..., 1])
@@ -108,7 +112,18 @@ def _crossings(pts, s0, s1):
     seg = np.repeat(np.arange(t * ns), counts)
     start = np.repeat(np.cumsum(counts) - counts, counts)
     flat_p = order[np.repeat(lo, counts) + np.arange(total) - start]
-    # gathers by flat index (segment k of step i is i * ns + k, point likewise)
+    if max_turn is not None:
+        # a crossing lies between its segment's end angles (the polar angle along a
+        # segment is monotone): only points within max_turn of that sector can reach it
+        a0 = np.arctan2(y0, x0)
+        half = 0.5 * (np.mod(np.arctan2(s1[..., 1], s1[..., 0]) - a0 + np.pi, 2 * np.pi)
+                      - np.pi)
+        mid = (a0 + half).ravel()
+        reach = (np.abs(half) + (max_turn + 1e-9)).ravel()
+        ang = np.arctan2(pts[..., 1], pts[..., 0]).ravel()
+        gap = np.abs(np.mod(ang[flat_p] - mid[seg] + np.pi, 2 * np.pi) - np.pi)
+        k = np.flatnonzero(gap <= reach[seg])
+        seg, flat_p = seg[k], flat_p[k]
     ax, ay = x0.ravel()[seg], y0.ravel()[seg]
     vx, vy = dx.ravel()[seg], dy.ravel()[seg]
     a = dd.ravel()[seg]
@@ -127,7 +142,11 @@ def _crossings(pts, s0, s1):
         fp = flat_p[k]
         px, py = pf[fp, 0], pf[fp, 1]
         # the rotation from the point to the crossing (both at its radius), (-pi, pi]
-        out_dq.append(np.arctan2(px * y - py * x, px * x + py * y))
+        dq = np.arctan2(px * y - py * x, px * x + py * y)
+        if max_turn is not None:
+            k2 = np.flatnonzero(np.abs(dq) <= max_turn)
+            dq, k, fp = dq[k2], k[k2], fp[k2]
+        out_dq.append(dq)
         out_seg.append(seg[k])
         out_p.append(fp)
     sg, fp = np.concatenate(out_seg), np.concatenate(out_p)
@@ -217,9 +236,9 @@ def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_dr
         pd = _to_driven_frame(ring_d[vd], qd, c_d, qn, c_n)
         ed1 = _to_driven_frame(ring_d[(vd + 1) % nd], qd, c_d, qn, c_n)
         # (a) driven vertices onto driver edges: the driven turns by dq
-        sa, pa, _, qa = _crossings(pn, pd, ed1)
+        sa, pa, _, qa = _crossings(pn, pd, ed1, max_turn)
         # (b) driver vertices onto driven edges: the driven turns by -dq
-        sb, pb, eb, qb = _crossings(pd, pn, en1)
+        sb, pb, eb, qb = _crossings(pd, pn, en1, max_turn)
         step = np.r_[sa, sb]
         dq = np.r_[qa, -qb]
         kind_a = np.r_[np.ones(len(sa), bool), np.zeros(len(sb), bool)]
@@ -313,8 +332,8 @@ def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_
     qn, qd = q_n[rows], q_d[rows]
     pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
     ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
-    sa, pa, _, qa = _crossings(pn[rows], pd, ed)
-    sb, pb, _, qb = _crossings(pd, pn[rows], en1[rows])
+    sa, pa, _, qa = _crossings(pn[rows], pd, ed, max_turn)
+    sb, pb, _, qb = _crossings(pd, pn[rows], en1[rows], max_turn)
     st = np.r_[sa, sb]
     vid = np.r_[pa, kn + pb]  # vertex id within a step: driven 0..kn-1, driver kn..
     dq = np.r_[qa, -qb]
@@ -459,8 +478,8 @@ def _free_offsets_search(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn
     qn, qd = q_n[rows], q_d[rows]
     pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
     ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
-    sa, _, _, qa = _crossings(pn[rows], pd, ed)
-    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows])
+    sa, _, _, qa = _crossings(pn[rows], pd, ed, max_turn)
+    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows], max_turn)
     n = len(rows)
     st = np.r_[sa, sb, np.arange(n), np.arange(n)]
     dq = np.r_[qa, -qb, np.full(n, -max_turn), np.full(n, max_turn)]
