@@ -266,3 +266,18 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     assert "FAIL transmission error" in out
     assert "sun -> middle (arm 1): transmission error max |mid|" in out
     assert "middle tooth" in out  # located: carrier angle and the middle's tooth
+
+
+def test_khv_design_without_a_train_is_input_error(khv_gear_dir, tmp_path, capsys):
+    """A sun whose pitch curve cannot be built (radii under 1 mm): exit 2 naming the
+    section, no traceback."""
+    text = KHV.read_text().replace("radii_mm = [36.4, 33.94, 28.0, 22.06, 19.6, 22.06, 28.0, "
+                                   "33.94]", "radii_mm = [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, "
+                                   "0.5]")
+    assert "0.5, 0.5" in text
+    bad = tmp_path / "khv_tiny.toml"
+    bad.write_text(text)
+    rc = main(["verify", str(bad), "--gears", str(khv_gear_dir), "--out",
+               str(tmp_path / "v"), "--no-plots"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "[sun_gear]" in err and "sun pitch radius" in err

@@ -75,7 +75,12 @@ def run(args) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if design.mechanism.startswith("rice_transplanter"):
-        rec = _run_transplanter(args, design, gears, out)
+        try:
+            rec = _run_transplanter(args, design, gears, out)
+        except ValueError as exc:  # the pitch curves of the design cannot be built
+            section = "sun_gear" if design.mechanism.endswith("khv") else "internal_gear"
+            print(f"error: {args.design}: [{section}]: {exc}", file=sys.stderr)
+            return EXIT_INPUT
         return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
