@@ -13,6 +13,7 @@ from tests.conftest import EXAMPLES
 
 SEEDER = EXAMPLES / "sugarcane_table4.toml"
 TRANSPLANTER = EXAMPLES / "rice_transplanter_manufacturable.toml"
+KHV = EXAMPLES / "rice_transplanter_khv.toml"
 
 
 @pytest.fixture(scope="module")
@@ -31,9 +32,9 @@ def test_input_errors(tmp_path, capsys):
                str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert rc == 2 and "gear2.dxf: gear file not found" in err
-    rc = main(["verify", str(EXAMPLES / "rice_transplanter_khv.toml"), "--gears",
-               str(tmp_path / "g"), "--out", str(tmp_path / "o")])
-    assert rc == 2 and "field 'mechanism'" in capsys.readouterr().err
+    rc = main(["verify", str(KHV), "--gears", str(tmp_path / "g"), "--out",
+               str(tmp_path / "o")])
+    assert rc == 2 and "sun.dxf: gear file not found" in capsys.readouterr().err
     rc = main(["verify", str(TRANSPLANTER), "--gears", str(tmp_path / "g"), "--out",
                str(tmp_path / "o")])
     assert rc == 2 and "internal.dxf: gear file not found" in capsys.readouterr().err
@@ -168,7 +169,12 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
         assert p["backlash_band_deg"]["median"] > 0
         assert a["tip_band_mm"]["max"] > 0
     assert rec["teeth_found_on_outlines"]["internal"] >= 60
-    for png in ("transmission_error", "tip_band"):
+    # the loads of both drives (exudyn), cross-checked by the energy balance
+    assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
+    assert set(rec["loads"]["input_torque_N_m"]) >= {"carrier", "internal"}
+    assert len(rec["loads"]["tangential_tooth_force_N"]) == 3
+    assert "loads: energy balance error" in {c["name"] for c in rec["checks"]}
+    for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
     assert "internal -> planet (arm 3)" in capsys.readouterr().out
 
@@ -179,7 +185,7 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     planet = read_gear_dxf(bad / "planet.dxf")
     _turn_dxf(bad / "planet.dxf", np.pi / planet.teeth)
     rc = main(["verify", str(TRANSPLANTER), "--gears", str(bad), "--out",
-               str(tmp_path / "v2"), "--steps", "36", "--no-plots"])
+               str(tmp_path / "v2"), "--steps", "36", "--no-plots", "--no-loads"])
     assert rc == 4
     rec = json.loads((tmp_path / "v2" / "verification.json").read_text())
     for p in rec["pairs"]:
@@ -198,3 +204,80 @@ def _turn_dxf(path, turn: float) -> None:
         e.set_points(np.c_[c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]],
                      format="xy")
     doc.saveas(path)
+
+
+@pytest.fixture(scope="module")
+def khv_gear_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gears_khv")
+    # the illustrative K-H-V example is not manufacturable (undercut teeth: exit 4), its
+    # gear files are written all the same
+    assert main(["gears", str(KHV), "--out", str(out)]) == 4
+    return out
+
+
+def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
+    """The K-H-V example's gear files (sun, middle, planet), each arm's middle driven by
+    the sun and its planet by the middle: both pairs of both arms follow the pitch-curve
+    law (the files' body frames are the ones the analysis assumes: no tooth on tooth at
+    the reference pose), every figure reported per pair and arm; the middle file turned
+    by half a tooth fails and says where."""
+    out = tmp_path / "v"
+    rc = main(["verify", str(KHV), "--gears", str(khv_gear_dir), "--out", str(out),
+               "--steps", "72"])
+    rec = json.loads((out / "verification.json").read_text())
+    assert rc == (0 if rec["ok"] else 4)
+    assert [p["pair"] for p in rec["pairs"]] == [
+        "sun -> middle (arm 1)", "middle -> planet (arm 1)", "sun -> middle (arm 2)",
+        "middle -> planet (arm 2)"]
+    for p in rec["pairs"]:
+        assert p["reference_overlap_steps"] == 0 and p["interference_steps"] == 0
+        # well inside the free play (cut backlash 0.1 mm over ~20-36 mm pitch radii:
+        # 0.15-0.3 deg)
+        assert p["transmission_error_deg"]["max_abs_mid"] < 0.05
+        assert 0.1 < p["backlash_band_deg"]["median"] < 0.35
+    for a in rec["arms"]:
+        assert a["arm_not_held_steps"] == 0 and 0 < a["tip_band_mm"]["max"] < 5
+    assert rec["teeth_found_on_outlines"] == {"sun": 20, "middle": 20, "planet": 20}
+    assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
+    assert len(rec["loads"]["tangential_tooth_force_N"]) == 4  # 2 pairs x 2 arms
+    assert rec["ok"] and rc == 0
+    for png in ("transmission_error", "tip_band", "loads"):
+        assert (out / f"{png}.png").stat().st_size > 10_000
+    assert "middle -> planet (arm 2)" in capsys.readouterr().out
+
+    from plantmech.contact.outlines import read_gear_dxf
+
+    bad = tmp_path / "bad"
+    shutil.copytree(khv_gear_dir, bad)
+    middle = read_gear_dxf(bad / "middle.dxf")
+    _turn_dxf(bad / "middle.dxf", np.pi / middle.teeth)
+    rc = main(["verify", str(KHV), "--gears", str(bad), "--out", str(tmp_path / "v2"),
+               "--steps", "36", "--no-plots", "--no-loads"])
+    assert rc == 4
+    rec = json.loads((tmp_path / "v2" / "verification.json").read_text())
+    for p in rec["pairs"]:
+        # the middle sits about half its tooth angle off the sun's law; the planet, driven
+        # by the middle at its nominal angle, half a tooth off too
+        te = p["transmission_error_deg"]
+        assert te["max_abs_mid"] > 0.5 * 180.0 / middle.teeth
+        assert p["reference_overlap_steps"] == 36
+        assert te["max_abs_mid_at"][f"{p['driven']}_tooth"] >= 1
+    out = capsys.readouterr().out
+    assert "FAIL transmission error" in out
+    assert "sun -> middle (arm 1): transmission error max |mid|" in out
+    assert "middle tooth" in out  # located: carrier angle and the middle's tooth
+
+
+def test_khv_design_without_a_train_is_input_error(khv_gear_dir, tmp_path, capsys):
+    """A sun whose pitch curve cannot be built (radii under 1 mm): exit 2 naming the
+    section, no traceback."""
+    text = KHV.read_text().replace("radii_mm = [36.4, 33.94, 28.0, 22.06, 19.6, 22.06, 28.0, "
+                                   "33.94]", "radii_mm = [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, "
+                                   "0.5]")
+    assert "0.5, 0.5" in text
+    bad = tmp_path / "khv_tiny.toml"
+    bad.write_text(text)
+    rc = main(["verify", str(bad), "--gears", str(khv_gear_dir), "--out",
+               str(tmp_path / "v"), "--no-plots"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "[sun_gear]" in err and "sun pitch radius" in err

@@ -27,6 +27,8 @@ range over the turn, or of the mean kinetic energy if that is larger).
 
 from __future__ import annotations
 
+from bisect import bisect_right
+
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 from scipy.interpolate import CubicSpline
@@ -70,28 +72,44 @@ def polygon_mass_properties(rings: list, thickness_m: float, density: float):
     return float(m), c, float(density * thickness_m * jz - m * c @ c)
 
 
+class PeriodicLaw:
+    """F(x) = slope x + s(x), s a periodic cubic spline of period ``period`` through
+    samples (x (N,) increasing over less than one period, y (N,)); a scalar evaluation
+    without array overhead (the multibody solver calls it at every Newton iteration)."""
+
+    def __init__(self, x, y, slope: float, period: float = TWO_PI):
+        x = np.asarray(x, dtype=float)
+        y = np.asarray(y, dtype=float) - slope * x
+        xs = np.r_[x, x[0] + period]
+        sp = CubicSpline(xs, np.r_[y, y[0]], bc_type="periodic")
+        self.slope, self.period, self.x0 = float(slope), float(period), float(xs[0])
+        self.breaks = sp.x.tolist()
+        self.coef = sp.c.T.tolist()  # (N, 4): highest power first
+        self.n = len(self.coef)
+
+    def __call__(self, x: float, nu: int = 0) -> float:
+        x = float(x)
+        xm = self.x0 + (x - self.x0) % self.period
+        i = min(max(bisect_right(self.breaks, xm) - 1, 0), self.n - 1)
+        d = xm - self.breaks[i]
+        c3, c2, c1, c0 = self.coef[i]
+        if nu == 0:
+            return self.slope * x + ((c3 * d + c2) * d + c1) * d + c0
+        if nu == 1:
+            return self.slope + (3.0 * c3 * d + 2.0 * c2) * d + c1
+        return 6.0 * c3 * d + 2.0 * c2
+
+
 def _laws(nominal):
     """U(psi) (gear 2's turn vs the carrier's) and V(u) (planet's vs gear 2's), C2
-    periodic splines plus one turn per turn, with their first two derivatives."""
-    psi = np.r_[nominal.carrier_angle, TWO_PI]
+    periodic splines plus one turn per turn, with their first two derivatives (scalar
+    callables F(x, nu))."""
+    psi = nominal.carrier_angle
     u = np.r_[nominal.gear2_angle, nominal.gear2_angle[0] + TWO_PI]
     v = np.r_[nominal.planet_rel, nominal.planet_rel[0] + TWO_PI]
-    su = CubicSpline(psi, u - psi, bc_type="periodic")
     keep = np.r_[True, np.diff(u) > 1e-9]  # gear 2 stands still in the dwell
-    sv = CubicSpline(u[keep], v[keep] - u[keep], bc_type="periodic")
-    u0 = float(u[0])
-
-    def U(p, nu=0):
-        p = np.asarray(p, dtype=float)
-        base = p if nu == 0 else np.full_like(p, 1.0 if nu == 1 else 0.0)
-        return base + su(np.mod(p, TWO_PI), nu)
-
-    def V(x, nu=0):
-        x = np.asarray(x, dtype=float)
-        base = x if nu == 0 else np.full_like(x, 1.0 if nu == 1 else 0.0)
-        return base + sv(u0 + np.mod(x - u0, TWO_PI), nu)
-
-    return U, V
+    keep[-1] = False  # the turn's end: the period closes it
+    return PeriodicLaw(psi, u[:-1], 1.0), PeriodicLaw(u[keep], v[keep], 1.0)
 
 
 def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440) -> dict:

@@ -161,11 +161,23 @@ def _pair_record(name: str, fp: FreePlay, psi_deg, skip, driven: str, driver: st
     def fmax(x):
         return float(np.nanmax(np.abs(x))) if np.isfinite(x).any() else None
 
+    def worst(x):
+        # where the largest |mid-band| error is: carrier angle, the driven gear's body
+        # angle facing the driver and its tooth there
+        if not np.isfinite(x).any():
+            return None
+        i = int(np.nanargmax(np.abs(x)))
+        return {"carrier_angle_deg": round(float(psi_deg[i]), 3),
+                f"{driven}_body_angle_deg": round(float(np.degrees(fp.mesh_driven_angle[i])),
+                                                  2),
+                f"{driven}_tooth": int(fp.mesh_driven_tooth[i])}
+
     return {
         "pair": name, "driver": driver, "driven": driven,
         "steps_analysed": int(use.sum()),
         "transmission_error_deg": {
             "max_abs_mid": fmax(te),
+            "max_abs_mid_at": worst(te),
             "min_mid": float(np.nanmin(te)) if both.any() else None,
             "max_mid": float(np.nanmax(te)) if both.any() else None,
             "max_abs_lo_flank": fmax(np.where(use, lo, np.nan)),

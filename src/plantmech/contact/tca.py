@@ -79,12 +79,16 @@ def _nearest(ring: np.ndarray, point: np.ndarray, k: int, farthest: bool = False
     return np.argpartition(d, k - 1, axis=1)[:, :k]
 
 
-def _crossings(pts, s0, s1):
+def _crossings(pts, s0, s1, max_turn: float | None = None):
     """Every (step, point, segment) where the circle about the origin through the point
     (t, P, 2) meets the segment s0 -> s1 (t, S, 2), and the rotation (rad, wrapped to
-    (-pi, pi]) that brings the point there. Candidates come from a sort of the points'
-    radii against each segment's exact distance range (closest point to farthest end),
-    so the work grows with the crossings, not with points x segments."""
+    (-pi, pi]) that brings the point there; with ``max_turn`` (rad) only the rotations
+    up to that size (every caller discards the others). Candidates come from a sort of
+    the points' radii against each segment's exact distance range (closest point to
+    farthest end), so the work grows with the crossings, not with points x segments;
+    with ``max_turn`` a candidate whose point lies farther than max_turn in polar angle
+    from its segment's sector is dropped before the quadratic is solved (the crossing
+    lies in that sector: exact, no crossing within max_turn is lost)."""
     t, npt, _ = pts.shape
     ns = s0.shape[1]
     rho = np.hypot(pts[..., 0], pts[..., 1])
@@ -95,10 +99,12 @@ def _crossings(pts, s0, s1):
     order = np.argsort(key, kind="stable")
     skey = key[order]
     d = s1 - s0
-    dd = np.einsum("tsk,tsk->ts", d, d)
-    u0 = np.clip(-np.einsum("tsk,tsk->ts", s0, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
-    near = np.hypot(s0[..., 0] + u0 * d[..., 0], s0[..., 1] + u0 * d[..., 1])
-    far = np.maximum(np.hypot(s0[..., 0], s0[..., 1]), np.hypot(s1[..., 0], s1[..., 1]))
+    dx, dy = d[..., 0], d[..., 1]
+    x0, y0 = s0[..., 0], s0[..., 1]
+    dd = dx * dx + dy * dy
+    u0 = np.clip(-(x0 * dx + y0 * dy) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    near = np.hypot(x0 + u0 * dx, y0 + u0 * dy)
+    far = np.maximum(np.hypot(x0, y0), np.hypot(s1[..., 0], s1[..., 1]))
     lo = np.searchsorted(skey, (near - 1e-12 + off).ravel(), side="left")
     hi = np.searchsorted(skey, (far + 1e-12 + off).ravel(), side="right")
     counts = hi - lo
@@ -106,32 +112,45 @@ def _crossings(pts, s0, s1):
     seg = np.repeat(np.arange(t * ns), counts)
     start = np.repeat(np.cumsum(counts) - counts, counts)
     flat_p = order[np.repeat(lo, counts) + np.arange(total) - start]
-    step = seg // ns
-    si = seg % ns
-    pi_ = flat_p % npt
-    p = pts[step, pi_]
-    a0 = s0[step, si]
-    dv = d[step, si]
-    a = dd[step, si]
-    b = 2.0 * np.einsum("ck,ck->c", a0, dv)
-    c = np.einsum("ck,ck->c", a0, a0) - rho[step, pi_] ** 2
-    disc = np.maximum(b * b - 4.0 * a * c, 0.0)
-    sq = np.sqrt(disc)
+    if max_turn is not None:
+        # a crossing lies between its segment's end angles (the polar angle along a
+        # segment is monotone): only points within max_turn of that sector can reach it
+        a0 = np.arctan2(y0, x0)
+        half = 0.5 * (np.mod(np.arctan2(s1[..., 1], s1[..., 0]) - a0 + np.pi, 2 * np.pi)
+                      - np.pi)
+        mid = (a0 + half).ravel()
+        reach = (np.abs(half) + (max_turn + 1e-9)).ravel()
+        ang = np.arctan2(pts[..., 1], pts[..., 0]).ravel()
+        gap = np.abs(np.mod(ang[flat_p] - mid[seg] + np.pi, 2 * np.pi) - np.pi)
+        k = np.flatnonzero(gap <= reach[seg])
+        seg, flat_p = seg[k], flat_p[k]
+    ax, ay = x0.ravel()[seg], y0.ravel()[seg]
+    vx, vy = dx.ravel()[seg], dy.ravel()[seg]
+    a = dd.ravel()[seg]
+    b = 2.0 * (ax * vx + ay * vy)
+    c = ax * ax + ay * ay - rho.ravel()[flat_p] ** 2
+    sq = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
     a2 = np.where(a > 0, 2.0 * a, np.inf)
-    phi = np.arctan2(p[:, 1], p[:, 0])
-    out_step, out_p, out_s, out_dq = [], [], [], []
+    pf = pts.reshape(-1, 2)
+    out_seg, out_p, out_dq = [], [], []
     for sign in (-1.0, 1.0):
         u = (-b + sign * sq) / a2
-        good = (u >= -1e-12) & (u <= 1.0 + 1e-12)
-        x = a0[:, 0] + u * dv[:, 0]
-        y = a0[:, 1] + u * dv[:, 1]
-        dq = np.angle(np.exp(1j * (np.arctan2(y, x) - phi)))
-        out_step.append(step[good])
-        out_p.append(pi_[good])
-        out_s.append(si[good])
-        out_dq.append(dq[good])
-    return (np.concatenate(out_step), np.concatenate(out_p), np.concatenate(out_s),
-            np.concatenate(out_dq))
+        k = np.flatnonzero((u >= -1e-12) & (u <= 1.0 + 1e-12))
+        uk = u[k]
+        x = ax[k] + uk * vx[k]
+        y = ay[k] + uk * vy[k]
+        fp = flat_p[k]
+        px, py = pf[fp, 0], pf[fp, 1]
+        # the rotation from the point to the crossing (both at its radius), (-pi, pi]
+        dq = np.arctan2(px * y - py * x, px * x + py * y)
+        if max_turn is not None:
+            k2 = np.flatnonzero(np.abs(dq) <= max_turn)
+            dq, k, fp = dq[k2], k[k2], fp[k2]
+        out_dq.append(dq)
+        out_seg.append(seg[k])
+        out_p.append(fp)
+    sg, fp = np.concatenate(out_seg), np.concatenate(out_p)
+    return sg // ns, fp % npt, sg % ns, np.concatenate(out_dq)
 
 
 def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
@@ -143,11 +162,12 @@ def _reduce(t, step, dq, tooth, side: int, max_turn: float, tol: float):
     best = np.full(t, np.inf)
     arg = np.full(t, -1)
     if len(idx):
-        order = idx[np.lexsort((v[idx], step[idx]))]
-        first = np.r_[True, step[order][1:] != step[order][:-1]]
-        win = order[first]
-        best[step[win]] = v[win]
-        arg[step[win]] = win
+        si, vi = step[idx], v[idx]
+        np.minimum.at(best, si, vi)
+        # the first crossing (in candidate order) at each step's smallest rotation
+        hit = np.flatnonzero(vi == best[si])
+        first_steps, first = np.unique(si[hit], return_index=True)
+        arg[first_steps] = idx[hit[first]]
     best_tooth = np.where(arg >= 0, tooth[np.maximum(arg, 0)], -1)
     other = np.full(t, np.inf)
     sel = idx[tooth[idx] != best_tooth[step[idx]]]
@@ -216,9 +236,9 @@ def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_dr
         pd = _to_driven_frame(ring_d[vd], qd, c_d, qn, c_n)
         ed1 = _to_driven_frame(ring_d[(vd + 1) % nd], qd, c_d, qn, c_n)
         # (a) driven vertices onto driver edges: the driven turns by dq
-        sa, pa, _, qa = _crossings(pn, pd, ed1)
+        sa, pa, _, qa = _crossings(pn, pd, ed1, max_turn)
         # (b) driver vertices onto driven edges: the driven turns by -dq
-        sb, pb, eb, qb = _crossings(pd, pn, en1)
+        sb, pb, eb, qb = _crossings(pd, pn, en1, max_turn)
         step = np.r_[sa, sb]
         dq = np.r_[qa, -qb]
         kind_a = np.r_[np.ones(len(sa), bool), np.zeros(len(sb), bool)]
@@ -312,8 +332,8 @@ def _free_offsets(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn, poly_
     qn, qd = q_n[rows], q_d[rows]
     pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
     ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
-    sa, pa, _, qa = _crossings(pn[rows], pd, ed)
-    sb, pb, _, qb = _crossings(pd, pn[rows], en1[rows])
+    sa, pa, _, qa = _crossings(pn[rows], pd, ed, max_turn)
+    sb, pb, _, qb = _crossings(pd, pn[rows], en1[rows], max_turn)
     st = np.r_[sa, sb]
     vid = np.r_[pa, kn + pb]  # vertex id within a step: driven 0..kn-1, driver kn..
     dq = np.r_[qa, -qb]
@@ -458,8 +478,8 @@ def _free_offsets_search(rows, pn, en1, ring_d, vd, q_n, q_d, c_n, c_d, max_turn
     qn, qd = q_n[rows], q_d[rows]
     pd = _to_driven_frame(ring_d[vd[rows]], qd, c_d, qn, c_n)
     ed = _to_driven_frame(ring_d[(vd[rows] + 1) % nd], qd, c_d, qn, c_n)
-    sa, _, _, qa = _crossings(pn[rows], pd, ed)
-    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows])
+    sa, _, _, qa = _crossings(pn[rows], pd, ed, max_turn)
+    sb, _, _, qb = _crossings(pd, pn[rows], en1[rows], max_turn)
     n = len(rows)
     st = np.r_[sa, sb, np.arange(n), np.arange(n)]
     dq = np.r_[qa, -qb, np.full(n, -max_turn), np.full(n, max_turn)]

@@ -13,13 +13,15 @@ from pathlib import Path
 EXIT_OK, EXIT_INPUT, EXIT_NOT_MET = 0, 2, 4
 SEEDER_GEARS = ("gear2", "sun", "gear3", "planet")
 TRANSPLANTER_GEARS = ("internal", "planet")
+KHV_GEARS = ("sun", "middle", "planet")
 
 
 def register(subparsers) -> None:
     from plantmech.interfaces.cli import _number
 
     p = subparsers.add_parser("verify", help="tooth-contact check of the written gear files "
-                              "through the whole train (seeder, differential transplanter)")
+                              "through the whole train (seeder, differential and K-H-V "
+                              "transplanters)")
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
     p.add_argument("--out", required=True, help="output directory")
@@ -60,21 +62,26 @@ def run(args) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism not in ("sugarcane_seeder", "rice_transplanter"):
+    names = {"sugarcane_seeder": SEEDER_GEARS, "rice_transplanter": TRANSPLANTER_GEARS,
+             "rice_transplanter_khv": KHV_GEARS}.get(design.mechanism)
+    if names is None:
         print(f"error: {args.design}: field 'mechanism' = {design.mechanism!r}: 'plantmech "
-              "verify' drives the sugarcane seeder's and the differential rice "
-              "transplanter's trains (the K-H-V train is not implemented yet)",
+              "verify' drives the sugarcane seeder's and the rice transplanters' trains",
               file=sys.stderr)
         return EXIT_INPUT
-    names = SEEDER_GEARS if design.mechanism == "sugarcane_seeder" else TRANSPLANTER_GEARS
     try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
     except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism == "rice_transplanter":
-        rec = _run_transplanter(args, design, gears, out)
-        return _report(args, design, gears, gears_dir, out, rec, None)
+    if design.mechanism.startswith("rice_transplanter"):
+        try:
+            rec = _run_transplanter(args, design, gears, out)
+        except ValueError as exc:  # the pitch curves of the design cannot be built
+            section = "sun_gear" if design.mechanism.endswith("khv") else "internal_gear"
+            print(f"error: {args.design}: [{section}]: {exc}", file=sys.stderr)
+            return EXIT_INPUT
+        return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
     t0 = time.perf_counter()
@@ -88,14 +95,11 @@ def run(args) -> int:
     rec = seeder_record(contact, train, limits)
     loads = None
     if not args.no_loads:
-        from plantmech.contact.loads import LoadSpec, seeder_loads
+        from plantmech.contact.loads import seeder_loads
         from plantmech.mechanisms.seeder_forward import simulate
         from plantmech.objectives import Check
 
-        face = args.face_width or _face_width(gears_dir)
-        spec = LoadSpec(density_kg_m3=args.density, face_width_mm=face,
-                        arm_mass_kg=args.arm_mass, payload_kg=args.payload,
-                        carrier_speed_deg_s=args.carrier_speed)
+        spec = _load_spec(args, gears_dir)
         try:
             loads = seeder_loads(train, simulate(train, samples=3600), gears, spec)
         except ValueError as exc:
@@ -128,25 +132,58 @@ def _limits(args) -> dict:
 
 
 def _run_transplanter(args, design, gears, out) -> dict:
-    """The differential transplanter: every arm's planet against the internal gear."""
+    """The differential transplanter (every arm's planet against the internal gear) or
+    the K-H-V train (every arm's middle gear against the sun, its planet against the
+    middle)."""
+    from plantmech.contact.khv import analyse_khv, khv_record
     from plantmech.contact.transplanter import analyse_transplanter, transplanter_record
 
     t0 = time.perf_counter()
-    contact = analyse_transplanter(design, gears, steps=args.steps)
+    khv = design.mechanism == "rice_transplanter_khv"
+    contact = (analyse_khv if khv else analyse_transplanter)(design, gears, steps=args.steps)
     limits = _limits(args)
-    rec = transplanter_record(contact, limits)
-    rec["loads"] = {"skipped": "the multibody loads are computed for the seeder's train "
-                               "only"}
+    rec = (khv_record if khv else transplanter_record)(contact, limits)
+    loads = None
+    if not args.no_loads:
+        from plantmech.contact.transplanter_loads import differential_loads, khv_loads
+        from plantmech.objectives import Check
+
+        try:
+            loads = (khv_loads if khv else differential_loads)(
+                design, gears, _load_spec(args, Path(args.gears)))
+        except ValueError as exc:
+            rec["loads"] = {"skipped": str(exc)}
+        else:
+            rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
+            err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
+            ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
+            rec["checks"].append(ch.as_dict())
+            rec["ok"] = rec["ok"] and ch.ok
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
         from plantmech.outputs import verify_plots as vp
 
-        vp.plot_transplanter_transmission_error(out / "transmission_error.png", contact)
+        (vp.plot_khv_transmission_error if khv else vp.plot_transplanter_transmission_error)(
+            out / "transmission_error.png", contact)
         vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
         files += ["transmission_error.png", "tip_band.png"]
+        if loads is not None:
+            vp.plot_transplanter_loads(out / "loads.png", loads)
+            files.append("loads.png")
     rec["files"] = files
+    rec["_loads"] = loads
     return rec
+
+
+def _load_spec(args, gears_dir: Path):
+    """The loads' inputs from the command line (face width: the gears' record's)."""
+    from plantmech.contact.loads import LoadSpec
+
+    return LoadSpec(density_kg_m3=args.density,
+                    face_width_mm=args.face_width or _face_width(gears_dir),
+                    arm_mass_kg=args.arm_mass, payload_kg=args.payload,
+                    carrier_speed_deg_s=args.carrier_speed)
 
 
 def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
@@ -164,7 +201,8 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
     for p in rec["pairs"]:
         te, bl = p["transmission_error_deg"], p["backlash_band_deg"]
         print(f"  {p['pair']}: transmission error max |mid| "
-              + ("n/a" if te["max_abs_mid"] is None else f"{te['max_abs_mid']:.4f} deg")
+              + ("n/a" if te["max_abs_mid"] is None else f"{te['max_abs_mid']:.4f} deg"
+                 + _where(te.get("max_abs_mid_at")))
               + ", backlash band "
               + ("n/a" if bl["median"] is None else
                  f"{bl['min']:.4f}-{bl['max']:.4f} deg (median {bl['median']:.4f})")
@@ -184,17 +222,28 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
                         f"{j['carrier_angle_deg'][1]:.1f} deg (gear 2 tooth "
                         f"{j['gear2_tooth']})" for j in d["jammed"][:3]))
     if loads is not None:
+        tq = loads["input_torque_N_m"]
+        per_input = "".join(f", {k} {v['min']:.2f} to {v['max']:.2f}" for k, v in tq.items()
+                            if isinstance(v, dict))
+        forces = ", ".join(f"{v:.0f} N ({k.removesuffix('_max').replace('_', '-')})"
+                           for k, v in loads["tangential_tooth_force_N"].items())
         print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
-              f"input torque {loads['input_torque_N_m']['min']:.2f} to "
-              f"{loads['input_torque_N_m']['max']:.2f} N m, tangential tooth force up to "
-              f"{loads['tangential_tooth_force_N']['sun_gear2_max']:.0f} N (sun-gear 2), "
-              f"{loads['tangential_tooth_force_N']['gear3_planet_max']:.0f} N (gear 3-planet)")
+              f"input torque {tq['min']:.2f} to {tq['max']:.2f} N m{per_input}; "
+              f"tangential tooth force up to {forces}")
     elif "loads" in rec:
         print(f"  loads skipped: {rec['loads']['skipped']}")
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
     print("wrote: " + ", ".join(str(out / f) for f in files))
     return EXIT_OK if rec["ok"] else EXIT_NOT_MET
+
+
+def _where(at: dict | None) -> str:
+    """' (at carrier X deg, <gear> tooth N)' for a located figure, else ''."""
+    if not at:
+        return ""
+    tooth = next((f"{k[:-6]} tooth {v}" for k, v in at.items() if k.endswith("_tooth")), "")
+    return f" (at carrier {at['carrier_angle_deg']:.1f} deg, {tooth})"
 
 
 def _face_width(gears_dir: Path) -> float:

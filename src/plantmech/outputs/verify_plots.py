@@ -143,14 +143,15 @@ def plot_transplanter_transmission_error(path: Path, c) -> None:
 
 def plot_transplanter_tip_band(path: Path, c) -> None:
     """Arm 1's tip path of the pitch-curve model and of the toothed train at both ends
-    of each planet's free play (mm), and every arm's band width over the cycle."""
+    of each planet's free play (mm), and every arm's band width over the cycle
+    (differential or K-H-V train)."""
     plt = _plt()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5),
                                  gridspec_kw={"width_ratios": [1.2, 1]})
     _tip_path_panel(ax, c.tip_nominal[0], c.tip_lo[0], c.tip_hi[0], "planet",
                     "tip path (arm 1)", "pitch-curve model (arm 1)")
     psi = np.degrees(c.psi)
-    for j in range(len(c.arms)):
+    for j in range(len(c.tip_nominal)):
         bx.plot(psi, np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T), lw=0.8,
                 label=f"arm {j + 1} band width")
     bx.set_xlabel("carrier angle / deg")
@@ -158,4 +159,63 @@ def plot_transplanter_tip_band(path: Path, c) -> None:
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
     bx.set_title("tip band over the cycle")
+    _save(plt, fig, path)
+
+
+def plot_khv_transmission_error(path: Path, c) -> None:
+    """K-H-V train: each arm's middle gear against the sun and planet against its middle
+    (driven gear's turn off the pitch-curve law on both flanks, deg), and each arm's
+    attitude band through the whole train (deg)."""
+    plt = _plt()
+    psi = np.degrees(c.psi)
+    arms = len(c.stage1)
+    fig, axes = plt.subplots(2 * arms + 1, 1, figsize=(9, 2.6 * (2 * arms + 1)), sharex=True)
+    for j in range(arms):
+        for ax, fp, title in ((axes[2 * j], c.stage1[j], f"sun -> middle of arm {j + 1} "
+                               "(middle's turn)"),
+                              (axes[2 * j + 1], c.stage2[j], f"middle -> planet of arm "
+                               f"{j + 1} (planet's turn, middle at its nominal angle)")):
+            _flank_lines(ax, psi, fp)
+            ax.set_ylabel("error / deg")
+            ax.set_title(title, fontsize=10)
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=7, loc="upper right")
+    ax = axes[-1]
+    for j in range(arms):
+        ax.fill_between(psi, np.degrees(c.planet_lo[j]), np.degrees(c.planet_hi[j]),
+                        alpha=0.4, label=f"arm {j + 1} attitude band (whole train)")
+    ax.set_ylabel("arm attitude error / deg")
+    ax.set_xlabel("carrier angle (clockwise from the start) / deg")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    _save(plt, fig, path)
+
+
+def plot_transplanter_loads(path: Path, loads: dict) -> None:
+    """A transplanter's input torque(s) and tangential tooth forces over the carrier turn
+    (exudyn), and the energy balance (drives' work vs change of kinetic + potential
+    energy)."""
+    plt = _plt()
+    s = loads["series"]
+    psi = s["carrier_angle_deg"]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    for k, v in s.items():
+        if k.startswith("input_torque_"):
+            axes[0].plot(psi, v, label=k.removeprefix("input_torque_").removesuffix("_N_m")
+                         + " drive")
+        elif k.startswith("tooth_force_"):
+            axes[1].plot(psi, v, lw=0.8,
+                         label=k.removeprefix("tooth_force_").removesuffix("_N"))
+    axes[0].set_ylabel("input torque / N m")
+    axes[1].set_ylabel("tangential tooth force / N")
+    axes[2].plot(psi, s["work_J"], label="work of the drives")
+    axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
+    axes[2].set_ylabel("energy / J")
+    axes[2].set_xlabel("carrier angle / deg")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
+    axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
+                      f"balance error {err:.2f} %", fontsize=10)
     _save(plt, fig, path)
