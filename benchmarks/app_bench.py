@@ -52,6 +52,17 @@ class Server:
                     break
             except OSError:
                 time.sleep(0.2)
+        while time.time() - t0 < 120:  # measure once every compute worker is up
+            try:
+                c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=2)
+                c.request("GET", "/api/compute")
+                r = c.getresponse()
+                st = json.loads(r.read()) if r.status == 200 else {}
+                if r.status == 404 or st.get("ready") == st.get("workers"):
+                    break  # (404: a server without compute workers)
+            except OSError:
+                pass
+            time.sleep(0.2)
         self.url = f"http://127.0.0.1:{self.port}"
         return self
 

@@ -20,7 +20,7 @@ def _run(args) -> int:
         import uvicorn
 
         from plantmech.app.server import create_app
-        app = create_app(initial)
+        app = create_app(initial, prewarm=True)
     except DesignError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -41,7 +41,12 @@ def _run(args) -> int:
         import webbrowser
 
         threading.Timer(1.0, lambda: webbrowser.open(url)).start()
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    from plantmech.app.server import MAX_BODY_BYTES
+
+    # the drag stream's answers are ~10^5 bytes on loopback: compressing them costs more
+    # than sending them (measured in chromium, docs/app.md)
+    uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
+                ws_per_message_deflate=False, ws_max_size=MAX_BODY_BYTES + 1024)
     return 0
 
 
