@@ -141,3 +141,24 @@ def test_a_dead_worker_is_replaced():
     err, status = run(go())
     assert err.status == 500 and "died" in err.message
     assert status == 200
+
+
+def test_threads_answer_the_same_and_keep_the_limit():
+    """``--workers 0``: the same answers computed in the server's threads; the time limit
+    answers 503 (the computation cannot be stopped there)."""
+    from plantmech.app.compute import ThreadCompute
+
+    raw = body("sugarcane_seeder")
+    slow = body("rice_transplanter", quality="full", samples=20_000)
+
+    async def go():
+        runner = ThreadCompute()
+        ok = await runner.run(raw, 60.0)
+        with pytest.raises(ComputeError) as exc:
+            await runner.run(slow, 0.05)
+        return ok, exc.value
+
+    (status, answer, _), err = run(go())
+    assert status == 200
+    assert orjson.loads(answer)["checks"] == orjson.loads(server.evaluate_request(raw)[1])["checks"]
+    assert err.status == 503

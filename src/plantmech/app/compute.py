@@ -217,3 +217,47 @@ class ComputePool:
         for w in list(self._all):
             self._retire(w)
         self._idle.clear()
+
+
+class ThreadCompute:
+    """Edits computed in the server's own threads (``plantmech app --workers 0``): no
+    worker processes (and no start-up time), at most ``slots`` at once, admitted first
+    come first served. The computation holds the GIL for most of its time, so the HTTP
+    and WebSocket traffic waits behind it, and a computation over the time limit cannot
+    be stopped (it finishes on its own; its slot stays taken until then)."""
+
+    def __init__(self, slots: int = 2):
+        import threading
+
+        self.size = 0
+        self.ready = 0
+        self._admission: asyncio.Semaphore | None = None
+        self._slots = threading.BoundedSemaphore(slots)
+        self._n = slots
+
+    def start(self) -> None:
+        pass
+
+    def shutdown(self) -> None:
+        pass
+
+    async def run(self, body: bytes, timeout: float) -> tuple[int, bytes, float]:
+        from plantmech.app import server
+
+        if self._admission is None:
+            self._admission = asyncio.Semaphore(self._n)
+
+        def guarded():
+            with self._slots:
+                t0 = time.perf_counter()
+                status, answer = server.evaluate_request(body)
+                return status, answer, (time.perf_counter() - t0) * 1e3
+
+        async def admitted():
+            async with self._admission:
+                return await asyncio.to_thread(guarded)
+        try:
+            return await asyncio.wait_for(admitted(), timeout)
+        except TimeoutError:
+            raise ComputeError(503, f"computation exceeded the {timeout:g} s limit "
+                               "(lower the samples per turn)") from None

@@ -372,15 +372,15 @@ def create_app(initial: Path | None = None, workers: int | None = None,
                prewarm: bool = False) -> FastAPI:
     """The app; ``initial``: a design file named on the command line (read once, never
     written); ``workers``: compute worker processes (default one per core,
-    ``compute.worker_count``); ``prewarm``: start them with the server rather than at the
-    first edit."""
+    ``compute.worker_count``; 0: in the server's own threads, ``compute.ThreadCompute``);
+    ``prewarm``: start them with the server rather than at the first edit."""
     from contextlib import asynccontextmanager
 
-    from plantmech.app.compute import ComputeError, ComputePool
+    from plantmech.app.compute import ComputeError, ComputePool, ThreadCompute
     from plantmech.app.tasks import TaskManager
 
     tasks = TaskManager()
-    pool = ComputePool(workers)
+    pool = ThreadCompute() if workers == 0 else ComputePool(workers)
 
     @asynccontextmanager
     async def lifespan(_app):
