@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import http.client
 import json
+import os
 import socket
 import subprocess
 import sys
@@ -35,12 +36,17 @@ def _free_port() -> int:
 
 
 class Server:
-    """``plantmech app`` in a child process on a free loopback port."""
+    """``plantmech app`` in a child process on a free loopback port; ``args``: more of the
+    command's options (``--workers 0``)."""
+
+    def __init__(self, *args: str):
+        self.args = list(args)
 
     def __enter__(self):
         self.port = _free_port()
+        argv = ["app", "--no-browser", "--port", str(self.port), *self.args]
         code = ("from plantmech.interfaces.cli import main; import sys; "
-                f"sys.exit(main(['app', '--no-browser', '--port', '{self.port}']))")
+                f"sys.exit(main({argv!r}))")
         self.proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
                                      stderr=subprocess.DEVNULL)
         t0 = time.time()
@@ -52,6 +58,17 @@ class Server:
                     break
             except OSError:
                 time.sleep(0.2)
+        while time.time() - t0 < 120:  # measure once every compute worker is up
+            try:
+                c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=2)
+                c.request("GET", "/api/compute")
+                r = c.getresponse()
+                st = json.loads(r.read()) if r.status == 200 else {}
+                if r.status == 404 or st.get("ready") == st.get("workers"):
+                    break  # (404: a server without compute workers)
+            except OSError:
+                pass
+            time.sleep(0.2)
         self.url = f"http://127.0.0.1:{self.port}"
         return self
 
@@ -63,6 +80,28 @@ class Server:
             self.proc.kill()
 
 
+def process_cpu_s(pid: int) -> float:
+    """CPU seconds (user + system) of process ``pid`` and its live children (the app's
+    compute workers), from /proc; 0.0 where /proc is missing."""
+    tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+    total = 0.0
+    try:
+        names = os.listdir("/proc")
+    except OSError:
+        return 0.0
+    for name in names:
+        if not name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{name}/stat") as fh:
+                fields = fh.read().rsplit(")", 1)[1].split()
+        except OSError:  # ended meanwhile
+            continue
+        if int(name) == pid or int(fields[1]) == pid:  # the server or its child
+            total += (int(fields[11]) + int(fields[12])) / tick  # utime, stime
+    return total
+
+
 def _example(port: int, name: str) -> dict:
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
     c.request("GET", f"/api/examples/{name}")
@@ -70,9 +109,12 @@ def _example(port: int, name: str) -> dict:
 
 
 def load_test(clients: int = 20, requests: int = 10, pace_s: float | None = None,
-              cap_s: float = 90.0, port: int | None = None) -> dict:
+              cap_s: float = 90.0, port: int | None = None, server_pid: int | None = None
+              ) -> dict:
     """Latencies (ms) of seeder drag-edit requests from ``clients`` concurrent clients,
     ``requests`` each; ``pace_s``: seconds between one client's edits (None: closed loop).
+    With ``server_pid``: the server's CPU (its process and its compute workers) per
+    answer, ms.
     """
     base = _example(port, "sugarcane_seeder")
     lat: list[float] = []
@@ -103,14 +145,17 @@ def load_test(clients: int = 20, requests: int = 10, pace_s: float | None = None
                 time.sleep(max(0.0, pace_s - dt / 1e3))
 
     threads = [threading.Thread(target=client, args=(k,)) for k in range(clients)]
+    cpu0 = process_cpu_s(server_pid) if server_pid else 0.0
     t0 = time.time()
     for t in threads:
         t.start()
     for t in threads:
         t.join(cap_s + 30)
+    wall = time.time() - t0
+    cpu = process_cpu_s(server_pid) - cpu0 if server_pid else 0.0
     a = np.array(lat)
     return {"clients": clients, "requests": len(a), "errors": len(errors),
-            "wall_s": time.time() - t0,
+            "wall_s": wall, "server_cpu_ms_per_answer": cpu / len(a) * 1e3 if len(a) else None,
             "p50_ms": float(np.percentile(a, 50)) if len(a) else None,
             "p95_ms": float(np.percentile(a, 95)) if len(a) else None,
             "max_ms": float(a.max()) if len(a) else None}
@@ -157,7 +202,8 @@ def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str
               for k in keys}
     return {"samples": len(a), "p50_ms": float(np.percentile(a, 50)),
             "p95_ms": float(np.percentile(a, 95)), "max_ms": float(a.max()),
-            "median_parts_ms": median}
+            "median_parts_ms": median,
+            "transports": sorted({p.get("transport") or "http" for p in parts})}
 
 
 def drag_cpu_ms(repeat: int = 20) -> tuple[float, float]:
@@ -174,8 +220,9 @@ def drag_cpu_ms(repeat: int = 20) -> tuple[float, float]:
     for _ in range(repeat):
         d = json.loads(json.dumps(base))
         d["trajectory"]["points"][12][0] += float(rng.uniform(-2, 2))
+        raw = json.dumps({"design": d, "quality": "drag"}).encode()
         c0, w0 = time.process_time(), time.perf_counter()
-        server.fast_json(server.evaluate(server.validate_design(d), "drag"))
+        server.evaluate_request(raw)  # what a compute worker does for one edit
         cpu.append(time.process_time() - c0)
         wall.append(time.perf_counter() - w0)
     return float(np.median(cpu) * 1e3), float(np.median(wall) * 1e3)
@@ -183,8 +230,6 @@ def drag_cpu_ms(repeat: int = 20) -> tuple[float, float]:
 
 def report() -> None:
     """Print the app's figures (called by benchmarks/bench.py)."""
-    import os
-
     load = os.getloadavg()[0]
     cpu, wall = drag_cpu_ms()
     print(f"app seeder drag answer in-process (validation, inverse design at 360 samples, "
@@ -203,16 +248,28 @@ def report() -> None:
             parts = ", ".join(f"{k} {v:.1f}" for k, v in r["median_parts_ms"].items()
                               if k != "bytes")
             print(f"  where a drawn drag answer's time went (medians, ms): {parts}; answer "
-                  f"{r['median_parts_ms']['bytes'] / 1e3:.0f} kB")
+                  f"{r['median_parts_ms']['bytes'] / 1e3:.0f} kB over "
+                  f"{'/'.join(r['transports'])}")
         for pace in (None, 1.0):
-            r = load_test(pace_s=pace, port=srv.port)
+            r = load_test(pace_s=pace, port=srv.port, server_pid=srv.proc.pid)
             ok = "met" if r["p95_ms"] is not None and r["p95_ms"] < 100 else "NOT met"
             what = "closed loop" if pace is None else f"one edit per client every {pace:g} s"
+            rate = r["requests"] / r["wall_s"]
+            cpu = r["server_cpu_ms_per_answer"]
             print(f"app load test, {r['clients']} clients on loopback ({what}), seeder drag "
                   f"edits: {r['requests']} answers, {r['errors']} errors, p50 "
                   f"{r['p50_ms']:.0f} ms, p95 {r['p95_ms']:.0f} ms, max {r['max_ms']:.0f} ms "
-                  f"in {r['wall_s']:.1f} s, {r['requests'] / r['wall_s']:.0f} answers/s "
-                  f"(target p95 < 100 ms: {ok}; load average {os.getloadavg()[0]:.1f})")
+                  f"in {r['wall_s']:.1f} s, {rate:.0f} answers/s, server CPU "
+                  f"{cpu:.1f} ms per answer (target p95 < 100 ms: {ok}; load average "
+                  f"{os.getloadavg()[0]:.1f})")
+            if pace is None and cpu:
+                # closed loop: every client waits for its answer, so the mean latency is
+                # clients / throughput (Little's law); p95 < 100 ms needs more than that
+                need = r["clients"] / 0.1
+                print(f"  closed loop needs > {need:.0f} answers/s for a mean under 100 ms "
+                      f"({r['clients']} clients / 0.1 s); at {cpu:.1f} ms server CPU per "
+                      f"answer {os.cpu_count()} idle cores give at most "
+                      f"{os.cpu_count() * 1e3 / cpu:.0f} answers/s")
 
 
 if __name__ == "__main__":

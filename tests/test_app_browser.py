@@ -132,6 +132,8 @@ def test_drag_changes_objectives_and_undo(page):
     after = check_value(page, "large_ring_width")
     assert after != before
     assert page.evaluate("window.__dragTimes.length") >= 1  # drag answers were drawn live
+    # they came over the page's edit stream (the WebSocket), not one HTTP request per move
+    assert set(page.evaluate("window.__dragBreakdown.map(b => b.transport)")) == {"websocket"}
     assert page.evaluate("window.__plantmech.undo.length") == 1  # one entry per gesture
     page.click("#undo")
     page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.undo.length"

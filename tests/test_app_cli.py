@@ -40,6 +40,14 @@ def test_bad_port_is_exit_2(port, capsys):
     assert "port" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("workers", ["-1", "two", "65"])
+def test_bad_workers_is_exit_2(workers, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["app", "--workers", workers, "--no-browser"])
+    assert exc.value.code == 2
+    assert "--workers" in capsys.readouterr().err
+
+
 def test_only_loopback_hosts():
     with pytest.raises(SystemExit):
         main(["app", "--host", "0.0.0.0", "--no-browser"])

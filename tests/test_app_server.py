@@ -284,3 +284,72 @@ def test_short_optimization_streams_progress_and_front(client):
     assert r2.status_code == 200
     assert client.get(f"/api/tasks/{r.json()['task']}/files/best.toml").status_code == 200
     assert client.get(f"/api/tasks/{r.json()['task']}/files/..%2Fdesign.toml").status_code == 404
+
+
+def test_compute_workers_are_reported(client):
+    st = client.get("/api/compute").json()
+    assert st["workers"] >= 1 and 0 <= st["ready"] <= st["workers"]
+
+
+def _ws_answers(ws, n):
+    out = {}
+    for _ in range(n):
+        m = ws.receive_json()
+        out[m["id"]] = m
+    return out
+
+
+def test_edit_stream_answers_as_the_http_api(client):
+    """The WebSocket's answer to an edit is /api/evaluate's, with the message's id and the
+    worker's and the server's milliseconds."""
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][10][0] += 2.0
+    ref = evaluate(client, d, "drag").json()
+    with client.websocket_connect("/api/ws") as ws:
+        ws.send_json({"id": 7, "design": d, "quality": "drag"})
+        m = _ws_answers(ws, 1)[7]
+    assert m["status"] == 200 and m["compute"] > 0 and m["server"] >= m["compute"]
+    assert m["result"]["checks"] == ref["checks"]
+    assert m["result"]["gears"] == ref["gears"]
+
+
+def test_edit_stream_computes_only_the_newest_waiting_edit(client):
+    """Edits that arrive while one computes replace each other: only the newest is
+    computed; the replaced one is answered as superseded (no stale work queued)."""
+    d = example(client, "sugarcane_seeder")
+    with client.websocket_connect("/api/ws") as ws:
+        ws.send_json({"id": 1, "design": d, "quality": "full"})  # hundreds of ms
+        for k in (2, 3, 4):
+            d["trajectory"]["points"][10][0] += 1.0
+            ws.send_json({"id": k, "design": d, "quality": "drag"})
+        got = _ws_answers(ws, 4)
+    assert got[1]["status"] == 200 and got[4]["status"] == 200
+    assert got[2] == {"id": 2, "superseded": True} and got[3] == {"id": 3, "superseded": True}
+    # the answer drawn last is the newest design's
+    assert got[4]["result"]["design"]["trajectory"]["points"][10][0] == pytest.approx(
+        d["trajectory"]["points"][10][0])
+
+
+def test_edit_stream_errors_and_limits(client):
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][5] = list(d["trajectory"]["points"][4])  # dragged onto q4
+    with client.websocket_connect("/api/ws") as ws:
+        ws.send_json({"id": 1, "design": d, "quality": "drag"})
+        m = _ws_answers(ws, 1)[1]
+        assert m["status"] == 422
+        assert m["result"]["fields"][0]["field"] == "trajectory.points"
+        ws.send_text("{not json")
+        m = ws.receive_json()
+        assert m["status"] == 400 and "not valid JSON" in m["result"]["error"]
+        ws.send_text('{"id": 3, "x": "' + "y" * server.MAX_BODY_BYTES + '"}')
+        m = ws.receive_json()
+        assert m["status"] == 413 and "limit" in m["result"]["error"]
+
+
+def test_edit_stream_refuses_other_origins(client):
+    from starlette.websockets import WebSocketDisconnect
+
+    with pytest.raises(WebSocketDisconnect) as exc:
+        with client.websocket_connect("/api/ws", headers={"origin": "http://evil.example"}):
+            pass
+    assert exc.value.code == 1008

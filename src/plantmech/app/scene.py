@@ -167,13 +167,18 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     """Drawing data of a seeder inverse design (``SeederInverseJob``): the realized
     train of the inverse result (carrier, gears 1-4 on their pitch curves, arm, tip),
     the planned trajectory, Table 1 and attitude. Without a feasible train only the
-    planned curve and the diagnostics are drawn."""
+    planned curve and the diagnostics are drawn. The spans between the points are sent
+    only when an error names some of them (the page draws them red; the planned curve is
+    the rest)."""
     from plantmech.outputs.seeder_report import gear_body_angles
 
     res, d = job.result, job.design
     out = {"mechanism": "sugarcane_seeder", **trajectory_part(d, job.trajectory, detail),
            "feasible": bool(res.feasible), "samples": int(d.trajectory.samples),
            "diagnostics": diagnostics_list(res.diagnostics)}
+    if not any(g.get("severity") == "error" and g.get("between_points")
+               for g in out["diagnostics"]):
+        out.pop("spans", None)
     if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
         return out
     psi = res.carrier_angle

@@ -7,33 +7,37 @@ are chosen by name from the packaged ``plantmech/examples/*.toml``, the file giv
 line is read once at start, generated files live in server-side temporary
 directories and are served by name from the task's own list.
 
-Limits: request bodies over ``MAX_BODY_BYTES`` get 413; a computation over
-``COMPUTE_TIMEOUT_S`` answers 503 with a JSON error (the worker thread finishes on its
-own; at most ``MAX_COMPUTE`` run at once); background tasks (optimization, gear
-cutting) run in child processes that are killed at their time limit.
+Edits (``/api/evaluate`` over HTTP, or a stream of them over the WebSocket ``/api/ws``)
+are computed in worker processes, one per core (``plantmech.app.compute``): the whole
+computation, from the request's JSON to the answer's, runs there
+(``evaluate_request``). On the WebSocket only the newest waiting edit of a connection is
+computed: an edit that a newer one replaced before its turn is answered ``superseded``.
+
+Limits: request bodies and messages over ``MAX_BODY_BYTES`` get 413; a computation
+(waiting included) over ``COMPUTE_TIMEOUT_S`` answers 503 with a JSON error and its
+worker process is killed and replaced; background tasks (optimization, gear cutting) run
+in child processes that are killed at their time limit.
 """
 
 from __future__ import annotations
 
 import asyncio
 import re
-import threading
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from fastapi import FastAPI, Request
+from fastapi import FastAPI, Request, WebSocket
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
-from starlette.concurrency import run_in_threadpool
+from starlette.websockets import WebSocketDisconnect
 
 from plantmech.app import scene
 
 STATIC = Path(__file__).parent / "static"
 MAX_BODY_BYTES = 512 * 1024
 COMPUTE_TIMEOUT_S = 20.0
-MAX_COMPUTE = 2
 DRAG_SAMPLES = 360  # the app's working resolution during a drag (samples per carrier turn)
 FRAMES = 360  # animation frames per carrier turn
 DRAG_FRAMES, DRAG_DETAIL = 180, 360  # during a drag: frames, points per curve and plot
@@ -166,7 +170,9 @@ def _seeder_trajectory(design, drag: bool) -> dict:
         from plantmech.workflows import inverse_speed_objectives
 
         sp = inverse_speed_objectives(job)
-        out["plots"].update(scene.speed_plots(job.result.carrier_angle, sp, DRAG_DETAIL))
+        speeds = scene.speed_plots(job.result.carrier_angle, sp, DRAG_DETAIL)
+        del speeds["speed_carrier_angle_deg"]  # the other plots' grid: sent once
+        out["plots"].update(speeds)
         out["checks"] = scene.checks_list(checks + sp["checks"])
         out["pending"] = ("speeds of the inverse design's train; the forward simulation of "
                           "the resampled train and the gear checks follow on release")
@@ -215,8 +221,7 @@ def _seeder_train(design, drag: bool) -> dict:
                     if k in ("plan", "points", "sections_points")})
     out.update({"feasible": True, "diagnostics": [], "quality": "drag" if drag else "full",
                 "checks": scene.checks_list(job.checks)})
-    out["plots"]["speed_carrier_angle_deg"] = out["plots"]["carrier_angle_deg"]
-    return out
+    return out  # the speeds share the other plots' grid (carrier_angle_deg): sent once
 
 
 def _train_points(d) -> dict:
@@ -277,6 +282,57 @@ def editable_parameters(design) -> list[dict]:
     return out
 
 
+def evaluate_request(raw: bytes) -> tuple[int, bytes]:
+    """(HTTP status, JSON bytes) of one edit request body ``{"design": {...}, "quality":
+    "drag" | "full"}``: the answer of ``evaluate`` with the design as validated and, at
+    full quality, the page's editable parameters; or ``{"error", "fields"}``. Runs in a
+    compute worker (``plantmech.app.compute``); other keys of the body (the WebSocket's
+    message id) are ignored."""
+    import orjson
+
+    try:
+        try:
+            data = orjson.loads(raw)
+        except orjson.JSONDecodeError:
+            raise AppError(400, "request body is not valid JSON") from None
+        if not isinstance(data, dict):
+            raise AppError(400, "request body must be a JSON object")
+        quality = data.get("quality", "full")
+        if quality not in ("drag", "full"):
+            raise AppError(400, "field 'quality': expected 'drag' or 'full'")
+        design = validate_design(data.get("design"))
+        result = evaluate(design, quality)
+        result["design"] = design_json(design)
+        result["parameters"] = editable_parameters(design) if quality == "full" else None
+        return 200, orjson.dumps(result, option=orjson.OPT_SERIALIZE_NUMPY)
+    except AppError as exc:
+        return exc.status, orjson.dumps({"error": exc.message, "fields": exc.fields})
+    except Exception as exc:  # noqa: BLE001 - an engine failure is an answer, not a dead worker
+        return 500, orjson.dumps({"error": f"internal error while evaluating the design: "
+                                           f"{type(exc).__name__}: {exc}", "fields": []})
+
+
+def warm_up() -> None:
+    """One drag evaluation of the seeder example: a compute worker's imports and first
+    calls happen before it takes the first edit."""
+    import orjson
+
+    from plantmech.design import load_design
+
+    design = design_json(load_design(examples_dir() / "sugarcane_seeder.toml"))
+    evaluate_request(orjson.dumps({"design": design, "quality": "drag"}))
+
+
+def same_origin(headers) -> bool:
+    """A WebSocket handshake comes from the app's own page: no Origin (not a browser) or
+    an Origin whose host and port are the Host header's (WebSockets are not bound by
+    the browser's same-origin rule, so a page elsewhere could open one)."""
+    origin = headers.get("origin")
+    if origin is None:
+        return True
+    return origin.split("://", 1)[-1].rstrip("/") == headers.get("host", "")
+
+
 class BodyLimit:
     """ASGI middleware: a POST, PUT or PATCH needs a Content-Length of at most
     ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise). Plain ASGI rather than
@@ -317,18 +373,26 @@ class BodyLimit:
 # --- the application ----------------------------------------------------------------------
 
 
-def create_app(initial: Path | None = None) -> FastAPI:
+def create_app(initial: Path | None = None, workers: int | None = None,
+               prewarm: bool = False) -> FastAPI:
     """The app; ``initial``: a design file named on the command line (read once, never
-    written)."""
+    written); ``workers``: compute worker processes (default one per core,
+    ``compute.worker_count``; 0: in the server's own threads, ``compute.ThreadCompute``);
+    ``prewarm``: start them with the server rather than at the first edit."""
     from contextlib import asynccontextmanager
 
+    from plantmech.app.compute import ComputeError, ComputePool, ThreadCompute
     from plantmech.app.tasks import TaskManager
 
     tasks = TaskManager()
+    pool = ThreadCompute() if workers == 0 else ComputePool(workers)
 
     @asynccontextmanager
     async def lifespan(_app):
+        if prewarm:
+            pool.start()
         yield
+        pool.shutdown()
         tasks.shutdown()
 
     app = FastAPI(title="plantmech app", docs_url=None, redoc_url=None, lifespan=lifespan)
@@ -338,7 +402,7 @@ def create_app(initial: Path | None = None) -> FastAPI:
     app.add_middleware(TrustedHostMiddleware,
                        allowed_hosts=["127.0.0.1", "localhost", "[::1]", "testserver"])
     app.state.tasks = tasks
-    compute_slots = threading.BoundedSemaphore(MAX_COMPUTE)
+    app.state.compute = pool
     initial_payload: dict | None = None
     if initial is not None:
         from plantmech.design import load_design
@@ -353,25 +417,15 @@ def create_app(initial: Path | None = None) -> FastAPI:
         return JSONResponse({"error": exc.message, "fields": exc.fields},
                             status_code=exc.status)
 
-    admission = asyncio.Semaphore(MAX_COMPUTE)  # first come, first served
-
-    async def compute(fn, *args):
-        """Run ``fn`` in a worker thread under the compute time limit. Requests are let in
-        in their order of arrival (an asyncio semaphore queues fairly; the threads'
-        semaphore alone let some edit requests wait behind many later ones); the
-        threads' semaphore keeps the bound when a timed-out computation runs on."""
-        def guarded():
-            with compute_slots:
-                return fn(*args)
-
-        async def admitted():
-            async with admission:
-                return await run_in_threadpool(guarded)
+    async def compute(raw: bytes) -> tuple[int, bytes, float]:
+        """(status, answer JSON, compute ms) of an edit request body, computed by a worker
+        process under the compute time limit (waiting included)."""
         try:
-            return await asyncio.wait_for(admitted(), COMPUTE_TIMEOUT_S)
-        except TimeoutError:
-            raise AppError(503, f"computation exceeded the {COMPUTE_TIMEOUT_S:g} s limit "
-                           "(lower the samples per turn)") from None
+            return await pool.run(raw, COMPUTE_TIMEOUT_S)
+        except ComputeError as exc:
+            import orjson
+
+            return exc.status, orjson.dumps({"error": exc.message, "fields": []}), 0.0
 
     async def body(request: Request) -> dict:
         try:
@@ -404,6 +458,12 @@ def create_app(initial: Path | None = None) -> FastAPI:
             raise AppError(422, str(exc)) from None
         return {"name": name, "design": design_json(design)}
 
+    @app.get("/api/compute")
+    async def compute_status():
+        """The compute workers: how many the server runs and how many are ready."""
+        pool.start()
+        return {"workers": pool.size, "ready": pool.ready}
+
     @app.get("/api/initial")
     async def initial_design():
         return {"initial": initial_payload}
@@ -426,23 +486,77 @@ def create_app(initial: Path | None = None) -> FastAPI:
 
     @app.post("/api/evaluate")
     async def evaluate_endpoint(request: Request):
-        data = await body(request)
-        quality = data.get("quality", "full")
-        if quality not in ("drag", "full"):
-            raise AppError(400, "field 'quality': expected 'drag' or 'full'")
-        def answer():
-            t0 = time.perf_counter()
-            design = validate_design(data.get("design"))
-            result = evaluate(design, quality)
-            result["design"] = design_json(design)
-            result["parameters"] = editable_parameters(design) if quality == "full" else None
-            response = fast_json(result)
-            # the page splits its drag latency into server compute and the rest
-            response.headers["Server-Timing"] = (
-                f"compute;dur={(time.perf_counter() - t0) * 1e3:.2f}")
-            return response
+        status, answer, ms = await compute(await request.body())
+        # the page splits its drag latency into the worker's computation and the rest
+        return Response(answer, status_code=status, media_type="application/json",
+                        headers={"Server-Timing": f"compute;dur={ms:.2f}"})
 
-        return await compute(answer)
+    @app.websocket("/api/ws")
+    async def edit_stream(ws: WebSocket):
+        """A stream of edits from the page: each message is ``/api/evaluate``'s body with an
+        ``id``; each answer is ``{"id", "status", "compute", "server", "result"}`` (ms: the
+        worker's computation, the message's whole stay in the server). Only the newest
+        waiting edit is computed; one replaced before its turn gets ``{"id",
+        "superseded": true}``."""
+        import orjson
+
+        if not same_origin(ws.headers):
+            await ws.close(code=1008, reason="the app's own page only")
+            return
+        await ws.accept()
+        waiting: list = []  # at most one (id, raw message, arrival time)
+        arrived = asyncio.Event()
+        closed = False
+
+        async def receive():
+            nonlocal closed
+            try:
+                while True:
+                    msg = await ws.receive()
+                    if msg["type"] == "websocket.disconnect":
+                        break
+                    raw = msg.get("bytes") or (msg.get("text") or "").encode()
+                    t = time.perf_counter()
+                    if waiting:
+                        await ws.send_text(orjson.dumps({"id": waiting[0][0],
+                                                         "superseded": True}).decode())
+                        waiting.clear()
+                    if len(raw) > MAX_BODY_BYTES:
+                        await ws.send_text(orjson.dumps({
+                            "id": None, "status": 413, "result": {
+                                "error": f"message over the {MAX_BODY_BYTES} byte limit",
+                                "fields": []}}).decode())
+                        continue
+                    try:  # the id only (the worker reads the rest, and says what is wrong)
+                        ident = orjson.loads(raw).get("id")
+                    except (orjson.JSONDecodeError, AttributeError):
+                        ident = None
+                    waiting.append((ident, raw, t))
+                    arrived.set()
+            except (WebSocketDisconnect, RuntimeError):
+                pass
+            closed = True
+            arrived.set()
+
+        reader = asyncio.create_task(receive())
+        try:
+            while True:
+                await arrived.wait()
+                arrived.clear()
+                if closed:
+                    break
+                if not waiting:
+                    continue
+                ident, raw, t = waiting.pop()
+                status, answer, ms = await compute(raw)
+                server_ms = (time.perf_counter() - t) * 1e3
+                head = (f'{{"id":{orjson.dumps(ident).decode()},"status":{status},'
+                        f'"compute":{ms:.2f},"server":{server_ms:.2f},"result":')
+                await ws.send_text(head + answer.decode() + "}")
+        except (WebSocketDisconnect, RuntimeError):
+            pass
+        finally:
+            reader.cancel()
 
     @app.post("/api/toml")
     async def toml(request: Request):

@@ -1,4 +1,4 @@
-"""``plantmech app [DESIGN.toml] [--port N] [--no-browser]``: the interactive app.
+"""``plantmech app [DESIGN.toml] [--port N] [--no-browser] [--workers N]``: the interactive app.
 
 A local server (FastAPI + uvicorn) bound to 127.0.0.1 serves one page for both
 mechanisms; the design file, if given, is opened in it and never written. Exit status:
@@ -20,7 +20,7 @@ def _run(args) -> int:
         import uvicorn
 
         from plantmech.app.server import create_app
-        app = create_app(initial)
+        app = create_app(initial, workers=args.workers, prewarm=True)
     except DesignError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -41,7 +41,12 @@ def _run(args) -> int:
         import webbrowser
 
         threading.Timer(1.0, lambda: webbrowser.open(url)).start()
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    from plantmech.app.server import MAX_BODY_BYTES
+
+    # the drag stream's answers are ~10^5 bytes on loopback: compressing them costs more
+    # than sending them (measured in chromium, docs/app.md)
+    uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
+                ws_per_message_deflate=False, ws_max_size=MAX_BODY_BYTES + 1024)
     return 0
 
 
@@ -57,6 +62,18 @@ def _port(text: str) -> int:
     return v
 
 
+def _workers(text: str) -> int:
+    import argparse
+
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if not 0 <= v <= 64:
+        raise argparse.ArgumentTypeError(f"{v} compute workers: expected 0 to 64")
+    return v
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("app", help="interactive design app in the browser "
                               "(local server on 127.0.0.1)")
@@ -65,4 +82,7 @@ def register(subparsers) -> None:
     p.add_argument("--host", default="127.0.0.1", choices=("127.0.0.1", "localhost"),
                    help="loopback only")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.add_argument("--workers", type=_workers, default=None,
+                   help="processes computing edits (default: one per usable core; 0: in the "
+                   "server's own threads)")
     p.set_defaults(func=_run)

@@ -69,6 +69,66 @@ function redo() {
   state.undo.push(clone(state.design)); state.design = state.redo.pop(); evaluate("full");
 }
 
+// ---------------------------------------------------------------- edit stream
+// Edits travel over one WebSocket (/api/ws): no HTTP request per pointer move (Chromium's
+// fetch costs several ms per request on loopback, docs/app.md). If the socket cannot be
+// opened the page sends them by fetch to /api/evaluate (same answers).
+const stream = { ws: null, opening: null, next: 1, waiting: new Map(), useFetch: false };
+
+function openStream() {
+  if (stream.ws) return Promise.resolve(stream.ws);
+  if (stream.opening) return stream.opening;
+  stream.opening = new Promise((resolve) => {
+    let ws, opened = false;
+    try { ws = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/api/ws`); }
+    catch { stream.useFetch = true; stream.opening = null; resolve(null); return; }
+    ws.onopen = () => { opened = true; stream.ws = ws; stream.opening = null; resolve(ws); };
+    ws.onmessage = (ev) => {
+      const tRecv = performance.now();
+      const msg = JSON.parse(ev.data);
+      const done = stream.waiting.get(msg.id);
+      if (!done) return;
+      stream.waiting.delete(msg.id);
+      done({ msg, tRecv, tParsed: performance.now(), bytes: ev.data.length });
+    };
+    const lost = () => {
+      if (!opened) stream.useFetch = true; // refused: fetch from now on
+      stream.ws = null; stream.opening = null;
+      for (const done of stream.waiting.values()) done({ msg: null }); // resent by fetch
+      stream.waiting.clear();
+      resolve(null);
+    };
+    ws.onclose = lost; ws.onerror = lost;
+  });
+  return stream.opening;
+}
+
+// one edit to the server: its answer and the times of its way (ms, performance.now())
+async function postEdit(body) {
+  const ws = stream.useFetch ? null : await openStream();
+  if (ws) {
+    const id = stream.next++;
+    const answered = new Promise((resolve) => stream.waiting.set(id, resolve));
+    const tSend = performance.now();
+    ws.send(JSON.stringify({ id, ...body }));
+    const { msg, tRecv, tParsed, bytes } = await answered;
+    if (msg && msg.superseded) return { superseded: true };
+    if (msg) return { status: msg.status, res: msg.result, tSend, tHead: tRecv, tBody: tRecv, tParsed,
+      compute: msg.compute, server: msg.server, bytes, transport: "websocket" };
+  }
+  const tSend = performance.now();
+  const r = await fetch("/api/evaluate", { method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(body) });
+  const tHead = performance.now();
+  const text = await r.text();
+  const tBody = performance.now();
+  let res;
+  try { res = JSON.parse(text); } catch { res = { error: `${r.status} ${r.statusText}` }; }
+  const timing = (name) => { const m = (r.headers.get("Server-Timing") || "").match(new RegExp(`${name};dur=([0-9.]+)`)); return m ? +m[1] : null; };
+  return { status: r.status, res, tSend, tHead, tBody, tParsed: performance.now(), compute: timing("compute"),
+    server: timing("server"), bytes: text.length, transport: "http" };
+}
+
 // ---------------------------------------------------------------- evaluation
 // One request in flight; during a drag the newest design waits and replaces older ones
 // (coalescing: the pointer moves faster than answers come, only the latest is computed).
@@ -83,16 +143,10 @@ async function evaluate(quality, t0 = null) {
   state.inflight = true;
   const seq = ++state.seq;
   try {
-    const tSend = performance.now();
-    const r = await fetch("/api/evaluate", { method: "POST", headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({ design: state.design, quality }) });
-    const tHead = performance.now();
-    const text = await r.text();
-    const tBody = performance.now();
-    let res;
-    try { res = JSON.parse(text); } catch { res = { error: `${r.status} ${r.statusText}` }; }
-    const tParsed = performance.now();
-    if (!r.ok) { const e = new Error(res.error || r.statusText); e.data = res; e.status = r.status; throw e; }
+    const a = await postEdit({ quality, design: state.design });
+    if (a.superseded) return; // a newer edit of this page replaced it on the server
+    const res = a.res;
+    if (a.status !== 200) { const e = new Error(res.error || `${a.status}`); e.data = res; e.status = a.status; throw e; }
     state.fieldErrors = [];
     state.result = res;
     if (quality === "full") state.fullResult = res;
@@ -105,11 +159,9 @@ async function evaluate(quality, t0 = null) {
       const t1 = performance.now();
       performance.measure("drag-redraw", { start: t0, end: t1 });
       window.__dragTimes.push(t1 - t0);
-      const timing = (name) => { const m = (r.headers.get("Server-Timing") || "").match(new RegExp(`${name};dur=([0-9.]+)`)); return m ? +m[1] : null; };
-      const compute = timing("compute"), server = timing("server");
-      window.__dragBreakdown.push({ total: t1 - t0, queued: tSend - t0, compute, server,
-        browser_http: tHead - tSend - (server || 0), body: tBody - tHead, parse: tParsed - tBody,
-        draw: t1 - tParsed, bytes: text.length });
+      window.__dragBreakdown.push({ total: t1 - t0, queued: a.tSend - t0, compute: a.compute, server: a.server,
+        browser_http: a.tHead - a.tSend - (a.server || 0), body: a.tBody - a.tHead, parse: a.tParsed - a.tBody,
+        draw: t1 - a.tParsed, bytes: a.bytes, transport: a.transport });
     }
   } catch (e) {
     state.fieldErrors = (e.data && e.data.fields) || [];
