@@ -60,8 +60,13 @@ def examples_dir() -> Path:
 
 
 def example_names() -> list[str]:
+    """The packaged examples the app can draw (the general "planetary" train is CLI-only
+    so far: listing it would offer a design the page can only refuse)."""
     d = examples_dir()
-    return sorted(p.stem for p in d.glob("*.toml")) if d.is_dir() else []
+    if not d.is_dir():
+        return []
+    return sorted(p.stem for p in d.glob("*.toml")
+                  if 'mechanism = "planetary"' not in p.read_text(encoding="utf-8"))
 
 
 _FIELD = re.compile(r"field '([^']+)': (.*)")
