@@ -38,7 +38,8 @@ TOP_MARGIN = 0.3  # flanks run this far (x module) beyond the addendum, out of t
 
 def rack_space_polygons(pitch, spec, centres: np.ndarray):
     """The tooth spaces a rack (``spec``: module m, pressure angle alpha, addendum h_a,
-    dedendum h_f, backlash) generates on ``pitch`` (teeth.PitchPolyline), one per space
+    dedendum h_f, backlash) generates on ``pitch`` (teeth.PitchPolyline, convex: on a
+    concave span the rack's other teeth would cut too, which this does not model), one per space
     centre of ``centres`` (K,) (mm of arc, the rack coordinate of the rack tooth that cuts
     it; may run past the perimeter: arcs are taken modulo it).
 
