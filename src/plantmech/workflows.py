@@ -901,11 +901,16 @@ def tooth_proportions(pressure_angle_deg: float = 20.0, addendum: float = 1.0,
 
 
 def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
-               samples: int = 3000, min_teeth: int = 20, tooth: dict | None = None):
+               samples: int = 3000, min_teeth: int = 20, tooth: dict | None = None,
+               method: str = "envelope"):
     """Toothed gear pairs of a design: the seeder's sun-gear 2 and gear 3-planet pairs
     (from its [train], or from the inverse design of its trajectory), the transplanter's
-    internal gear-planet pair; ``tooth``: tooth proportions (``tooth_proportions``).
+    internal gear-planet pair; ``tooth``: tooth proportions (``tooth_proportions``);
+    ``method``: "envelope" (rack-cut teeth from the meshing equation's envelope) or
+    "simulated" (every gear by the Boolean cut of its cutter's positions).
     Returns [(GearPair, ToothSpec)]."""
+    if method not in ("envelope", "simulated"):
+        raise ValueError(f"teeth method {method!r}: choose 'envelope' or 'simulated'")
     tooth = tooth_proportions(**(tooth or {}))
     from plantmech.gears.teeth import (
         PitchPolyline,
@@ -945,7 +950,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             check_tooth_counts(m0, {names[0]: P})
             z, m = teeth_count(P, m0)
             check_tooth_counts(m, {names[1]: _mate_perimeter(th, r, a, False, samples)})
-            spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
+            spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
             bore = _bore(r.min(), spec)
             out.append((make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
                                   bore_b=_bore((a - r).min(), spec)), spec))
@@ -967,7 +972,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         a = float(pair.a[0])
         check_tooth_counts(m, {"planet": _mate_perimeter(th, r, a, True, samples)},
                            "internal_gear.teeth" if g.teeth and module is None else "--module")
-        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
+        spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
         out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
                               samples=samples, rim=g.rim_mm + 3.0,
                               bore_b=_bore((r - a).min(), spec)), spec))
@@ -992,7 +997,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
             z, m = teeth_count(P, m0)
         check_tooth_counts(m, {"sun": P, "middle": _mate_perimeter(th, r, a, False, samples)},
                            source)
-        spec = ToothSpec(module=m, backlash_mm=backlash, **tooth)
+        spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
         p1 = make_pair("sun_middle", th, r, a, spec, samples=samples,
                        bore_a=_bore(r.min(), spec), bore_b=_bore((a - r).min(), spec))
         # the middle meets the planet half a middle turn from the sun contact
@@ -1066,14 +1071,16 @@ def cut_limits(design):
 
 def run_gears(design, out, module: float | None = None, face_width: float = 12.0,
               backlash: float = 0.1, steps: int = 360, tooth: dict | None = None,
-              step: bool = False, outlines: dict | None = None) -> dict:
+              step: bool = False, outlines: dict | None = None,
+              method: str = "envelope") -> dict:
     """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
     STEP files, build123d, slow: minutes per gear, docs/manufacturing.md); returns the
     verification record (also written as verification.json) with its ``verdict`` ("ok" /
     "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
     pitch curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
     to receive each gear's cut outline and pitch polyline, {name: (polygon, (n, 2) mm)},
-    both in the gear's body frame about its centre (the app draws the teeth with them)."""
+    both in the gear's body frame about its centre (the app draws the teeth with them).
+    ``method``: how the teeth are generated (``gear_pairs``)."""
     from dataclasses import asdict
 
     from plantmech.gears import findings as fnd
@@ -1090,9 +1097,9 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     limits = cut_limits(design)
     record = {"verdict": None, "findings": [], "gears": [], "mesh": [], "files": [],
               "face_width_mm": face_width, "backlash_mm": backlash, "tooth": tooth,
-              "limits": asdict(limits)}
+              "limits": asdict(limits), "teeth_method": method}
     findings = record["findings"]
-    for pair, spec in gear_pairs(design, module, backlash, tooth=tooth):
+    for pair, spec in gear_pairs(design, module, backlash, tooth=tooth, method=method):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
         done = {g["name"] for g in record["gears"]}

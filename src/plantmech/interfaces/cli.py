@@ -365,7 +365,7 @@ def _gears_body(args, design, run) -> int:
                         backlash=args.backlash,
                         tooth={"pressure_angle_deg": rules.pressure_angle_deg,
                                "addendum": rules.addendum, "dedendum": rules.dedendum},
-                        step=args.step)
+                        step=args.step, method=args.teeth)
     except ValueError as exc:
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -518,7 +518,8 @@ def build_parser() -> argparse.ArgumentParser:
     fwd.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     add_report_option(fwd)
     fwd.set_defaults(func=_forward)
-    gears = sub.add_parser("gears", help="teeth by simulated cutting, checks, DXF/SVG/STL")
+    gears = sub.add_parser("gears",
+                           help="teeth (envelope or simulated cutting), checks, DXF/SVG/STL")
     gears.add_argument("design", help="design file (TOML)")
     add_output_options(gears)
     gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
@@ -538,6 +539,10 @@ def build_parser() -> argparse.ArgumentParser:
                        default=None, help="dedendum, x module (above the addendum: root "
                        "clearance; up to 3); default: the design's manufacturing.dedendum "
                        "(1.25)")
+    gears.add_argument("--teeth", choices=("envelope", "simulated"), default="envelope",
+                       help="how rack-cut teeth are generated: from the envelope condition of "
+                       "the meshing equation (default, fast, smooth outlines) or by simulated "
+                       "cutting (the reference); shaper-cut gears are always simulated")
     gears.add_argument("--step", action="store_true",
                        help="also write STEP solids (needs plantmech[step]; minutes per gear)")
     add_report_option(gears)
