@@ -204,3 +204,24 @@ def test_failed_run_removes_the_parents_it_created(tmp_path):
     with OutputRun(tmp_path / "a" / "b" / "o", [d]) as run:
         run.exit_code = 0
     assert (tmp_path / "a" / "b" / "o").is_dir()
+
+
+def test_solid_check_counts_open_fragments_without_networkx():
+    """Fuzz case 539 (the K-H-V gears at --module 10): the middle gear's extruded outline
+    fell into 26 pieces, and trimesh's split repairs each open piece with networkx (not a
+    dependency): a ModuleNotFoundError instead of the refusal. Two closed boxes and a box
+    with a face removed are 3 bodies, not watertight."""
+    import trimesh
+
+    from plantmech.outputs.gear_files import solid_check
+
+    a = trimesh.creation.box((1, 1, 1))
+    b = trimesh.creation.box((1, 1, 1))
+    b.apply_translation((3, 0, 0))
+    c = trimesh.creation.box((1, 1, 1))
+    c.apply_translation((6, 0, 0))
+    c = trimesh.Trimesh(c.vertices, c.faces[:-2], process=False)  # one side open
+    check = solid_check(trimesh.util.concatenate([a, b, c]))
+    assert check["bodies"] == 3 and not check["watertight"]
+    one = solid_check(a)
+    assert one == {"bodies": 1, "watertight": True, "volume_mm3": pytest.approx(1.0)}
