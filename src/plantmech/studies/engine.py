@@ -164,7 +164,11 @@ def run_chunks(out: Path, work, shared, chunks: list[tuple[int, object, int]],
         stats.cluster_start_s = time.perf_counter() - t0
         stats.workers = len(client.nthreads())
         t1 = time.perf_counter()
-        shared_f = client.scatter(shared, broadcast=True)
+        # a key of its own (hash=False): with the content's hash as its key, a study rerun on
+        # the same scheduler right after a stopped one scattered the key the stopped
+        # client was releasing, and its tasks were cancelled (FutureCancelledError; CI of
+        # this round; dask/distributed issues 4612 and 8576, whose workaround this is)
+        shared_f = client.scatter(shared, broadcast=True, hash=False)
         futures = {client.submit(_run_task, work, shared_f, payload, pure=False): (i, n)
                    for i, payload, n in pending}
         done_n = sum(c[2] for c in chunks if c[0] in done)
