@@ -34,6 +34,7 @@ from scipy.interpolate import CubicSpline
 
 from plantmech.contact.outlines import GearOutline
 from plantmech.contact.tca import FreePlay, free_play
+from plantmech.contact.transplanter import arm_tips, tip_paths
 
 TWO_PI = 2.0 * np.pi
 KHV_GEARS = ("sun", "middle", "planet")
@@ -137,17 +138,9 @@ def analyse_khv(design, gears: dict[str, GearOutline], steps: int = 720) -> KHVC
         s2hi.append(hi2)
         lo_all.append(p_lo)
         hi_all.append(p_hi)
-        centre = motion.centre[0, j]
-        phi2 = motion.planet_angle[0, j]
-        tips.append([centre + S * np.exp(1j * (phi2 + beta + extra))
-                     for extra in (0.0, p_lo, p_hi)])
-    tips = np.asarray(tips)  # (J, 3, T) complex
-
-    def xy(z):
-        return np.stack([z.real, z.imag], axis=-1)
-
+        tips.append(arm_tips(motion, j, S, beta, p_lo, p_hi))
     return KHVContact(psi, s1, s2, s2lo, s2hi, np.asarray(lo_all), np.asarray(hi_all),
-                      xy(tips[:, 0]), xy(tips[:, 1]), xy(tips[:, 2]))
+                      *tip_paths(tips))
 
 
 def khv_record(c: KHVContact, limits: dict) -> dict:

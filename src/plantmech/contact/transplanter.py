@@ -46,6 +46,20 @@ class TransplanterContact:
     tip_hi: np.ndarray
 
 
+def arm_tips(motion, arm: int, S: float, beta: float, lo, hi) -> list[np.ndarray]:
+    """The arm's tip (complex, mm) at its nominal pose and turned by the planet's free-play
+    ends ``lo`` and ``hi`` (rad): S from the planet axis at the planet angle + beta."""
+    centre = motion.centre[0, arm]
+    phi2 = motion.planet_angle[0, arm]
+    return [centre + S * np.exp(1j * (phi2 + beta + extra)) for extra in (0.0, lo, hi)]
+
+
+def tip_paths(tips) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(nominal, lo, hi) tip paths (J, T, 2) mm from every arm's ``arm_tips``."""
+    z = np.asarray(tips)  # (J, 3, T) complex
+    return tuple(np.stack([z[:, k].real, z[:, k].imag], axis=-1) for k in range(3))
+
+
 def planet_turn(pair, phase: np.ndarray) -> np.ndarray:
     """Q(p) (rad): the planet's turn relative to the carrier as the mesh point advances
     from lobe phase 0 to ``phase`` (any real, rad; Q(p + 2 pi) = Q(p) + 2 pi for a closed
@@ -86,18 +100,9 @@ def analyse_transplanter(design, gears: dict[str, GearOutline], steps: int = 720
         hi = np.where(np.isfinite(fp.hi), fp.hi, np.nan)
         lo_all.append(lo)
         hi_all.append(hi)
-        centre = motion.centre[0, j]
-        phi2 = motion.planet_angle[0, j]
-        tips.append([centre + S * np.exp(1j * (phi2 + beta + extra))
-                     for extra in (0.0, lo, hi)])
-    tips = np.asarray(tips)  # (J, 3, T) complex
-
-    def xy(z):
-        return np.stack([z.real, z.imag], axis=-1)
-
+        tips.append(arm_tips(motion, j, S, beta, lo, hi))
     return TransplanterContact(psi, results, np.asarray(phases), np.asarray(lo_all),
-                               np.asarray(hi_all), xy(tips[:, 0]), xy(tips[:, 1]),
-                               xy(tips[:, 2]))
+                               np.asarray(hi_all), *tip_paths(tips))
 
 
 def transplanter_record(c: TransplanterContact, limits: dict) -> dict:

@@ -97,19 +97,10 @@ def run(args) -> int:
     if not args.no_loads:
         from plantmech.contact.loads import seeder_loads
         from plantmech.mechanisms.seeder_forward import simulate
-        from plantmech.objectives import Check
 
         spec = _load_spec(args, gears_dir)
-        try:
-            loads = seeder_loads(train, simulate(train, samples=3600), gears, spec)
-        except ValueError as exc:
-            rec["loads"] = {"skipped": str(exc)}
-        else:
-            rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
-            err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
-            ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
-            rec["checks"].append(ch.as_dict())
-            rec["ok"] = rec["ok"] and ch.ok
+        loads = _record_loads(
+            rec, lambda: seeder_loads(train, simulate(train, samples=3600), gears, spec))
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -146,19 +137,9 @@ def _run_transplanter(args, design, gears, out) -> dict:
     loads = None
     if not args.no_loads:
         from plantmech.contact.transplanter_loads import differential_loads, khv_loads
-        from plantmech.objectives import Check
 
-        try:
-            loads = (khv_loads if khv else differential_loads)(
-                design, gears, _load_spec(args, Path(args.gears)))
-        except ValueError as exc:
-            rec["loads"] = {"skipped": str(exc)}
-        else:
-            rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
-            err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
-            ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
-            rec["checks"].append(ch.as_dict())
-            rec["ok"] = rec["ok"] and ch.ok
+        loads = _record_loads(rec, lambda: (khv_loads if khv else differential_loads)(
+            design, gears, _load_spec(args, Path(args.gears))))
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -174,6 +155,25 @@ def _run_transplanter(args, design, gears, out) -> dict:
     rec["files"] = files
     rec["_loads"] = loads
     return rec
+
+
+def _record_loads(rec: dict, compute):
+    """Run ``compute()`` (a loads dict) into ``rec``: the loads without their series, and
+    the energy-balance check (< 1 %) in the checks and the verdict; a loads computation
+    refused with a ValueError is recorded as skipped. Returns the loads (None if skipped)."""
+    from plantmech.objectives import Check
+
+    try:
+        loads = compute()
+    except ValueError as exc:
+        rec["loads"] = {"skipped": str(exc)}
+        return None
+    rec["loads"] = {k: v for k, v in loads.items() if k != "series"}
+    err = loads["energy_balance"]["max_error_fraction_of_energy_range"]
+    ch = Check("loads: energy balance error", 100 * err, "< 1", err < 0.01, "%")
+    rec["checks"].append(ch.as_dict())
+    rec["ok"] = rec["ok"] and ch.ok
+    return loads
 
 
 def _load_spec(args, gears_dir: Path):
