@@ -1,0 +1,78 @@
+"""The papers' mechanisms as design files of the general train model (issue 16):
+examples/planetary/*.toml, written by scripts/planetary_examples.py from the dedicated
+examples, reproduce the dedicated models' motion (independent code: mechanisms/
+seeder_forward, mechanisms/transplanter)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from plantmech.design import load_design
+from plantmech.trains.model import simulate
+from plantmech.trains.spec import build_from_design
+from tests.conftest import EXAMPLES
+
+PLANETARY = EXAMPLES / "planetary"
+
+
+def _motion(name):
+    d = load_design(PLANETARY / name)
+    return d, simulate(build_from_design(d), d.samples)
+
+
+def test_the_files_are_what_the_script_writes():
+    script = Path(__file__).resolve().parents[1] / "scripts" / "planetary_examples.py"
+    r = subprocess.run([sys.executable, str(script), "--check"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_seeder_file_equals_seeder_forward_to_1e6():
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.workflows import train_from_design as seeder_train
+
+    tr, _ = seeder_train(load_design(EXAMPLES / "sugarcane_seeder_optimized.toml"))
+    d, m = _motion("sugarcane_seeder_optimized.toml")
+    ref = seeder_simulate(tr, d.samples)
+    assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-6  # rad
+    assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
+
+
+def test_differential_file_equals_seed_001_model_to_1e6():
+    from plantmech.gears.internal import lobed_internal_pair
+    from plantmech.mechanisms.transplanter import ArmGeometry, simulate_differential
+
+    ded = load_design(EXAMPLES / "rice_transplanter.toml")
+    g = ded.internal_gear
+    pair = lobed_internal_pair(np.radians(g.phases()), g.radii_mm, g.lobes,
+                               kind=g.interpolation)
+    arm = ArmGeometry(ded.arm.S_mm, ded.arm.H1_mm, np.radians(ded.arm.beta_deg))
+    ref = simulate_differential(pair, ded.drive.speed_ratio,
+                                np.radians(ded.carrier.initial_angle_deg), arm,
+                                phase0=np.radians(g.initial_phase_deg),
+                                arms=ded.carrier.arms, samples=ded.samples)
+    d, m = _motion("rice_transplanter.toml")
+    assert d.carrier.arms == 3 and m.tip.shape == (1, 3, ded.samples)
+    assert abs(m.built.laws[0].a[0] - ref.centre_distance[0]) < 1e-6
+    assert np.abs(m.tip - ref.B).max() < 1e-6
+    assert np.abs(m.arm_angle - ref.arm_angle).max() < 1e-6
+
+
+def test_khv_file_follows_the_khv_code_to_its_interpolation():
+    """The K-H-V code interpolates its tables linearly (np.interp): agreement to ~2e-4 mm
+    (tests/test_trains.py measures the general model converged to 1e-7 mm)."""
+    from plantmech.mechanisms.transplanter import ArmGeometry, khv_pair, simulate_khv
+
+    ded = load_design(EXAMPLES / "rice_transplanter_khv.toml")
+    C0 = np.radians(ded.carrier.initial_angle_deg)
+    ref = simulate_khv(khv_pair(np.radians(ded.sun_gear.angles()), ded.sun_gear.radii_mm, C0,
+                                ded.sun_gear.interpolation),
+                       C0, ArmGeometry(ded.arm.S_mm, ded.arm.H1_mm, np.radians(ded.arm.beta_deg)),
+                       arms=ded.carrier.arms, samples=ded.samples)
+    d, m = _motion("rice_transplanter_khv.toml")
+    assert np.allclose(m.built.centre_distances, ref.centre_distance[0], atol=1e-8)
+    assert np.abs(m.tip - ref.B).max() < 5e-4
