@@ -148,7 +148,7 @@ def main() -> None:
         bench_transplanter(np.random.default_rng(0))
         return
     if "--study-only" in sys.argv:  # make bench-study: the Dask scaling alone
-        study_scaling(_flag("--study-samples", 1200), repeat=_flag("--study-repeat", 1))
+        study_scaling(_flag("--study-samples", 0), repeat=_flag("--study-repeat", 1))
         return
     cli_startup()
     design = load_design(ROOT / "examples" / "sugarcane_seeder.toml")
@@ -281,7 +281,7 @@ def main() -> None:
         f"{r.first_feasible_evaluations} evaluations" if r.first_feasible_s is not None
         else f"none in {r.wall_s:.1f} s"))
     # Dask: one and two local workers (--study-samples N, --study-repeat R)
-    study_scaling(_flag("--study-samples", 1200), repeat=_flag("--study-repeat", 1))
+    study_scaling(_flag("--study-samples", 0), repeat=_flag("--study-repeat", 1))
     if "--layered" in sys.argv:  # minutes: the whole layered job from the bundled example
         import tempfile
 
@@ -322,27 +322,32 @@ def design_benchmarks() -> None:
               f"exit {p.returncode}: {last}")
 
 
-STUDIES = (  # (label, design, study file): the bundled ones
-    ("seeder", "sugarcane_seeder_optimized.toml", "seeder_tolerance.toml"),
-    ("transplanter", "rice_transplanter_manufacturable.toml", "transplanter_tolerance.toml"),
+STUDIES = (  # (label, design, study file, samples): the bundled ones; the samples give
+    # each run ~5-10 s on one worker of this machine (the population kernels run the seeder
+    # at ~1,500 samples/s per worker, the transplanter with its interference checks at ~180/s)
+    ("seeder", "sugarcane_seeder_optimized.toml", "seeder_tolerance.toml", 9000),
+    ("transplanter", "rice_transplanter_manufacturable.toml", "transplanter_tolerance.toml", 1200),
 )
 
 
-def study_scaling(samples: int = 1200, chunk: int = 200, repeat: int = 1) -> None:
+def study_scaling(samples: int = 0, repeat: int = 1) -> None:
     """Tolerance studies of the bundled seeder and transplanter on a local Dask cluster of
     one and of two worker processes: samples/s from the first task sent to the last chunk
     written (cluster start-up excluded, printed apart), the scaling two / one, and the
     machine's 1-minute load average before and after each run (the machine is shared:
-    a rate means little without it)."""
+    a rate means little without it). ``samples`` 0: each study's own count (STUDIES);
+    the chunks are a sixth of the samples (three per worker on two)."""
     import tempfile
 
     from plantmech.studies.runner import run_study
     from plantmech.studies.spec import load_spec
 
-    for label, design_file, spec_file in STUDIES:
+    for label, design_file, spec_file, own_samples in STUDIES:
+        n = samples or own_samples
+        chunk = max(1, n // 6)
         design = load_design(ROOT / "examples" / design_file)
         spec = load_spec(ROOT / "examples" / "studies" / spec_file)
-        spec = spec.model_copy(update={"samples": samples, "chunk": chunk})
+        spec = spec.model_copy(update={"samples": n, "chunk": chunk})
         rates = {}
         for workers in (1, 2):
             runs = []
@@ -357,7 +362,7 @@ def study_scaling(samples: int = 1200, chunk: int = 200, repeat: int = 1) -> Non
             rate = float(np.median([r[0] for r in runs]))
             rates[workers] = rate
             print(f"tolerance study ({label}, {design_file}, {len(spec.parameters)} "
-                  f"tolerances, {samples} samples in chunks of {chunk}, {spec.cycle_samples} "
+                  f"tolerances, {n} samples in chunks of {chunk}, {spec.cycle_samples} "
                   f"cycle samples), local cluster of {workers} worker(s): {rate:.1f} "
                   f"samples/s (median of {repeat}: "
                   + ", ".join(f"{r[0]:.1f}" for r in runs)
