@@ -12,6 +12,9 @@ import numpy as np
 from plantmech.design import load_design
 from plantmech.workflows import run_seeder_inverse
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from figures import figure, write_json  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -69,6 +72,7 @@ def bench_verify() -> None:
           f"through the train {tc:.1f} s + exudyn loads {tl:.1f} s = {tc + tl:.1f} s wall, "
           f"{cpu:.1f} s CPU (median of 3; load average {os.getloadavg()[0]:.1f} on "
           f"{os.cpu_count()} cores; target < 30 s)")
+    figure("verify_two_pair_seeder_720_steps_s", tc + tl, "s", 30.0, cpu_s=cpu)
 
 
 def cli_startup(runs: int = 9) -> None:
@@ -99,6 +103,7 @@ def cli_startup(runs: int = 9) -> None:
     print(f"plantmech --help: {helped * 1e3:.0f} ms median of {runs} fresh processes "
           f"(bare interpreter start {bare * 1e3:.0f} ms; load average "
           f"{os.getloadavg()[0]:.1f})")
+    figure("cli_help_ms", helped * 1e3, "ms", 150.0, bare_interpreter_ms=bare * 1e3)
 
 
 def bench_transplanter(rng, P: int = 1000) -> None:
@@ -126,18 +131,23 @@ def bench_transplanter(rng, P: int = 1000) -> None:
     t, c = median(lambda: run_transplanter(rice), 5)
     print(f"transplanter job (3 arms, 3600 samples, all 12 objectives incl. interference): "
           f"{t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 5; {load()})")
+    figure("transplanter_job_3600_ms", t * 1e3, "ms", cpu_ms=c * 1e3)
     R = np.asarray(rice.internal_gear.radii_mm) + rng.uniform(-1.5, 1.5, (P, 12))
     for samples in (360, 720):
         t, c = median(lambda s=samples: evaluate_transplanter_population(rice, R, samples=s), 3)
         print(f"transplanter population evaluation (no interference), {P} designs x 3 arms x "
               f"{samples} samples: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU "
               f"second; median of 3; {load()})")
+        figure(f"transplanter_population_{samples}_designs_per_s", P / t, "designs/s",
+               better="higher", designs=P)
     for n in (100, P):
         t, c = median(lambda n=n: evaluate_transplanter_population(
             rice, R[:n], samples=360, interference=True), 5 if n == 100 else 3)
         print(f"transplanter population evaluation with interference, {n} designs x 360 "
               f"samples: {t:.2f} s ({n / t:.0f} designs/s; {n / c:.0f} per CPU second; "
               f"median of {5 if n == 100 else 3}; {load()}; target >= 1000 designs/s)")
+        figure(f"transplanter_population_interference_{n}_designs_per_s", n / t, "designs/s",
+               1000.0, "higher", designs=n, samples=360)
 
 
 def main() -> None:
@@ -158,6 +168,7 @@ def main() -> None:
         t = timeit(lambda d=d: run_seeder_inverse(d))
         print(f"inverse design (checks included), {samples} samples: {t * 1e3:.1f} ms "
               f"(load average {os.getloadavg()[0]:.1f})")
+        figure(f"inverse_design_{samples}_ms", t * 1e3, "ms", 10.0 if samples == 3600 else None)
     from plantmech.mechanisms.seeder_forward import simulate
     from plantmech.verification import train_from_inverse
 
@@ -165,6 +176,7 @@ def main() -> None:
     train = train_from_inverse(job.result)
     t = timeit(lambda: simulate(train, samples=3600))
     print(f"forward simulation from pitch curves, 3600 samples: {t * 1e3:.1f} ms")
+    figure("forward_simulation_3600_ms", t * 1e3, "ms")
 
     from plantmech.mechanisms.seeder_batch import simulate_population
 
@@ -179,6 +191,8 @@ def main() -> None:
             repeat=2)
         print(f"population forward simulation, {P} designs x {samples} samples: "
               f"{t:.2f} s ({P / t:.0f} designs/s)")
+        figure(f"seeder_population_simulation_{samples}_designs_per_s", P / t, "designs/s",
+               better="higher", designs=P)
 
     from plantmech.workflows import evaluate_seeder_population, run_seeder_forward
 
@@ -186,6 +200,7 @@ def main() -> None:
     t = timeit(lambda: run_seeder_forward(t4))
     print(f"forward job on the Table 4 train (closure, simulation, every objective and gear "
           f"check), 3600 samples: {t * 1e3:.1f} ms")
+    figure("forward_job_table4_3600_ms", t * 1e3, "ms")
     R2 = np.asarray(t4.train.gear2.radii_mm) + rng.uniform(-2, 2, (P, 8))
     R3 = np.asarray(t4.train.gear3.radii_mm) + rng.uniform(-2, 2, (P, 8))
     for samples, dense in ((360, 1024), (720, 2048), (3600, 4096)):
@@ -194,6 +209,8 @@ def main() -> None:
         print(f"population evaluation (Hermite, dwell, solved centre distances, located "
               f"sections, every objective), {P} designs x {samples} samples: {t:.2f} s "
               f"({P / t:.0f} designs/s; load average {os.getloadavg()[0]:.1f})")
+        figure(f"seeder_population_{samples}_designs_per_s", P / t, "designs/s",
+               20000.0 if samples == 720 else None, "higher", designs=P)
     bench_transplanter(rng, P)
     # teeth: generate and mesh-check one 60-tooth non-circular pair (ellipse about a focus)
     from scipy.special import ellipe
@@ -221,12 +238,15 @@ def main() -> None:
           f"free play {m['min_circumferential_backlash_mm']:.3f}..."
           f"{m['max_circumferential_backlash_mm']:.3f} mm; envelope teeth, median of 3, "
           f"{len(pair.gear_a.exterior.coords)} outline vertices)")
+    figure("teeth_60_tooth_pair_generate_and_check_s", gen + chk, "s", 2.0,
+           generate_s=float(gen), mesh_check_s=float(chk))
     gen, chk, m, pair = teeth_pair("simulated")
     print(f"teeth (reference): the same pair by simulated cutting generated in {gen:.2f} s, "
           f"mesh-checked in {chk:.2f} s (interference {m['max_interference_mm']:.4f} mm, "
           f"free play {m['min_circumferential_backlash_mm']:.3f}..."
           f"{m['max_circumferential_backlash_mm']:.3f} mm, "
           f"{len(pair.gear_b.exterior.coords)} outline vertices of gear B)")
+    figure("teeth_60_tooth_pair_simulated_generate_s", gen, "s", mesh_check_s=chk)
 
     # teeth of the toothed transplanter: ring shaper-cut, planet cut by the ring (envelope)
     from plantmech.workflows import gear_pairs
@@ -240,6 +260,7 @@ def main() -> None:
     print(f"teeth: toothed transplanter ring (80 teeth) and planet (20, cut by the ring) "
           f"generated in {t1 - t0:.2f} s, mesh-checked over a cycle (360 steps) in "
           f"{t2 - t1:.2f} s (interference {m['max_interference_mm']:.4f} mm)")
+    figure("teeth_toothed_transplanter_generate_s", t1 - t0, "s", mesh_check_s=t2 - t1)
 
     # layer-1 evaluation rate (inverse design + every layer-1 check, one process)
     from plantmech.workflows import seeder_inverse_checks
@@ -247,6 +268,7 @@ def main() -> None:
     t = timeit(lambda: seeder_inverse_checks(design, 360), repeat=20)
     print(f"seeder layer-1 evaluation, one design (inverse design, Table 1, attitude, "
           f"speeds), 360 samples: {t * 1e3:.1f} ms ({1 / t:.0f} designs/s per core)")
+    figure("seeder_layer1_one_design_360_ms", t * 1e3, "ms")
     from plantmech.optimize.problems import SeederLayer1
     from plantmech.workflows import seeder_inverse_checks_population
 
@@ -255,11 +277,13 @@ def main() -> None:
     t = timeit(lambda: seeder_inverse_checks_population(design, X, 360), repeat=7)
     print(f"seeder layer-1 population evaluation (the same, vectorized), 40 designs x 360 "
           f"samples: {t * 1e3:.0f} ms ({40 / t:.0f} designs/s, one process)")
+    figure("seeder_layer1_population_designs_per_s", 40 / t, "designs/s", better="higher")
     p1 = SeederLayer1(design)
     Xv = rng.normal(0, 3, (40, p1.n_var))
     t = timeit(lambda: p1.evaluate_batch(Xv), repeat=7)
     print(f"seeder layer-1 problem, 40 candidates split over {p1.workers} processes: "
           f"{t * 1e3:.0f} ms ({40 / t:.0f} designs/s)")
+    figure("seeder_layer1_problem_designs_per_s", 40 / t, "designs/s", better="higher")
 
     bench_verify()
 
@@ -274,12 +298,18 @@ def main() -> None:
               f"after {r.first_feasible_s:.1f} s / {r.first_feasible_evaluations} evaluations"
               if r.first_feasible_s is not None else
               f"optimize transplanter (DE, seed {seed}): none in {r.wall_s:.1f} s")
+        figure(f"optimize_transplanter_de_seed{seed}_first_feasible_s",
+               r.first_feasible_s if r.first_feasible_s is not None else float("inf"), "s",
+               evaluations=r.first_feasible_evaluations)
     r = run(SeederLayer1(design, speed_constraints=False), "cmaes", 0, 100, 40,
             progress=False, stop_when_feasible=True)
     print("optimize seeder layer 1, attitude and Table 1 (CMA-ES, seed 0): " + (
         f"first design meeting them after {r.first_feasible_s:.1f} s / "
         f"{r.first_feasible_evaluations} evaluations" if r.first_feasible_s is not None
         else f"none in {r.wall_s:.1f} s"))
+    figure("optimize_seeder_layer1_cmaes_first_feasible_s",
+           r.first_feasible_s if r.first_feasible_s is not None else float("inf"), "s",
+           evaluations=r.first_feasible_evaluations)
     # Dask: one and two local workers (--study-samples N, --study-repeat R)
     study_scaling(_flag("--study-samples", 0), repeat=_flag("--study-repeat", 1))
     if "--layered" in sys.argv:  # minutes: the whole layered job from the bundled example
@@ -320,6 +350,8 @@ def design_benchmarks() -> None:
         last = p.stdout.strip().splitlines()[-1] if p.stdout.strip() else p.stderr[-200:]
         print(f"plantmech design {example}: {wall:.1f} s end to end (target < {target} s), "
               f"exit {p.returncode}: {last}")
+        figure(f"design_end_to_end_{Path(example).stem}_s", wall, "s", float(target),
+               exit=p.returncode)
 
 
 STUDIES = (  # (label, design, study file, samples): the bundled ones; the samples give
@@ -368,8 +400,11 @@ def study_scaling(samples: int = 0, repeat: int = 1) -> None:
                   + ", ".join(f"{r[0]:.1f}" for r in runs)
                   + f"; cluster start {np.median([r[1] for r in runs]):.1f} s; load average "
                   + ", ".join(f"{r[2]:.1f}->{r[3]:.1f}" for r in runs) + ")")
+            figure(f"study_{label}_{workers}_workers_samples_per_s", rate, "samples/s",
+                   better="higher", samples=n, chunk=chunk)
         print(f"study scaling ({label}), two workers / one: {rates[2] / rates[1]:.2f}x "
               f"({os.cpu_count()} cores; load average now {os.getloadavg()[0]:.1f})")
+        figure(f"study_{label}_scaling_two_over_one", rates[2] / rates[1], "x", better="higher")
 
 
 def app_figures() -> None:
@@ -388,3 +423,7 @@ if __name__ == "__main__":
     main()
     if "--study-only" not in sys.argv and "--transplanter-only" not in sys.argv:
         app_figures()
+    if "--json" in sys.argv:  # --json PATH: the named figures, for comparing runs by name
+        out = Path(sys.argv[sys.argv.index("--json") + 1])
+        write_json(out)
+        print(f"named figures written to {out}")
