@@ -1,0 +1,164 @@
+"""Fused kernels (numba) of the single-design inverse design of seed 000 (sections
+3.2-3.3): the carrier direction on the dense parameter grid for both assembly branches
+(Eq. 2-3, unwrapped as ``np.unwrap`` does) and the tip at uniform carrier angle by the
+Illinois method, one sample at a time on the trajectory's own cubic pieces: no
+(samples x iterations) temporaries and no SciPy call per iteration.
+
+The same model, step for step, as the NumPy path of ``seeder_inverse.inverse_design``
+(kept for curve objects other than ``ClosedTrajectory`` and as the reference in
+tests/test_seeder_inverse_kernel.py). Imported lazily by ``inverse_design``: numba stays
+out of the CLI's start-up; its compilation is cached on disk (``cache=True``).
+
+Lengths mm, parameter u in mm of chord, angles rad (conventions of ``seeder_inverse``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * np.pi
+ILLINOIS_ITERATIONS = 30
+
+
+@njit(cache=True, error_model="numpy")
+def _piece(knots, u):
+    """Index i of the cubic piece with knots[i] <= u < knots[i + 1] (clipped to the
+    pieces), as SciPy's PPoly finds it; u already wrapped into the period."""
+    n = knots.shape[0] - 1
+    lo, hi = 0, n
+    while hi - lo > 1:  # knots[lo] <= u < knots[hi]
+        mid = (lo + hi) >> 1
+        if u >= knots[mid]:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, error_model="numpy")
+def _geometry(coef, knots, period, u, L1, L2):
+    """(polar angle beta_3 of the tip, unsigned angle beta_1 at O between the carrier and
+    the tip (Eq. 2-3), tip x, tip y) at parameter u: the periodic cubic spline's piece
+    (SciPy's coefficients ``coef`` (4, N, 2), highest power first)."""
+    w = np.fmod(u, period)  # np.mod's own rule (exact), then SciPy's power sum
+    if w < 0.0:
+        w += period
+    i = _piece(knots, w)
+    t = w - knots[i]
+    t2 = t * t
+    t3 = t2 * t
+    x = coef[3, i, 0] + coef[2, i, 0] * t + coef[1, i, 0] * t2 + coef[0, i, 0] * t3
+    y = coef[3, i, 1] + coef[2, i, 1] * t + coef[1, i, 1] * t2 + coef[0, i, 1] * t3
+    rho = np.hypot(x, y)
+    cos_b1 = (L1 * L1 + rho * rho - L2 * L2) / (2.0 * L1 * rho)
+    cos_b1 = min(1.0, max(-1.0, cos_b1))
+    beta1 = np.arctan2(np.sqrt(max(1.0 - cos_b1 * cos_b1, 0.0)), cos_b1)
+    return np.arctan2(y, x), beta1, x, y
+
+
+@njit(cache=True, error_model="numpy")
+def _on_inner(u, u_min, inner_len, period):
+    """Whether u lies on the arc of length ``inner_len`` from u_min (traversal order)."""
+    a = u - u_min
+    return a - period * np.floor(a / period) < inner_len
+
+
+@njit(cache=True, error_model="numpy")
+def _unwrap_inplace(p):
+    """``np.unwrap`` (discont pi, period 2 pi) of p, in place: jumps of at least pi are
+    replaced by their 2 pi complement, the corrections summed from the start."""
+    corr = 0.0
+    prev = p[0]
+    for k in range(1, p.shape[0]):
+        d = p[k] - prev
+        prev = p[k]
+        if abs(d) >= np.pi:
+            dm = (d + np.pi) - TWO_PI * np.floor((d + np.pi) / TWO_PI) - np.pi
+            if dm == -np.pi and d > 0:
+                dm = np.pi
+            corr += dm - d
+        p[k] += corr
+
+
+@njit(cache=True, error_model="numpy")
+def dense_carrier(coef, knots, period, u_dense, L1, L2, u_min, u_max):
+    """Unwrapped carrier angle phi_1 (2, m + 1) on the dense grid ``u_dense`` for the
+    assembly branches sigma_inner = +1 (row 0) and -1 (row 1): phi_1 = beta_3 +
+    sigma beta_1, sigma = sigma_inner on the arc from u_min to u_max, else -sigma_inner."""
+    m1 = u_dense.shape[0]
+    inner_len = (u_max - u_min) - period * np.floor((u_max - u_min) / period)
+    out = np.empty((2, m1))
+    for k in range(m1):
+        beta3, beta1, _, _ = _geometry(coef, knots, period, u_dense[k], L1, L2)
+        s = 1.0 if _on_inner(u_dense[k], u_min, inner_len, period) else -1.0
+        out[0, k] = beta3 + s * beta1
+        out[1, k] = beta3 - s * beta1
+    _unwrap_inplace(out[0])
+    _unwrap_inplace(out[1])
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def invert_carrier(psi, u_dense, phi_dense, psi_dense, coef, knots, period, L1, L2, u_min,
+                   u_max, sigma_inner):
+    """Curve parameter u (n,) where the carrier has turned ``psi`` (n, increasing)
+    clockwise, by the Illinois method (modified regula falsi) on the bracket of the dense
+    grid that holds each psi; all samples step together until every carrier angle error
+    is below 1e-10 rad (at most 30 iterations), as ``seeder_inverse.invert_carrier``
+    does. Also the carrier angle phi_1 unwrapped by the dense grid and the tip (n, 2)."""
+    n = psi.shape[0]
+    m = u_dense.shape[0] - 1
+    inner_len = (u_max - u_min) - period * np.floor((u_max - u_min) / period)
+    lo, hi = np.empty(n), np.empty(n)
+    f_lo, f_hi = np.empty(n), np.empty(n)
+    phi_k, side, u = np.empty(n), np.zeros(n), np.empty(n)
+    phi0 = phi_dense[0]
+    k = 0
+    for j in range(n):
+        # psi_dense[k] <= psi[j] < psi_dense[k + 1] (psi increasing: the walk only goes on)
+        while k < m and psi_dense[k + 1] <= psi[j]:
+            k += 1
+        kk = min(k, m - 1)
+        lo[j], hi[j] = u_dense[kk], u_dense[kk + 1]
+        f_lo[j], f_hi[j] = psi_dense[kk] - psi[j], psi_dense[kk + 1] - psi[j]
+        phi_k[j] = phi_dense[kk]
+        u[j] = lo[j]
+    for _ in range(ILLINOIS_ITERATIONS):
+        worst = 0.0
+        for j in range(n):
+            den = f_hi[j] - f_lo[j]
+            if den > 0:
+                uj = lo[j] - f_lo[j] * (hi[j] - lo[j]) / den
+            else:
+                uj = 0.5 * (lo[j] + hi[j])
+            u[j] = uj
+            beta3, beta1, _, _ = _geometry(coef, knots, period, uj, L1, L2)
+            s = sigma_inner if _on_inner(uj, u_min, inner_len, period) else -sigma_inner
+            d = (beta3 + s * beta1) - phi_k[j]
+            f = phi0 - (phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))) - psi[j]
+            if f > 0:
+                hi[j] = uj
+                if side[j] > 0:
+                    f_lo[j] = 0.5 * f_lo[j]
+                f_hi[j] = f
+                side[j] = 1.0
+            else:
+                lo[j] = uj
+                f_lo[j] = f
+                if side[j] < 0:
+                    f_hi[j] = 0.5 * f_hi[j]
+                side[j] = -1.0
+            worst = max(worst, abs(f))
+        if worst < 1e-10:  # rad of carrier angle (round-off floor ~4e-11)
+            break
+    phi = np.empty(n)
+    tip = np.empty((n, 2))
+    for j in range(n):
+        beta3, beta1, x, y = _geometry(coef, knots, period, u[j], L1, L2)
+        s = sigma_inner if _on_inner(u[j], u_min, inner_len, period) else -sigma_inner
+        d = (beta3 + s * beta1) - phi_k[j]
+        phi[j] = phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))
+        tip[j, 0] = x
+        tip[j, 1] = y
+    return u, phi, tip
