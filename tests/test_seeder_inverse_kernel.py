@@ -64,3 +64,41 @@ def test_unwrap_is_numpys():
     q = p.copy()
     _unwrap_inplace(q)
     assert np.allclose(q, np.unwrap(p), rtol=0, atol=1e-9)
+
+
+def test_extreme_radii_kernel_matches_the_numpy_loop():
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
+    from plantmech.mechanisms.seeder_inverse_batch import extreme_radii
+
+    pts = np.stack([np.asarray(load_design(EXAMPLES / n).trajectory.points, dtype=float)
+                    for n in SEEDERS if len(load_design(EXAMPLES / n).trajectory.points) == 27])
+    rng = np.random.default_rng(7)
+    moved = pts[rng.integers(0, len(pts), 40)] + rng.normal(0.0, 4.0, (40,) + pts.shape[1:])
+    tb = TrajectoryBatch(np.concatenate([pts, moved]))
+    ref = extreme_radii(tb, fused=False)
+    new = extreme_radii(tb)
+    for (u_ref, rho_ref), (u_new, rho_new) in zip(ref, new, strict=True):
+        assert np.abs(u_new - u_ref).max() < 1e-9  # mm of chord parameter
+        assert np.abs(rho_new - rho_ref).max() < 1e-9  # mm
+
+
+def test_loop_spans_kernel_matches_the_numpy_loop():
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
+    from plantmech.objectives.seeder_inverse_population import loop_spans
+
+    pts = np.asarray(load_design(EXAMPLES / "sugarcane_seeder.toml").trajectory.points,
+                     dtype=float)
+    rng = np.random.default_rng(11)
+    # moved copies: most still an "8" (one crossing), some not (NaN spans)
+    moved = pts[None] + rng.normal(0.0, 1.0, (60, 1, 1)) * rng.normal(0.0, 8.0, (60,) +
+                                                                    pts.shape)
+    a = np.linspace(0.0, 2 * np.pi, len(pts), endpoint=False)
+    circle = np.c_[300.0 * np.cos(a), 300.0 * np.sin(a) - 400.0]  # no crossing
+    tb = TrajectoryBatch(np.concatenate([pts[None], moved, circle[None]]))
+    count_ref, spans_ref = loop_spans(tb, fused=False)
+    count_new, spans_new = loop_spans(tb)
+    assert np.array_equal(count_ref, count_new)
+    assert (count_ref == 1).sum() >= 10 and (count_ref != 1).sum() >= 1
+    assert np.array_equal(np.isnan(spans_ref), np.isnan(spans_new))
+    ok = ~np.isnan(spans_ref)
+    assert np.abs(spans_ref[ok] - spans_new[ok]).max() < 1e-9  # mm of chord parameter

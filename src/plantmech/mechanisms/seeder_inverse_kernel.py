@@ -162,3 +162,91 @@ def invert_carrier(psi, u_dense, phi_dense, psi_dense, coef, knots, period, L1, 
         tip[j, 0] = x
         tip[j, 1] = y
     return u, phi, tip
+
+
+@njit(cache=True, error_model="numpy")
+def _point_and_derivatives(coef, knots, period, u):
+    """(x, y, x', y', x'', y'') of one row of a ``TrajectoryBatch`` at parameter u: its
+    coefficients ``coef`` (N, 4, 2) (lowest power first), knots (N + 1), evaluated as
+    ``TrajectoryBatch`` evaluates them (u wrapped by floor, Horner's rule)."""
+    n = coef.shape[0]
+    w = u - period * np.floor(u / period)
+    i = _piece(knots, w)
+    if i > n - 1:
+        i = n - 1
+    t = w - knots[i]
+    out = np.empty(6)
+    for a in range(2):
+        c0, c1, c2, c3 = coef[i, 0, a], coef[i, 1, a], coef[i, 2, a], coef[i, 3, a]
+        out[a] = c0 + t * (c1 + t * (c2 + t * c3))
+        out[2 + a] = c1 + t * (2.0 * c2 + 3.0 * t * c3)
+        out[4 + a] = 2.0 * c2 + 6.0 * t * c3
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def refine_extremes(coef, knots, period, lo, hi, x, done, largest):
+    """Safeguarded Newton on d(rho^2)/du / 2 = p . p' = 0 for each row's candidate
+    extremes (P, c) of the distance to O (``seeder_inverse_batch.extreme_radii``): the
+    bracket [lo, hi] kept on the side where the slope changes sign (+ to - through a
+    maximum when ``largest``, - to + through a minimum), a step leaving it replaced by
+    bisection, until the step or the bracket is below 1e-9 mm of parameter (40 steps at
+    most). ``done`` candidates keep their x. Returns x refined (P, c)."""
+    P, c = x.shape
+    out = x.copy()
+    for p in range(P):
+        for q in range(c):
+            if done[p, q]:
+                continue
+            a, b, xq = lo[p, q], hi[p, q], x[p, q]
+            for _ in range(40):
+                v = _point_and_derivatives(coef[p], knots[p], period[p], xq)
+                f = v[0] * v[2] + v[1] * v[3]
+                fp = (v[2] * v[2] + v[3] * v[3]) + (v[0] * v[4] + v[1] * v[5])
+                rising = f > 0 if largest else f < 0
+                if rising:
+                    a = xq
+                else:
+                    b = xq
+                step = f / fp
+                nx = xq - step
+                if not (np.isfinite(nx) and nx >= a and nx <= b):
+                    nx = 0.5 * (a + b)
+                xq = nx
+                if abs(step) < 1e-9 or b - a < 1e-9:
+                    break
+            out[p, q] = xq
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def refine_crossings(coef, knots, period, ui, uj, one):
+    """Newton's method on traj(u_i) = traj(u_j) for each row's self-crossing (P,) of a
+    ``TrajectoryBatch`` (``objectives.seeder_inverse_population.loop_spans``), every row
+    stepping until the steps of the rows that cross once (``one``) are all below 1e-12
+    mm (20 steps at most); a row whose Jacobian turns singular (a tangential crossing)
+    stops moving. Returns (u_i, u_j, stuck) (P,)."""
+    P = ui.shape[0]
+    ui, uj = ui.copy(), uj.copy()
+    stuck = np.zeros(P, np.bool_)
+    for _ in range(20):
+        settled = True
+        for p in range(P):
+            vi = _point_and_derivatives(coef[p], knots[p], period[p], ui[p])
+            vj = _point_and_derivatives(coef[p], knots[p], period[p], uj[p])
+            f0, f1 = vi[0] - vj[0], vi[1] - vj[1]
+            a, b, c, d = vi[2], -vj[2], vi[3], -vj[3]
+            det = a * d - b * c
+            if det == 0.0:
+                stuck[p] = True
+                det = 1.0
+            s0 = (d * f0 - b * f1) / det
+            s1 = (a * f1 - c * f0) / det
+            if not stuck[p]:
+                ui[p] -= s0
+                uj[p] -= s1
+                if one[p] and not (max(abs(s0), abs(s1)) < 1e-12):
+                    settled = False
+        if settled:
+            break
+    return ui, uj, stuck
