@@ -54,18 +54,6 @@ def test_kernels_match_the_numpy_path(name, samples):
         assert new.closure_error["stage1"] < 1e-9 and new.closure_error["stage2"] < 1e-9
 
 
-def test_unwrap_is_numpys():
-    from plantmech.mechanisms.seeder_inverse_kernel import _unwrap_inplace
-
-    rng = np.random.default_rng(3)
-    p = np.cumsum(rng.uniform(-2.5, 2.5, 2000))
-    p = np.angle(np.exp(1j * p))  # wrapped: many jumps of both signs
-    p[100], p[101] = 0.0, np.pi  # a jump of exactly pi is kept (np.unwrap's rule)
-    q = p.copy()
-    _unwrap_inplace(q)
-    assert np.allclose(q, np.unwrap(p), rtol=0, atol=1e-9)
-
-
 def test_extreme_radii_kernel_matches_the_numpy_loop():
     from plantmech.geometry.trajectory_batch import TrajectoryBatch
     from plantmech.mechanisms.seeder_inverse_batch import extreme_radii

@@ -1,13 +1,21 @@
-"""Fused kernels (numba) of the single-design inverse design of seed 000 (sections
-3.2-3.3): the carrier direction on the dense parameter grid for both assembly branches
-(Eq. 2-3, unwrapped as ``np.unwrap`` does) and the tip at uniform carrier angle by the
-Illinois method, one sample at a time on the trajectory's own cubic pieces: no
-(samples x iterations) temporaries and no SciPy call per iteration.
+"""Kernels (numba) of the seeder's inverse design (seed 000, sections 3.2-3.3) and of its
+layer-1 geometry.
 
-The same model, step for step, as the NumPy path of ``seeder_inverse.inverse_design``
-(kept for curve objects other than ``ClosedTrajectory`` and as the reference in
-tests/test_seeder_inverse_kernel.py). Imported lazily by ``inverse_design``: numba stays
-out of the CLI's start-up; its compilation is cached on disk (``cache=True``).
+- ``dense_carrier``: the carrier direction on the dense parameter grid for both assembly
+  branches (Eq. 2-3), unwrapped as ``np.unwrap`` does;
+- ``invert_carrier``: the tip at uniform carrier angle by the Illinois method, every
+  sample stepping together until all carrier angle errors are below 1e-10 rad;
+- ``refine_extremes`` / ``refine_crossings``: the Newton refinements of the extreme
+  radii (``seeder_inverse_batch.extreme_radii``) and of the "8"'s self-crossing
+  (``objectives.seeder_inverse_population.loop_spans``), for one design or a population.
+
+The spline is evaluated on its own cubic pieces in the kernels (SciPy's coefficients
+and arithmetic for ``ClosedTrajectory``, ``TrajectoryBatch``'s for a population); the
+two arctan2 of Eq. 2-3 are NumPy's vectorized ones, several times faster per element
+than a scalar libm call inside a kernel. The same model and arithmetic, step for step,
+as the NumPy paths, which stay as the reference (tests/test_seeder_inverse_kernel.py:
+the bundled seeder examples give identical numbers). Imported lazily: numba stays out
+of the CLI's start-up; its compilation is cached on disk (``cache=True``).
 
 Lengths mm, parameter u in mm of chord, angles rad (conventions of ``seeder_inverse``).
 """
@@ -37,27 +45,6 @@ def _piece(knots, u):
 
 
 @njit(cache=True, error_model="numpy")
-def _geometry(coef, knots, period, u, L1, L2):
-    """(polar angle beta_3 of the tip, unsigned angle beta_1 at O between the carrier and
-    the tip (Eq. 2-3), tip x, tip y) at parameter u: the periodic cubic spline's piece
-    (SciPy's coefficients ``coef`` (4, N, 2), highest power first)."""
-    w = np.fmod(u, period)  # np.mod's own rule (exact), then SciPy's power sum
-    if w < 0.0:
-        w += period
-    i = _piece(knots, w)
-    t = w - knots[i]
-    t2 = t * t
-    t3 = t2 * t
-    x = coef[3, i, 0] + coef[2, i, 0] * t + coef[1, i, 0] * t2 + coef[0, i, 0] * t3
-    y = coef[3, i, 1] + coef[2, i, 1] * t + coef[1, i, 1] * t2 + coef[0, i, 1] * t3
-    rho = np.hypot(x, y)
-    cos_b1 = (L1 * L1 + rho * rho - L2 * L2) / (2.0 * L1 * rho)
-    cos_b1 = min(1.0, max(-1.0, cos_b1))
-    beta1 = np.arctan2(np.sqrt(max(1.0 - cos_b1 * cos_b1, 0.0)), cos_b1)
-    return np.arctan2(y, x), beta1, x, y
-
-
-@njit(cache=True, error_model="numpy")
 def _on_inner(u, u_min, inner_len, period):
     """Whether u lies on the arc of length ``inner_len`` from u_min (traversal order)."""
     a = u - u_min
@@ -65,103 +52,161 @@ def _on_inner(u, u_min, inner_len, period):
 
 
 @njit(cache=True, error_model="numpy")
-def _unwrap_inplace(p):
-    """``np.unwrap`` (discont pi, period 2 pi) of p, in place: jumps of at least pi are
-    replaced by their 2 pi complement, the corrections summed from the start."""
-    corr = 0.0
-    prev = p[0]
-    for k in range(1, p.shape[0]):
-        d = p[k] - prev
-        prev = p[k]
-        if abs(d) >= np.pi:
-            dm = (d + np.pi) - TWO_PI * np.floor((d + np.pi) / TWO_PI) - np.pi
-            if dm == -np.pi and d > 0:
-                dm = np.pi
-            corr += dm - d
-        p[k] += corr
+def spline_polar(coef, knots, period, u, L1, L2):
+    """At parameters u (n,): the tip x, y (mm) on the periodic cubic spline (SciPy's
+    coefficients ``coef`` (4, N, 2), highest power first, evaluated as SciPy does), and
+    the two arguments (sin, cos) of the angle beta_1 at O between the carrier and the
+    tip (Eq. 2-3): the formulas of ``seeder_inverse._carrier_geometry`` up to its
+    arctan2 calls, which ``tip_angles`` makes with NumPy's vectorized arctan2 (several
+    times faster per element than a scalar libm call in a kernel)."""
+    n = u.shape[0]
+    x, y = np.empty(n), np.empty(n)
+    sin_b1, cos_b1 = np.empty(n), np.empty(n)
+    for j in range(n):
+        w = np.fmod(u[j], period)  # np.mod's own rule (exact), then SciPy's power sum
+        if w < 0.0:
+            w += period
+        i = _piece(knots, w)
+        t = w - knots[i]
+        t2 = t * t
+        t3 = t2 * t
+        xj = coef[3, i, 0] + coef[2, i, 0] * t + coef[1, i, 0] * t2 + coef[0, i, 0] * t3
+        yj = coef[3, i, 1] + coef[2, i, 1] * t + coef[1, i, 1] * t2 + coef[0, i, 1] * t3
+        rho = np.hypot(xj, yj)
+        c = min(1.0, max(-1.0, (L1 * L1 + rho * rho - L2 * L2) / (2.0 * L1 * rho)))
+        x[j], y[j] = xj, yj
+        sin_b1[j] = np.sqrt(max(1.0 - c * c, 0.0))
+        cos_b1[j] = c
+    return x, y, sin_b1, cos_b1
+
+
+def tip_angles(coef, knots, period, u, L1, L2):
+    """(beta_3, beta_1, x, y) at parameters u: ``spline_polar`` and two arctan2."""
+    x, y, sin_b1, cos_b1 = spline_polar(coef, knots, period, u, L1, L2)
+    return np.arctan2(y, x), np.arctan2(sin_b1, cos_b1), x, y
 
 
 @njit(cache=True, error_model="numpy")
+def _branches(u, beta3, beta1, u_min, u_max, period):
+    """phi_1 (2, m + 1) for sigma_inner = +1, -1, each unwrapped as ``np.unwrap`` does
+    (jumps of at least pi replaced by their 2 pi complement, corrections summed)."""
+    m1 = u.shape[0]
+    inner_len = np.fmod(u_max - u_min, period)
+    if inner_len < 0.0:
+        inner_len += period
+    out = np.empty((2, m1))
+    for k in range(m1):
+        s = 1.0 if _on_inner(u[k], u_min, inner_len, period) else -1.0
+        out[0, k] = beta3[k] + s * beta1[k]
+        out[1, k] = beta3[k] + (-s) * beta1[k]
+    for row in range(2):
+        p = out[row]
+        corr = 0.0
+        prev = p[0]
+        for k in range(1, m1):
+            d = p[k] - prev
+            prev = p[k]
+            if abs(d) >= np.pi:
+                dm = np.fmod(d + np.pi, TWO_PI)
+                if dm < 0.0:
+                    dm += TWO_PI
+                dm -= np.pi
+                if dm == -np.pi and d > 0:
+                    dm = np.pi
+                corr += dm - d
+            p[k] += corr
+    return out
+
+
 def dense_carrier(coef, knots, period, u_dense, L1, L2, u_min, u_max):
     """Unwrapped carrier angle phi_1 (2, m + 1) on the dense grid ``u_dense`` for the
     assembly branches sigma_inner = +1 (row 0) and -1 (row 1): phi_1 = beta_3 +
     sigma beta_1, sigma = sigma_inner on the arc from u_min to u_max, else -sigma_inner."""
-    m1 = u_dense.shape[0]
-    inner_len = (u_max - u_min) - period * np.floor((u_max - u_min) / period)
-    out = np.empty((2, m1))
-    for k in range(m1):
-        beta3, beta1, _, _ = _geometry(coef, knots, period, u_dense[k], L1, L2)
-        s = 1.0 if _on_inner(u_dense[k], u_min, inner_len, period) else -1.0
-        out[0, k] = beta3 + s * beta1
-        out[1, k] = beta3 - s * beta1
-    _unwrap_inplace(out[0])
-    _unwrap_inplace(out[1])
-    return out
+    beta3, beta1, _, _ = tip_angles(coef, knots, period, u_dense, L1, L2)
+    return _branches(u_dense, beta3, beta1, u_min, u_max, period)
 
 
 @njit(cache=True, error_model="numpy")
+def _illinois_start(psi, u_dense, psi_dense):
+    """Brackets of the Illinois method: the dense-grid interval k (n,) holding each psi
+    (psi_dense[k] <= psi < psi_dense[k + 1], clipped to the grid; psi increasing)."""
+    n = psi.shape[0]
+    m = u_dense.shape[0] - 1
+    ks = np.empty(n, np.int64)
+    k = 0
+    for j in range(n):
+        while k < m and psi_dense[k + 1] <= psi[j]:
+            k += 1
+        ks[j] = min(k, m - 1)
+    return ks
+
+
+@njit(cache=True, error_model="numpy")
+def _illinois_trial(lo, hi, f_lo, f_hi, u):
+    """The regula falsi point of each bracket (bisection where the values do not
+    bracket), written into u."""
+    for j in range(u.shape[0]):
+        den = f_hi[j] - f_lo[j]
+        if den > 0:
+            u[j] = lo[j] - f_lo[j] * (hi[j] - lo[j]) / den
+        else:
+            u[j] = 0.5 * (lo[j] + hi[j])
+
+
+@njit(cache=True, error_model="numpy")
+def _illinois_update(u, beta3, beta1, u_min, inner_len, period, sigma_inner, phi0, phi_k,
+                     psi, lo, hi, f_lo, f_hi, side):
+    """One Illinois step from the carrier angle at the trial points: the carrier angle
+    error f (rad), the bracket kept on its sign change, the value kept on the side that
+    stayed twice in a row halved. Returns the largest |f|."""
+    worst = 0.0
+    for j in range(u.shape[0]):
+        s = sigma_inner if _on_inner(u[j], u_min, inner_len, period) else -sigma_inner
+        d = (beta3[j] + s * beta1[j]) - phi_k[j]
+        f = phi0 - (phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))) - psi[j]
+        if f > 0:
+            hi[j] = u[j]
+            if side[j] > 0:
+                f_lo[j] = 0.5 * f_lo[j]
+            f_hi[j] = f
+            side[j] = 1.0
+        else:
+            lo[j] = u[j]
+            f_lo[j] = f
+            if side[j] < 0:
+                f_hi[j] = 0.5 * f_hi[j]
+            side[j] = -1.0
+        worst = max(worst, abs(f))
+    return worst
+
+
 def invert_carrier(psi, u_dense, phi_dense, psi_dense, coef, knots, period, L1, L2, u_min,
                    u_max, sigma_inner):
     """Curve parameter u (n,) where the carrier has turned ``psi`` (n, increasing)
     clockwise, by the Illinois method (modified regula falsi) on the bracket of the dense
     grid that holds each psi; all samples step together until every carrier angle error
     is below 1e-10 rad (at most 30 iterations), as ``seeder_inverse.invert_carrier``
-    does. Also the carrier angle phi_1 unwrapped by the dense grid and the tip (n, 2)."""
-    n = psi.shape[0]
-    m = u_dense.shape[0] - 1
-    inner_len = (u_max - u_min) - period * np.floor((u_max - u_min) / period)
-    lo, hi = np.empty(n), np.empty(n)
-    f_lo, f_hi = np.empty(n), np.empty(n)
-    phi_k, side, u = np.empty(n), np.zeros(n), np.empty(n)
-    phi0 = phi_dense[0]
-    k = 0
-    for j in range(n):
-        # psi_dense[k] <= psi[j] < psi_dense[k + 1] (psi increasing: the walk only goes on)
-        while k < m and psi_dense[k + 1] <= psi[j]:
-            k += 1
-        kk = min(k, m - 1)
-        lo[j], hi[j] = u_dense[kk], u_dense[kk + 1]
-        f_lo[j], f_hi[j] = psi_dense[kk] - psi[j], psi_dense[kk + 1] - psi[j]
-        phi_k[j] = phi_dense[kk]
-        u[j] = lo[j]
+    does. Also the carrier angle phi_1 unwrapped by the dense grid and the tip (n, 2).
+    The bookkeeping runs in kernels, the angles in NumPy (``tip_angles``)."""
+    k = _illinois_start(psi, u_dense, psi_dense)
+    lo, hi = u_dense[k], u_dense[k + 1]
+    f_lo, f_hi = psi_dense[k] - psi, psi_dense[k + 1] - psi
+    phi_k = phi_dense[k]
+    side = np.zeros(len(psi))
+    u = lo.copy()
+    inner_len = float(np.mod(u_max - u_min, period))
     for _ in range(ILLINOIS_ITERATIONS):
-        worst = 0.0
-        for j in range(n):
-            den = f_hi[j] - f_lo[j]
-            if den > 0:
-                uj = lo[j] - f_lo[j] * (hi[j] - lo[j]) / den
-            else:
-                uj = 0.5 * (lo[j] + hi[j])
-            u[j] = uj
-            beta3, beta1, _, _ = _geometry(coef, knots, period, uj, L1, L2)
-            s = sigma_inner if _on_inner(uj, u_min, inner_len, period) else -sigma_inner
-            d = (beta3 + s * beta1) - phi_k[j]
-            f = phi0 - (phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))) - psi[j]
-            if f > 0:
-                hi[j] = uj
-                if side[j] > 0:
-                    f_lo[j] = 0.5 * f_lo[j]
-                f_hi[j] = f
-                side[j] = 1.0
-            else:
-                lo[j] = uj
-                f_lo[j] = f
-                if side[j] < 0:
-                    f_hi[j] = 0.5 * f_hi[j]
-                side[j] = -1.0
-            worst = max(worst, abs(f))
+        _illinois_trial(lo, hi, f_lo, f_hi, u)
+        beta3, beta1, _, _ = tip_angles(coef, knots, period, u, L1, L2)
+        worst = _illinois_update(u, beta3, beta1, u_min, inner_len, period, sigma_inner,
+                                 phi_dense[0], phi_k, psi, lo, hi, f_lo, f_hi, side)
         if worst < 1e-10:  # rad of carrier angle (round-off floor ~4e-11)
             break
-    phi = np.empty(n)
-    tip = np.empty((n, 2))
-    for j in range(n):
-        beta3, beta1, x, y = _geometry(coef, knots, period, u[j], L1, L2)
-        s = sigma_inner if _on_inner(u[j], u_min, inner_len, period) else -sigma_inner
-        d = (beta3 + s * beta1) - phi_k[j]
-        phi[j] = phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))
-        tip[j, 0] = x
-        tip[j, 1] = y
-    return u, phi, tip
+    beta3, beta1, x, y = tip_angles(coef, knots, period, u, L1, L2)
+    on_inner = np.mod(u - u_min, period) < inner_len
+    phi = beta3 + np.where(on_inner, sigma_inner, -sigma_inner) * beta1
+    d = phi - phi_k
+    return u, phi_k + (d - TWO_PI * np.round(d / TWO_PI)), np.c_[x, y]
 
 
 @njit(cache=True, error_model="numpy")
