@@ -50,8 +50,10 @@ def attitude_by_section(psi, arm_deg, point_psi, sections: dict[str, int]) -> di
     rel = arm_deg - ref
     pp = {k: point_psi[v] for k, v in sections.items()}
 
+    table_psi, table_rel = np.append(psi, 2 * np.pi), np.append(rel, rel[0])  # built once
+
     def at(p):
-        return float(np.interp(p, np.r_[psi, 2 * np.pi], np.r_[rel, rel[0]]))
+        return float(np.interp(p, table_psi, table_rel))
 
     out = {}
     for name, (s, e) in {"picking_ab": ("a", "b"), "transport_bc": ("b", "c"),
