@@ -241,7 +241,7 @@ def _seeder_train(design, drag: bool) -> dict:
                 **({"train_points": _train_points(d)})}
     out = scene.seeder_forward_scene(job, *_resolution(drag))
     if job.trajectory is not None:
-        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory).items()
+        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory, spans=False).items()
                     if k in ("plan", "points", "sections_points")})
     out.update({"feasible": True, "diagnostics": [], "quality": "drag" if drag else "full",
                 "checks": scene.checks_list(job.checks)})

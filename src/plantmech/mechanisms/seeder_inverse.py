@@ -126,11 +126,9 @@ def _extreme_radii(traj: ClosedTrajectory) -> tuple[tuple[float, float], tuple[f
     is searched on rho alone, which resolves the place only to ~1e-6 (rho is flat there).
     """
     if isinstance(traj, ClosedTrajectory):
-        from plantmech.geometry.trajectory_batch import TrajectoryBatch
         from plantmech.mechanisms.seeder_inverse_batch import extreme_radii
 
-        return tuple((float(u[0]), float(rho[0]))
-                     for u, rho in extreme_radii(TrajectoryBatch(traj.points[None])))
+        return tuple((float(u[0]), float(rho[0])) for u, rho in extreme_radii(traj.batch))
     u = np.linspace(0.0, traj.period, 256 * len(traj.points), endpoint=False)
     rho = np.hypot(*traj(u).T)
     h = u[1] - u[0]

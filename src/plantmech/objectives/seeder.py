@@ -12,10 +12,9 @@ from plantmech.objectives import Check, limit_text, range_check
 def planning_checks(traj: ClosedTrajectory, sections: dict[str, int], limits) -> list[Check]:
     """Table 1 of seed 000, computed from the fitted curve (mm, deg): the population
     code's ``planning_values`` for this one curve."""
-    from plantmech.geometry.trajectory_batch import TrajectoryBatch
     from plantmech.objectives.seeder_inverse_population import planning_values
 
-    values, reason = planning_values(TrajectoryBatch(traj.points[None]), sections)
+    values, reason = planning_values(traj.batch, sections)
     v = [None if not np.isfinite(x) else float(x) for x in values[0]]
     note = reason[0]
     L = limits
