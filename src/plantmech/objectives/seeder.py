@@ -185,7 +185,8 @@ def gear_checks(train, rules, samples: int = 3600) -> tuple[dict, list]:
     for pair, curve, a, names in (("sun_gear2", train.gear2, train.a1, ("gear2", "sun")),
                                   ("gear3_planet", train.gear3, train.a2, ("gear3", "planet"))):
         t = curve.theta0 + np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
-        shapes, mu = shape_pair(t, curve(t)[None], curve(t, 1)[None], curve(t, 2)[None], a, names)
+        r, r1, r2 = curve.derivatives(t)
+        shapes, mu = shape_pair(t, r[None], r1[None], r2[None], a, names)
         v = assess_pair(PairShape(pair, shapes, mu), rules)
         rec = pair_record(v, rules)
         metrics["manufacturing"][pair] = rec
