@@ -89,11 +89,9 @@ class RadiusCurve:
             return np.stack([self(theta, nu) for nu in (0, 1, 2)])
         from plantmech.geometry.pitch_kernels import cubic_and_derivatives
 
-        x = self.theta0 + np.mod(theta - self.theta0, TWO_PI)
-        if spl.extrapolate == "periodic":  # PPoly.__call__'s own mapping
-            x = spl.x[0] + (x - spl.x[0]) % (spl.x[-1] - spl.x[0])
         return cubic_and_derivatives(np.ascontiguousarray(spl.c, dtype=float),
-                                     np.ascontiguousarray(spl.x, dtype=float), x)
+                                     np.ascontiguousarray(spl.x, dtype=float), theta,
+                                     float(self.theta0), spl.extrapolate == "periodic")
 
 
 def cyclic_runs(mask: np.ndarray) -> list[tuple[int, int]]:

@@ -14,16 +14,40 @@ from numba import njit
 
 
 @njit(cache=True, error_model="numpy")
-def cubic_and_derivatives(c, breaks, x):
+def _mod(a, b):
+    """np.mod(a, b) for b > 0, exactly as NumPy computes it (fmod, then + b where
+    negative), without the fmod call for |a| < 2 b (where it is a, a - b or a + b:
+    fmod's exact result, or NumPy's own rounded addition). Each kernel module keeps its
+    own copy: numba's disk cache of a kernel does not notice a change in another
+    module's function that it inlined."""
+    if 0.0 <= a < b:
+        return a
+    if b <= a < 2.0 * b:
+        return a - b  # exact (Sterbenz), as fmod is
+    if -b <= a < 0.0:
+        return a + b  # fmod(a, b) = a, then NumPy adds b
+    r = np.fmod(a, b)
+    if r < 0.0:
+        r += b
+    return r
+
+
+@njit(cache=True, error_model="numpy")
+def cubic_and_derivatives(c, breaks, theta, theta0, periodic):
     """(3, n): the piecewise cubic with coefficients ``c`` (4, m), highest power first, on
-    ``breaks`` (m + 1, increasing) and its first and second derivatives at ``x`` (n,),
-    extrapolating from the end pieces (NaN at NaN), as ``PPoly.__call__(x, nu)`` with
-    ``extrapolate=True`` gives them."""
-    n = x.shape[0]
+    ``breaks`` (m + 1, increasing) and its first and second derivatives at the body
+    angles ``theta`` (n,) mapped onto the turn from ``theta0`` (``RadiusCurve``'s rule)
+    and, when ``periodic``, onto the breaks' span (``PPoly``'s periodic extrapolation);
+    else extrapolating from the end pieces; NaN at NaN: as ``PPoly.__call__(x, nu)``
+    gives them."""
+    n = theta.shape[0]
     m = breaks.shape[0] - 1
+    two_pi = 2.0 * np.pi
     out = np.empty((3, n))
     for j in range(n):
-        xv = x[j]
+        xv = theta0 + _mod(theta[j] - theta0, two_pi)
+        if periodic:
+            xv = breaks[0] + _mod(xv - breaks[0], breaks[m] - breaks[0])
         if not (xv == xv):
             out[0, j] = out[1, j] = out[2, j] = np.nan
             continue

@@ -14,11 +14,21 @@ from numba import njit
 
 
 @njit(cache=True, error_model="numpy")
-def _mod(x, period):
-    """np.mod(x, period) for period > 0 (fmod, then the sign rule: exact)."""
-    r = np.fmod(x, period)
+def _mod(a, b):
+    """np.mod(a, b) for b > 0, exactly as NumPy computes it (fmod, then + b where
+    negative), without the fmod call for |a| < 2 b (where it is a, a - b or a + b:
+    fmod's exact result, or NumPy's own rounded addition). Each kernel module keeps its
+    own copy: numba's disk cache of a kernel does not notice a change in another
+    module's function that it inlined."""
+    if 0.0 <= a < b:
+        return a
+    if b <= a < 2.0 * b:
+        return a - b  # exact (Sterbenz), as fmod is
+    if -b <= a < 0.0:
+        return a + b  # fmod(a, b) = a, then NumPy adds b
+    r = np.fmod(a, b)
     if r < 0.0:
-        r += period
+        r += b
     return r
 
 

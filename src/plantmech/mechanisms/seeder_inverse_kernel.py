@@ -45,10 +45,28 @@ def _piece(knots, u):
 
 
 @njit(cache=True, error_model="numpy")
+def _mod(a, b):
+    """np.mod(a, b) for b > 0, exactly as NumPy computes it (fmod, then + b where
+    negative), without the fmod call for |a| < 2 b (where it is a, a - b or a + b:
+    fmod's exact result, or NumPy's own rounded addition). Each kernel module keeps its
+    own copy: numba's disk cache of a kernel does not notice a change in another
+    module's function that it inlined."""
+    if 0.0 <= a < b:
+        return a
+    if b <= a < 2.0 * b:
+        return a - b  # exact (Sterbenz), as fmod is
+    if -b <= a < 0.0:
+        return a + b  # fmod(a, b) = a, then NumPy adds b
+    r = np.fmod(a, b)
+    if r < 0.0:
+        r += b
+    return r
+
+
+@njit(cache=True, error_model="numpy")
 def _on_inner(u, u_min, inner_len, period):
     """Whether u lies on the arc of length ``inner_len`` from u_min (traversal order)."""
-    a = u - u_min
-    return a - period * np.floor(a / period) < inner_len
+    return _mod(u - u_min, period) < inner_len
 
 
 @njit(cache=True, error_model="numpy")
@@ -63,9 +81,7 @@ def spline_polar(coef, knots, period, u, L1, L2):
     x, y = np.empty(n), np.empty(n)
     sin_b1, cos_b1 = np.empty(n), np.empty(n)
     for j in range(n):
-        w = np.fmod(u[j], period)  # np.mod's own rule (exact), then SciPy's power sum
-        if w < 0.0:
-            w += period
+        w = _mod(u[j], period)  # np.mod's own rule (exact), then SciPy's power sum
         i = _piece(knots, w)
         t = w - knots[i]
         t2 = t * t
@@ -91,9 +107,7 @@ def _branches(u, beta3, beta1, u_min, u_max, period):
     """phi_1 (2, m + 1) for sigma_inner = +1, -1, each unwrapped as ``np.unwrap`` does
     (jumps of at least pi replaced by their 2 pi complement, corrections summed)."""
     m1 = u.shape[0]
-    inner_len = np.fmod(u_max - u_min, period)
-    if inner_len < 0.0:
-        inner_len += period
+    inner_len = _mod(u_max - u_min, period)
     out = np.empty((2, m1))
     for k in range(m1):
         s = 1.0 if _on_inner(u[k], u_min, inner_len, period) else -1.0
