@@ -20,6 +20,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 @pytest.fixture(scope="module")
 def client():
+    server.warm_up()  # numba's kernels compiled here once: the workers load them from disk
     with TestClient(server.create_app()) as c:
         yield c
 
