@@ -22,8 +22,9 @@ sync_api = pytest.importorskip("playwright.sync_api")
 def base_url():
     import uvicorn
 
-    from plantmech.app.server import create_app
+    from plantmech.app.server import create_app, warm_up
 
+    warm_up()  # numba's kernels compiled here once: the compute workers load them from disk
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]

@@ -20,6 +20,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 @pytest.fixture(scope="module")
 def client():
+    server.warm_up()  # numba's kernels compiled here once: the workers load them from disk
     with TestClient(server.create_app()) as c:
         yield c
 
@@ -358,3 +359,26 @@ def test_edit_stream_refuses_other_origins(client):
         with client.websocket_connect("/api/ws", headers={"origin": "http://evil.example"}):
             pass
     assert exc.value.code == 1008
+
+
+def test_a_null_field_is_refused_by_name(client):
+    """JSON null has no TOML form: the design could not be saved as a file, so it is
+    refused with the field's name, wherever it sits (tables and arrays)."""
+    import tomli_w
+
+    base = example(client, "sugarcane_seeder")
+    tomli_w.dumps(base)  # the example itself has a TOML form and is accepted
+    assert server._null_field(base) is None
+    cases = {"operation.carrier_speed_deg_s": lambda d: d["operation"].update(
+        carrier_speed_deg_s=None), "trajectory.points.3.1": lambda d: d["trajectory"][
+        "points"][3].__setitem__(1, None)}
+    for field, spoil in cases.items():
+        d = example(client, "sugarcane_seeder")
+        spoil(d)
+        with pytest.raises(TypeError):  # what the old check (tomli_w.dumps) refused
+            tomli_w.dumps(d)
+        r = evaluate(client, d, "drag")
+        assert r.status_code == 422, r.text
+        body = r.json()
+        assert f"field '{field}'" in body["error"] and "TOML" in body["error"]
+        assert body["fields"][0]["field"] == field

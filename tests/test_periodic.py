@@ -84,3 +84,26 @@ def test_interpolant_rows_equal_the_shared_matrix():
                 for nu, got in ((0, value), (1, slope)):
                     ref = R[p] @ periodic_spline_matrix(nodes, at[p], nu, kind).T
                     assert np.abs(got[p] - ref).max() < 1e-10
+
+
+def test_derivatives_are_scipys_values():
+    """RadiusCurve.derivatives (one pass in a numba kernel) gives exactly what the three
+    SciPy evaluations give: periodic spline and Hermite curves, an open curve with a break
+    (the dwell's lock point), angles outside one turn and NaN."""
+    from scipy.interpolate import CubicSpline
+
+
+    rng = np.random.default_rng(4)
+    th = np.sort(rng.uniform(0.0, 2 * np.pi, 17))
+    r = 60.0 + 15.0 * rng.uniform(-1.0, 1.0, 17)
+    curves = [RadiusCurve.from_samples(th, r, kind="spline"),
+              RadiusCurve.from_samples(th, r, kind="hermite"),
+              RadiusCurve.from_samples(th, r, theta0=th[0] - 0.3),  # theta0 off the nodes
+              RadiusCurve(0.4, CubicSpline(np.r_[0.4, th[2:-2], 0.4 + 2 * np.pi],
+                                           np.r_[55.0, r[2:-2], 58.0]), periodic=False)]
+    angles = np.r_[rng.uniform(-20.0, 20.0, 3000), th, th + 2 * np.pi, np.nan]
+    for curve in curves:
+        got = curve.derivatives(angles)
+        for nu in (0, 1, 2):
+            ref = curve(angles, nu)
+            assert np.array_equal(got[nu], ref, equal_nan=True), nu

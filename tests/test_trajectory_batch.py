@@ -94,3 +94,18 @@ def test_row_searchsorted():
     for p in range(4):
         ref = np.clip(np.searchsorted(table[p], x[p], side="right") - 1, 0, 7)
         assert np.array_equal(k[p], ref)
+
+
+def test_coordinate_range_kernel_is_the_numpy_path(population):
+    """The numba kernel (default) against the NumPy arrays (the reference): the same
+    stationary points, so the same extents, over short, long, wrapped and full spans."""
+    X, tb = population
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        u0 = rng.uniform(-300.0, 3000.0, tb.P)
+        u1 = u0 + rng.uniform(0.0, 1.0, tb.P) * tb.period
+        ref = tb.coordinate_range(u0, u1, fused=False)
+        assert np.array_equal(tb.coordinate_range(u0, u1), ref)
+    full = tb.coordinate_range(np.zeros(tb.P), tb.period.copy())
+    assert np.array_equal(full, tb.coordinate_range(np.zeros(tb.P), tb.period.copy(),
+                                                    fused=False))

@@ -60,22 +60,24 @@ def checks_list(checks) -> list[dict]:
 # --- seeder ------------------------------------------------------------------------------
 
 
-def trajectory_part(design, traj, detail: int = 720) -> dict:
+def trajectory_part(design, traj, detail: int = 720, spans: bool = True) -> dict:
     """Planned closed curve through the type-value points (sampled uniformly in its
-    parameter: for drawing), the points, and the curve between each point and the next
-    (24 samples each: the spans drawn red when a diagnostic names them)."""
+    parameter: for drawing), the points, and (``spans``) the curve between each point and
+    the next (24 samples each: the spans drawn red when a diagnostic names them)."""
     if traj is None:
         return {}
     period = traj.period
     plan = traj(np.linspace(0.0, period, detail, endpoint=False))
-    n = len(design.trajectory.points)
-    u0 = np.array([traj.point_parameter(i) for i in range(n)])
-    u1 = np.roll(u0, -1)
-    u1 = np.where(u1 <= u0, u1 + period, u1)
-    uu = u0[:, None] + (u1 - u0)[:, None] * np.linspace(0.0, 1.0, 24)[None, :]
-    spans = traj(np.mod(uu.ravel(), period)).reshape(n, 24, 2)
-    return {"plan": _r(plan), "points": _r(design.trajectory.points), "spans": _r(spans),
-            "sections_points": design.trajectory.sections.model_dump()}
+    out = {"plan": _r(plan), "points": _r(design.trajectory.points),
+           "sections_points": design.trajectory.sections.model_dump()}
+    if spans:
+        n = len(design.trajectory.points)
+        u0 = np.array([traj.point_parameter(i) for i in range(n)])
+        u1 = np.roll(u0, -1)
+        u1 = np.where(u1 <= u0, u1 + period, u1)
+        uu = u0[:, None] + (u1 - u0)[:, None] * np.linspace(0.0, 1.0, 24)[None, :]
+        out["spans"] = _r(traj(np.mod(uu.ravel(), period)).reshape(n, 24, 2))
+    return out
 
 
 def diagnostics_list(diags) -> list[dict]:
@@ -173,12 +175,12 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     from plantmech.outputs.seeder_report import gear_body_angles
 
     res, d = job.result, job.design
-    out = {"mechanism": "sugarcane_seeder", **trajectory_part(d, job.trajectory, detail),
+    diagnostics = diagnostics_list(res.diagnostics)
+    named = any(g.get("severity") == "error" and g.get("between_points") for g in diagnostics)
+    out = {"mechanism": "sugarcane_seeder",
+           **trajectory_part(d, job.trajectory, detail, spans=named),
            "feasible": bool(res.feasible), "samples": int(d.trajectory.samples),
-           "diagnostics": diagnostics_list(res.diagnostics)}
-    if not any(g.get("severity") == "error" and g.get("between_points")
-               for g in out["diagnostics"]):
-        out.pop("spans", None)
+           "diagnostics": diagnostics}
     if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
         return out
     psi = res.carrier_angle

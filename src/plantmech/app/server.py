@@ -86,17 +86,15 @@ def validate_design(raw: Any, label: str = "design"):
     """Validate a design given as JSON tables, exactly as a design file is validated
     (``load_design``): returns the design model or raises AppError(422) whose
     message and fields name what is wrong."""
-    import tomli_w
-
     from plantmech.design import DesignError, load_design
 
     if not isinstance(raw, dict):
         raise AppError(422, f"{label}: a design must be a table of fields")
-    try:
-        text = tomli_w.dumps(raw)
-    except (TypeError, ValueError) as exc:
-        raise AppError(422, f"{label}: cannot be written as TOML: {exc}") from None
-    del text  # written only to prove the tables are a design file's (TOML) content
+    null = _null_field(raw)
+    if null is not None:  # the one JSON value a design file (TOML) cannot hold
+        msg = (f"{label}: field '{null}': cannot be written as TOML: null has no TOML form "
+               "(leave the field out)")
+        raise AppError(422, msg, field_errors(msg))
     try:  # the parsed tables themselves: the same validation as a file, without its I/O
         design = load_design(raw, name=label)
     except DesignError as exc:
@@ -107,6 +105,27 @@ def validate_design(raw: Any, label: str = "design"):
                "run it with 'plantmech forward'")
         raise AppError(422, msg, field_errors(msg))
     return design
+
+
+def _null_field(value, path: str = "") -> str | None:
+    """Dotted path of the first null (None) inside JSON tables and arrays, else None: the
+    only JSON value without a TOML form (strings, numbers, booleans, tables and arrays
+    all have one), so a design without nulls can be written as a design file."""
+    if value is None:
+        return path or "(top)"
+    if isinstance(value, dict):
+        for key, item in value.items():
+            if item is None or isinstance(item, (dict, list)):
+                found = _null_field(item, f"{path}.{key}" if path else str(key))
+                if found is not None:
+                    return found
+    elif isinstance(value, list):
+        for k, item in enumerate(value):
+            if item is None or isinstance(item, (dict, list)):
+                found = _null_field(item, f"{path}.{k}")
+                if found is not None:
+                    return found
+    return None
 
 
 def design_json(design) -> dict:
@@ -222,7 +241,7 @@ def _seeder_train(design, drag: bool) -> dict:
                 **({"train_points": _train_points(d)})}
     out = scene.seeder_forward_scene(job, *_resolution(drag))
     if job.trajectory is not None:
-        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory).items()
+        out.update({k: v for k, v in scene.trajectory_part(d, job.trajectory, spans=False).items()
                     if k in ("plan", "points", "sections_points")})
     out.update({"feasible": True, "diagnostics": [], "quality": "drag" if drag else "full",
                 "checks": scene.checks_list(job.checks)})

@@ -33,6 +33,7 @@ angle is within its limit.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -72,11 +73,12 @@ class CuttingRules:
         """Smallest rack-cut tooth count free of undercut: 2 ha / sin^2(alpha)."""
         return 2.0 * self.addendum / np.sin(self.alpha) ** 2
 
-    @property
+    @functools.cached_property
     def pointed_teeth(self) -> float:
         """Smallest tooth count whose standard tooth keeps a top land of ``min_top_land`` m:
         s_a = d_a (pi / (2 z) + inv(alpha) - inv(alpha_a)), d = z m, d_a = d + 2 ha m
-        (bisection on z; the top land grows with z)."""
+        (bisection on z; the top land grows with z). Computed once per rules object (61
+        evaluations; the rules are frozen)."""
         a = self.alpha
 
         def land(z):

@@ -75,6 +75,24 @@ class RadiusCurve:
         x = self.theta0 + np.mod(np.asarray(theta, dtype=float) - self.theta0, TWO_PI)
         return self.spline(x, nu)
 
+    def derivatives(self, theta) -> np.ndarray:
+        """(3, n): radius r (mm), r' (mm/rad) and r'' (mm/rad^2) at body angles ``theta``
+        (n,) (rad): the values of ``self(theta, nu)`` for nu = 0, 1, 2, computed in one
+        pass (``pitch_kernels``, one interval search per angle) for SciPy's cubic
+        piecewise polynomials, with SciPy's arithmetic."""
+        from scipy.interpolate import PPoly
+
+        spl = self.spline
+        theta = np.asarray(theta, dtype=float)
+        if not (isinstance(spl, PPoly) and spl.c.shape[0] == 4 and spl.c.ndim == 2
+                and theta.ndim == 1 and spl.extrapolate in (True, "periodic")):
+            return np.stack([self(theta, nu) for nu in (0, 1, 2)])
+        from plantmech.geometry.pitch_kernels import cubic_and_derivatives
+
+        return cubic_and_derivatives(np.ascontiguousarray(spl.c, dtype=float),
+                                     np.ascontiguousarray(spl.x, dtype=float), theta,
+                                     float(self.theta0), spl.extrapolate == "periodic")
+
 
 def cyclic_runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """Contiguous True runs of a cyclic boolean array as (first, last) indices; a run
@@ -102,7 +120,10 @@ def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> 
     ([start, end] body angles), min_concave_radius_mm, min_convex_radius_mm}.
     """
     th = curve.theta0 + np.linspace(0.0, span, samples, endpoint=span >= TWO_PI)
-    r, r1, r2 = curve(th), curve(th, 1), curve(th, 2)
+    if hasattr(curve, "derivatives"):
+        r, r1, r2 = curve.derivatives(th)
+    else:
+        r, r1, r2 = curve(th), curve(th, 1), curve(th, 2)
     den = r**2 + 2 * r1**2 - r * r2
     rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
     concave = den < 0

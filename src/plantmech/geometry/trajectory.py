@@ -9,6 +9,7 @@ quadrature per knot span.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +49,15 @@ class ClosedTrajectory:
         knots = np.r_[0.0, np.cumsum(chords)]
         spline = CubicSpline(knots, closed, bc_type="periodic")
         return cls(pts, knots, spline)
+
+    @functools.cached_property
+    def batch(self):
+        """This curve as a one-row ``TrajectoryBatch`` (the population form of the same
+        interpolant, whose exact extents and Newton refinements the single-design checks
+        share), built once per curve."""
+        from plantmech.geometry.trajectory_batch import TrajectoryBatch
+
+        return TrajectoryBatch(self.points[None])
 
     @property
     def period(self) -> float:

@@ -107,10 +107,22 @@ class TrajectoryBatch:
         k = k.reshape(u.shape) - 1 - self._row_base
         return u, np.clip(k, 0, self.N - 1) + self._row_start
 
-    def coordinate_range(self, u0: np.ndarray, u1: np.ndarray) -> np.ndarray:
+    def coordinate_range(self, u0: np.ndarray, u1: np.ndarray, fused: bool = True
+                         ) -> np.ndarray:
         """Exact (P, 2, 2) [[x_min, x_max], [y_min, y_max]] of each row's curve over the
         parameter span u0..u1 (P,), u0 <= u1 <= u0 + period: the span's ends and every
-        stationary point of a coordinate (roots of its cubic's derivative) inside it."""
+        stationary point of a coordinate (roots of its cubic's derivative) inside it.
+        ``fused``: the stationary points in the numba kernel
+        ``trajectory_kernels.coordinate_extremes`` (False: the NumPy arrays, the
+        reference in the tests)."""
+        if fused:
+            from plantmech.geometry.trajectory_kernels import coordinate_extremes
+
+            u0, u1 = np.asarray(u0, dtype=float), np.asarray(u1, dtype=float)
+            ends = self(np.c_[u0, u1])  # (P, 2 ends, 2 coords)
+            lo, hi = ends.min(axis=1), ends.max(axis=1)
+            coordinate_extremes(self.coef, self.knots, self.h, self.period, u0, u1, lo, hi)
+            return np.stack([lo, hi], axis=-1)
         c1, c2, c3 = self.coef[:, :, 1], self.coef[:, :, 2], self.coef[:, :, 3]  # (P, N, 2)
         a, b, c = 3.0 * c3, 2.0 * c2, c1
         disc = b * b - 4.0 * a * c

@@ -126,11 +126,9 @@ def _extreme_radii(traj: ClosedTrajectory) -> tuple[tuple[float, float], tuple[f
     is searched on rho alone, which resolves the place only to ~1e-6 (rho is flat there).
     """
     if isinstance(traj, ClosedTrajectory):
-        from plantmech.geometry.trajectory_batch import TrajectoryBatch
         from plantmech.mechanisms.seeder_inverse_batch import extreme_radii
 
-        return tuple((float(u[0]), float(rho[0]))
-                     for u, rho in extreme_radii(TrajectoryBatch(traj.points[None])))
+        return tuple((float(u[0]), float(rho[0])) for u, rho in extreme_radii(traj.batch))
     u = np.linspace(0.0, traj.period, 256 * len(traj.points), endpoint=False)
     rho = np.hypot(*traj(u).T)
     h = u[1] - u[0]
@@ -228,8 +226,14 @@ def _bracket_points(traj: ClosedTrajectory, u0: float, u1: float) -> list[int]:
     return [i0, i1]
 
 
-def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> InverseResult:
-    """Run the full inverse design; never raises for an infeasible trajectory."""
+def inverse_design(traj: ClosedTrajectory, settings: InverseSettings,
+                   fused: bool = True) -> InverseResult:
+    """Run the full inverse design; never raises for an infeasible trajectory.
+
+    ``fused``: the carrier direction on the dense grid and the Illinois inversion run in
+    the numba kernels of ``seeder_inverse_kernel`` (a ``ClosedTrajectory`` only; any
+    other curve object, or ``fused=False``, takes the NumPy path, the same model, kept
+    as the kernels' reference in the tests)."""
     diags: list[Diagnostic] = []
     n = int(settings.samples)
     (u_max, rho_max), (u_min, rho_min) = _extreme_radii(traj)
@@ -260,10 +264,22 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
     m = dense_grid_size(n, len(traj.points))
     u_dense = u_max + np.linspace(0.0, traj.period, m + 1)
     best = None
-    shared = _carrier_geometry(traj, u_dense, L1, L2, u_min, u_max)
-    for sigma_inner in (1.0, -1.0):
-        phi, _ = _carrier_direction(traj, u_dense, L1, L2, u_min, u_max, sigma_inner, shared)
-        phi = np.unwrap(phi)
+    fused = fused and isinstance(traj, ClosedTrajectory)
+    if fused:  # the numba kernels on the spline's own pieces (seeder_inverse_kernel)
+        from plantmech.mechanisms import seeder_inverse_kernel as kernel
+
+        spline = (np.ascontiguousarray(traj.spline.c), np.ascontiguousarray(traj.knots),
+                  traj.period)
+        branches = kernel.dense_carrier(*spline, u_dense, L1, L2, u_min, u_max)
+    else:
+        shared = _carrier_geometry(traj, u_dense, L1, L2, u_min, u_max)
+    for row, sigma_inner in enumerate((1.0, -1.0)):
+        if fused:
+            phi = branches[row]
+        else:
+            phi, _ = _carrier_direction(traj, u_dense, L1, L2, u_min, u_max, sigma_inner,
+                                        shared)
+            phi = np.unwrap(phi)
         if abs((phi[-1] - phi[0]) + TWO_PI) < 1e-3:  # clockwise, one revolution
             best = (sigma_inner, phi)
     if best is None:
@@ -290,12 +306,17 @@ def inverse_design(traj: ClosedTrajectory, settings: InverseSettings) -> Inverse
 
     # Tip samples at uniform carrier angle
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    u, phi_k = invert_carrier(
-        psi, u_dense[None], phi_dense[None], psi_dense[None], np.ones(1, bool),
-        lambda x: _carrier_direction(traj, x[0], L1, L2, u_min, u_max, sigma_inner)[0][None])
-    u, phi_k = u[0], phi_k[0]
-    phi, tip = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
-    phi = phi_k + wrap_angle(phi - phi_k)
+    if fused:
+        u, phi, tip = kernel.invert_carrier(psi, u_dense, phi_dense, psi_dense, *spline, L1,
+                                            L2, u_min, u_max, sigma_inner)
+    else:
+        u, phi_k = invert_carrier(
+            psi, u_dense[None], phi_dense[None], psi_dense[None], np.ones(1, bool),
+            lambda x: _carrier_direction(traj, x[0], L1, L2, u_min, u_max,
+                                         sigma_inner)[0][None])
+        u, phi_k = u[0], phi_k[0]
+        phi, tip = _carrier_direction(traj, u, L1, L2, u_min, u_max, sigma_inner)
+        phi = phi_k + wrap_angle(phi - phi_k)
     elbow = L1 * np.c_[np.cos(phi), np.sin(phi)]
     arm = np.unwrap(np.arctan2(tip[:, 1] - elbow[:, 1], tip[:, 0] - elbow[:, 0]))
     planet_rel = arm - phi

@@ -65,13 +65,16 @@ def _unwrap_rows(phase: np.ndarray) -> np.ndarray:
     return out
 
 
-def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2):
+def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2,
+                  fused: bool = True):
     """((u, rho) of the farthest, (u, rho) of the nearest) point of each trajectory to O,
     each (P,): the ``candidates`` best local extremes of ``per_span`` samples per knot
     span, each refined by safeguarded Newton on d(rho^2)/du = 0 within one sample step (to
     1e-9 mm of parameter; rho itself is flat there, so a search on rho alone cannot
     resolve the place), and the better kept (two near-equal bumps are told apart by
-    their refined values, not by their samples)."""
+    their refined values, not by their samples). ``fused``: the Newton steps in the numba
+    kernel ``seeder_inverse_kernel.refine_extremes`` (False: the NumPy loop, the
+    reference in the tests)."""
     m = per_span * tb.N
     h = tb.period / m
     u = h[:, None] * np.arange(m)[None, :]
@@ -92,7 +95,11 @@ def extreme_radii(tb: TrajectoryBatch, per_span: int = 16, candidates: int = 2):
 
         # a candidate without a turn inside its bracket keeps its sample (a flat stretch)
         done = ~((slope(lo) > 0) & (slope(hi) < 0))
-        for _ in range(40):
+        if fused:  # each candidate on its own in numba: the same steps, no temporaries
+            from plantmech.mechanisms.seeder_inverse_kernel import refine_extremes
+
+            x = refine_extremes(tb.coef, tb.knots, tb.period, lo, hi, x, done, largest)
+        for _ in range(0 if fused else 40):
             p, d1, d2 = tb.derivatives(x)
             f = (p * d1).sum(axis=-1)
             fp = (d1 * d1).sum(axis=-1) + (p * d2).sum(axis=-1)

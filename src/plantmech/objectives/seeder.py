@@ -12,10 +12,9 @@ from plantmech.objectives import Check, limit_text, range_check
 def planning_checks(traj: ClosedTrajectory, sections: dict[str, int], limits) -> list[Check]:
     """Table 1 of seed 000, computed from the fitted curve (mm, deg): the population
     code's ``planning_values`` for this one curve."""
-    from plantmech.geometry.trajectory_batch import TrajectoryBatch
     from plantmech.objectives.seeder_inverse_population import planning_values
 
-    values, reason = planning_values(TrajectoryBatch(traj.points[None]), sections)
+    values, reason = planning_values(traj.batch, sections)
     v = [None if not np.isfinite(x) else float(x) for x in values[0]]
     note = reason[0]
     L = limits
@@ -50,8 +49,10 @@ def attitude_by_section(psi, arm_deg, point_psi, sections: dict[str, int]) -> di
     rel = arm_deg - ref
     pp = {k: point_psi[v] for k, v in sections.items()}
 
+    table_psi, table_rel = np.append(psi, 2 * np.pi), np.append(rel, rel[0])  # built once
+
     def at(p):
-        return float(np.interp(p, np.r_[psi, 2 * np.pi], np.r_[rel, rel[0]]))
+        return float(np.interp(p, table_psi, table_rel))
 
     out = {}
     for name, (s, e) in {"picking_ab": ("a", "b"), "transport_bc": ("b", "c"),
@@ -184,7 +185,8 @@ def gear_checks(train, rules, samples: int = 3600) -> tuple[dict, list]:
     for pair, curve, a, names in (("sun_gear2", train.gear2, train.a1, ("gear2", "sun")),
                                   ("gear3_planet", train.gear3, train.a2, ("gear3", "planet"))):
         t = curve.theta0 + np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
-        shapes, mu = shape_pair(t, curve(t)[None], curve(t, 1)[None], curve(t, 2)[None], a, names)
+        r, r1, r2 = curve.derivatives(t)
+        shapes, mu = shape_pair(t, r[None], r1[None], r2[None], a, names)
         v = assess_pair(PairShape(pair, shapes, mu), rules)
         rec = pair_record(v, rules)
         metrics["manufacturing"][pair] = rec

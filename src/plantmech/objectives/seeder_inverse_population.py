@@ -24,12 +24,14 @@ def _contains(u0, u1, u, period):
     return u0 + np.mod(u - u0, period) <= u1
 
 
-def loop_spans(tb: TrajectoryBatch, n: int = 160):
+def loop_spans(tb: TrajectoryBatch, n: int = 160, fused: bool = True):
     """Split each "8" at its self-crossing: (count (P,), spans (P, 2, 2)) with the loops'
     parameter spans [(u_i, u_j), (u_j, u_i + period)], NaN where the curve does not cross
     itself exactly once. The crossing of the inscribed n-gon is refined on the curve by
     Newton's method on traj(u_i) = traj(u_j), kept at the polygon estimate when the
-    crossing is tangential or Newton wanders off it."""
+    crossing is tangential or Newton wanders off it. ``fused``: Newton's steps in the
+    numba kernel ``seeder_inverse_kernel.refine_crossings`` (False: the NumPy loop, the
+    reference in the tests)."""
     count, i, j = tb.self_crossings(n)
     one = count == 1
     h = tb.period / n
@@ -37,7 +39,11 @@ def loop_spans(tb: TrajectoryBatch, n: int = 160):
     uj0 = np.where(one, j, 0) * h + 0.5 * h
     ui, uj = ui0.copy(), uj0.copy()
     stuck = np.zeros(tb.P, bool)
-    for _ in range(20):
+    if fused:  # the same steps in numba (seeder_inverse_kernel), no per-step temporaries
+        from plantmech.mechanisms.seeder_inverse_kernel import refine_crossings
+
+        ui, uj, stuck = refine_crossings(tb.coef, tb.knots, tb.period, ui, uj, one)
+    for _ in range(0 if fused else 20):
         u = np.c_[ui, uj]
         p, d1, _ = tb.derivatives(u)
         f = p[:, 0] - p[:, 1]  # (P, 2)
