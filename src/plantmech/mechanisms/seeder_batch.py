@@ -116,8 +116,9 @@ def simulate_curves(gear2, gear3, L1, L2, a1, a2, carrier0, arm0, contact2_0, co
     x2, R2, S2 = (np.ascontiguousarray(np.asarray(v, dtype=float)) for v in gear2)
     x3, R3, S3 = (np.ascontiguousarray(np.asarray(v, dtype=float)) for v in gear3)
     P = R2.shape[0]
-    row = lambda v: np.ascontiguousarray(  # noqa: E731
-        np.broadcast_to(np.asarray(v, dtype=float), (P,)))
+    # writeable copies: numba types a read-only array apart (a broadcast (1,) row would
+    # be one), and each type is a compilation and a cache entry of its own
+    row = lambda v: np.array(np.broadcast_to(np.asarray(v, dtype=float), (P,)))  # noqa: E731
     theta1 = float(dwell_sector) if dwell_start is not None else 0.0
     if target is None:
         target, in_dwell = meshing_angle(psi, dwell_start, dwell_sector)
