@@ -152,3 +152,67 @@ def test_sun_rolling_start_is_where_gear2_is_held_in_the_dwell():
     assert abs(np.degrees(start) - 57.15) < 0.01
     # no dwell: the curve's theta0
     assert sun_rolling_start(circular_train()) == circular_train().gear2.theta0
+
+
+def test_hermite_form_is_the_curve_itself():
+    # the kernel's input (knots, values, slopes) re-evaluated as cubic Hermite pieces must
+    # reproduce the interpolant (periodic spline, periodic Hermite, open spline with a break)
+    from scipy.interpolate import CubicHermiteSpline, CubicSpline
+
+    from plantmech.mechanisms.seeder_forward import hermite_form
+
+    th = np.radians([0, 40, 95, 150, 210, 260, 320.0])
+    r = np.array([60, 55, 66, 58, 61, 52, 63.0])
+    curves = [RadiusCurve.from_samples(th, r, kind) for kind in ("spline", "hermite")]
+    xs = np.radians(np.r_[0, 40, 95, 150, 210, 260, 320.0, 360.0] + 10.0)
+    curves.append(RadiusCurve(xs[0], CubicSpline(xs, np.r_[r, 70.0]), periodic=False))
+    for curve in curves:
+        x, v, s = hermite_form(curve)
+        assert x[0] == curve.theta0 and x[-1] == pytest.approx(curve.theta0 + 2 * np.pi)
+        u = curve.theta0 + np.linspace(0, 2 * np.pi, 2001)[:-1]
+        assert np.abs(CubicHermiteSpline(x, v, s)(u) - curve(u)).max() < 1e-10
+    assert v[-1] == pytest.approx(70.0) and v[0] == pytest.approx(60.0)  # the break
+
+
+def test_open_curve_with_a_break_follows_the_closed_form_rolling():
+    # gear 2 a linear ramp r = r0 + k (u - theta0) over its turn (radius steps back at
+    # theta0, the lock), gear 3 a circle of a2 / 2 (planet turns with gear 3: psi_4 = psi_2).
+    # Closed form: G(u) = int r / (a - r) = -(u - theta0) - (a / k) ln((a - r(u)) / (a - r0));
+    # the dwell starts where the break reaches the sun and closes the turn:
+    # theta_1 = 2 pi - G(theta0 + 2 pi). Expected gear-2 turns by root finding on it.
+    from scipy.interpolate import CubicSpline
+    from scipy.optimize import brentq
+
+    a1, r0, r1, theta0, c0 = 150.0, 40.0, 62.0, 0.3, 2.0
+    k = (r1 - r0) / (2 * np.pi)
+    xs = theta0 + np.linspace(0, 2 * np.pi, 9)
+    g2 = RadiusCurve(theta0, CubicSpline(xs, r0 + k * (xs - theta0)), periodic=False)
+    g3 = RadiusCurve.from_samples(np.linspace(0, 2 * np.pi, 8, endpoint=False), np.full(8, 60.0))
+
+    def G(u):
+        return -(u - theta0) - a1 / k * np.log((a1 - r0 - k * (u - theta0)) / (a1 - r0))
+
+    total = G(theta0 + 2 * np.pi)
+    tb = np.mod(theta0 - c0, 2 * np.pi)  # gear-2 turn at which the break reaches the sun
+
+    def F(t):  # sun's turn while gear 2 turns t from c0
+        return (G(c0 + t) - G(c0) if t < tb else total - G(c0) + G(theta0 + t - tb))
+
+    start, theta1 = F(tb), 2 * np.pi - total
+    assert 0 < theta1 < np.pi and 0 < start < 2 * np.pi - theta1
+    tr = SeederTrain(L1=240.0, L2=400.0, a1=a1, a2=120.0, gear2=g2, gear3=g3,
+                     gear2_contact0=c0 - 0.0, gear3_contact0=0.5, carrier0=0.4, arm0=1.0,
+                     dwell_start=start, dwell_theta1=theta1)
+    f = simulate(tr, samples=720)
+    m = np.where(f.carrier_angle >= start + theta1, f.carrier_angle - theta1,
+                 np.minimum(f.carrier_angle, start))
+    exp = np.array([tb if d else brentq(lambda t, mm=mm: F(t) - mm, 0, 2 * np.pi, xtol=1e-14)
+                    for mm, d in zip(m, f.in_dwell, strict=True)])
+    assert np.abs(f.gear2_angle - exp).max() < 1e-9
+    assert np.abs(f.planet_rel - exp).max() < 1e-9  # planet turns with gear 3 (ratio 1)
+    arm = 1.0 - f.carrier_angle + exp
+    tip = np.c_[240 * np.cos(0.4 - f.carrier_angle) + 400 * np.cos(arm),
+                240 * np.sin(0.4 - f.carrier_angle) + 400 * np.sin(arm)]
+    assert np.abs(f.tip - tip).max() < 1e-6
+    assert f.closure_error["stage1"] < 1e-9
+    assert np.all(f.total_ratio[f.in_dwell] == 0)

@@ -8,6 +8,12 @@ d psi_4 = (r3 / r4) d psi_2, with psi_2 the clockwise turn of gears 2-3 and
 psi_4 the counter-clockwise turn of the planet, both relative to the carrier.
 A toothless dwell holds psi_2 while the carrier turns theta1.
 Conventions as in ``seeder_inverse``.
+
+One design is a population of one: ``simulate`` hands the train's pitch curves (as
+piecewise cubic Hermite over one turn, ``hermite_form``) to the population model
+(``seeder_batch.simulate_curves`` and its numba kernel ``seeder_kernel.simulate_rows``),
+which integrates, inverts and places the tip; this module builds and checks trains and
+keeps the per-sample arrays of one design (``ForwardResult``).
 """
 
 from __future__ import annotations
@@ -15,7 +21,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from plantmech.gears.closure import ClosureFix, close_pair, solve_centre_distance  # noqa: F401
 from plantmech.geometry.periodic import PitchCurveError, RadiusCurve
@@ -77,79 +82,98 @@ class ForwardResult:
         return np.c_[self.tip[:, 0] - shift, self.tip[:, 1]]
 
 
-def rolling_integral(curve: RadiusCurve, contact0: float, a: float, dense: int):
-    """F(t) = integral_0^t r / (a - r) dt' (rad) for the gear turning t from ``contact0``
-    (mate's turn while the gear turns t): a cubic-spline antiderivative on ``dense``
-    nodes. A non-periodic curve (break at its ``theta0``: the lock point of an
-    intermittent gear, where the radius jumps) is integrated in two pieces that meet at
-    the break exactly."""
-    if curve.periodic:
-        t = np.linspace(0.0, TWO_PI, dense + 1)
-        r = curve(contact0 + t)
-        return CubicSpline(t, r / (a - r)).antiderivative()
+def hermite_form(curve: RadiusCurve) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pitch curve over one turn of its body angle from ``theta0`` as the population
+    kernel takes it: (knots (N + 1,) rad from theta0 to theta0 + 2 pi, radii (N + 1,) mm,
+    slopes (N + 1,) mm/rad), the last two the left limits at the end knot. Exact for every
+    ``RadiusCurve`` (piecewise cubics: periodic spline, periodic Hermite, an open spline
+    with its break at theta0, extrapolated to the end of the turn)."""
     spl = curve.spline
-    tb = float(np.mod(curve.theta0 - contact0, TWO_PI))  # gear turn at which the break passes
-    xc = curve.theta0 + np.mod(contact0 - curve.theta0, TWO_PI)  # spline abscissa at t = 0
-    pieces = []
-    for t0, t1, x0 in ((0.0, tb, xc), (tb, TWO_PI, curve.theta0)):
-        if t1 - t0 < 1e-12:
-            continue
-        tt = np.linspace(t0, t1, max(8, int(dense * (t1 - t0) / TWO_PI)) + 1)
-        r = spl(x0 + (tt - t0))
-        pieces.append((t0, t1, CubicSpline(tt, r / (a - r)).antiderivative()))
-    if len(pieces) == 1:
-        return pieces[0][2]
-    (_, tb_, fa), (_, _, fb) = pieces
-    base = float(fa(tb_))
-
-    def F(x):
-        x = np.asarray(x, dtype=float)
-        return np.where(x <= tb_, fa(np.minimum(x, tb_)), base + fb(np.maximum(x, tb_)))
-    return F
+    x = np.asarray(spl.x, dtype=float)
+    end = curve.theta0 + TWO_PI
+    x = np.r_[curve.theta0, x[(x > curve.theta0 + 1e-12) & (x < end - 1e-12)], end]
+    return x, np.asarray(spl(x), dtype=float), np.asarray(spl(x, 1), dtype=float)
 
 
 def simulate(train: SeederTrain, samples: int = 3600, dense: int = 16384) -> ForwardResult:
-    """Tip path at ``samples`` uniform carrier angles over one turn.
+    """Tip path at ``samples`` uniform carrier angles over one turn: the population
+    forward model (``seeder_batch.simulate_curves``, one fused kernel) for P = 1 with
+    every per-sample array kept.
 
-    Angles of gears 2-3 and of the planet are exact integrals of the
-    instantaneous ratios (cubic-spline antiderivative on ``dense`` nodes, then
-    Newton refinement of the carrier -> gear-2 inversion).
+    Angles of gears 2-3 and of the planet are exact integrals of the instantaneous
+    ratios (the running integral of the cubic spline through ``dense`` samples per turn,
+    then Newton on the carrier -> gear-2 inversion). A curve with a break (the inverse
+    design's gears with a dwell: their radii jump at the lock point, where the toothless
+    sector starts) is integrated from the break: the kernel's turn starts at the lock
+    (contact angles moved there, carrier samples taken in meshing order from the dwell
+    start) and the planet's turn is referred back to psi = 0.
     """
-    t = np.linspace(0.0, TWO_PI, dense + 1)
-    sun_f = rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
-    planet_f = rolling_integral(train.gear3, train.gear3_contact0, train.a2, dense)
-    sun = sun_f(t)
+    from plantmech.mechanisms.seeder_batch import meshing_angle, simulate_curves
+
     theta1 = train.dwell_theta1 if train.dwell_start is not None else 0.0
-    closure = {"stage1": float(abs(sun[-1] + theta1 - TWO_PI)),
-               "stage2": float(abs(planet_f(TWO_PI) - TWO_PI))}
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
     if theta1 > 0:
         start = float(train.dwell_start)
         if start < 0 or start + theta1 > TWO_PI:
             raise ValueError("the dwell must lie inside one carrier turn from the start")
-        in_dwell = (psi >= start) & (psi < start + theta1)
-        # meshing carrier angle: held at the dwell start while the sector passes
-        target = np.where(psi >= start + theta1, psi - theta1, np.where(in_dwell, start, psi))
+    target, in_dwell = meshing_angle(psi, train.dwell_start, theta1)
+    form2, form3 = ([v[None] if k else v for k, v in enumerate(hermite_form(g))]
+                    for g in (train.gear2, train.gear3))
+    c2, c3 = train.gear2_contact0, train.gear3_contact0
+    breaks = [float(np.mod(g.theta0 - c, TWO_PI)) for g, c in
+              ((train.gear2, c2), (train.gear3, c3)) if not g.periodic]
+    tb = 0.0
+    if breaks:
+        if theta1 <= 0:
+            raise ValueError("a pitch curve with a break (an open curve) needs the toothless "
+                             "dwell that starts at it")
+        tb = breaks[0]
+        if any(min(abs(b - tb), TWO_PI - abs(b - tb)) > 1e-9 for b in breaks):
+            raise ValueError("gears 2 and 3 break at different turns of their shaft "
+                             f"({np.degrees(breaks[0]):.6f} and {np.degrees(breaks[1]):.6f} "
+                             "deg from the contact at psi = 0)")
+        if min(tb, TWO_PI - tb) < 1e-12:
+            tb = 0.0
+    common = (train.L1, train.L2, train.a1, train.a2, train.carrier0, train.arm0)
+    if tb == 0.0:
+        m = simulate_curves(form2, form3, *common, c2, c3, psi, dense, train.dwell_start,
+                            theta1, target=target, in_dwell=in_dwell, rescale=False)
+        gear2, arm, tip = m.gear2_angle[0], m.arm_angle[0], m.tip[0]
     else:
-        in_dwell = np.zeros(samples, dtype=bool)
-        target = psi
-    gear2 = np.interp(target, sun, t)
-    for _ in range(4):
-        r = train.gear2(train.gear2_contact0 + gear2)
-        gear2 = gear2 - (sun_f(gear2) - target) * (train.a1 - r) / r
-    planet_rel = planet_f(gear2)
+        # the turn from the break (the lock, reached at the dwell start): meshing angles
+        # from there, and two extra samples at psi = 0 for the planet's turn from the break
+        # to the contact at psi = 0 (meshing angle span - dwell start) and over the turn
+        span = TWO_PI - theta1
+        start = float(train.dwell_start)
+        after = psi >= start
+        rot = np.r_[np.where(after, target - start, target - start + span), span - start, span]
+        order = np.argsort(rot, kind="stable")
+        psi_all = np.r_[psi, 0.0, 0.0]
+        dwell_all = np.r_[in_dwell, False, False]
+        m = simulate_curves(form2, form3, *common, c2 + tb, c3 + tb, psi_all[order], dense,
+                            train.dwell_start, theta1, target=rot[order],
+                            in_dwell=dwell_all[order], rescale=False)
+        back = np.empty_like(order)
+        back[order] = np.arange(order.size)
+        turn = m.gear2_angle[0][back]
+        arm_k = m.arm_angle[0][back]
+        to_contact = arm_k[samples] - train.arm0  # planet turn from the break to psi = 0
+        total = arm_k[samples + 1] - train.arm0  # planet turn over the whole turn
+        gear2 = turn[:samples] + np.where(after, tb, tb - TWO_PI)
+        arm = arm_k[:samples] - to_contact + np.where(after, total, 0.0)
+        tip = tip_position(train.L1, train.L2, train.carrier0 - psi, arm)
+    planet_rel = arm - (train.carrier0 - psi) - (train.arm0 - train.carrier0)
+    closure = {"stage1": float(m.closure_error[0, 0]), "stage2": float(m.closure_error[0, 1])}
+    # the stage ratios from the pitch curves at the solved angles (the kernel's ratio
+    # interpolates the dense samples: the same to O(h^4), but the curves are at hand)
     r2s = train.gear2(train.gear2_contact0 + gear2)
     r3s = train.gear3(train.gear3_contact0 + gear2)
-    ratio = np.where(in_dwell, 0.0, (train.a1 - r2s) / r2s * r3s / (train.a2 - r3s))
-    carrier_abs = train.carrier0 - psi
-    arm = carrier_abs + planet_rel + (train.arm0 - train.carrier0)
-    tip = tip_position(train.L1, train.L2, carrier_abs, arm)
-    rate = tip_rate(train.L1, train.L2, carrier_abs, arm, ratio)
     stage1 = np.where(in_dwell, 0.0, (train.a1 - r2s) / r2s)
     stage2 = r3s / (train.a2 - r3s)
+    ratio = stage1 * stage2
+    rate = tip_rate(train.L1, train.L2, train.carrier0 - psi, arm, ratio)
     return ForwardResult(psi, gear2, planet_rel, tip, arm, ratio, closure, rate,
                          stage1, stage2, in_dwell)
-
 
 
 @dataclass
@@ -217,24 +241,24 @@ def sun_rolling_start(train: SeederTrain, dense: int = 16384) -> float:
 
     With a toothless dwell (seed 000's sector cd, theta_1), gear 2 is held while the
     carrier turns theta_1 from ``dwell_start``: its body angle at the sun contact then is
-    contact0 + psi_2(dwell_start), where the rolling of the sun (integral of r2 / r1,
-    ``rolling_integral``) reaches dwell_start. The sun's rolling arc starts and ends
-    there, and its toothless (locking) arc lies between its ends. Without a dwell: the
-    curve's ``theta0``. Returned within [theta0, theta0 + 2 pi)."""
+    contact0 + psi_2(dwell_start), where the rolling of the sun (integral of r2 / r1, the
+    forward model's inversion at the meshing angle dwell_start, ``simulate_curves``)
+    reaches dwell_start. The sun's rolling arc starts and ends there, and its toothless
+    (locking) arc lies between its ends. Without a dwell: the curve's ``theta0``; for the
+    inverse design's gear 2 with a break (its radius steps at the lock point, where the
+    dwell starts: ``simulate`` integrates from it) the break, ``theta0``. Returned within
+    [theta0, theta0 + 2 pi)."""
+    from plantmech.mechanisms.seeder_batch import simulate_curves
+
     theta0 = float(train.gear2.theta0)
-    if train.dwell_start is None or train.dwell_theta1 <= 0:
+    if train.dwell_start is None or train.dwell_theta1 <= 0 or not train.gear2.periodic:
         return theta0
-    f = rolling_integral(train.gear2, train.gear2_contact0, train.a1, dense)
-    t = np.linspace(0.0, TWO_PI, dense + 1)
-    target = float(train.dwell_start)
-    g = float(np.interp(target, f(t), t))
-    for _ in range(4):  # Newton on F(g) = dwell_start; F' = r2 / (a1 - r2)
-        r = float(train.gear2(train.gear2_contact0 + g))
-        g -= (float(f(g)) - target) * (train.a1 - r) / r
-    start = theta0 + float(np.mod(train.gear2_contact0 + g - theta0, TWO_PI))
-    if not train.gear2.periodic and min(start - theta0, theta0 + TWO_PI - start) < 1e-4:
-        # the inverse design's gear 2 breaks at the lock point (its radius steps there):
-        # the root found is that break up to round-off, which must not land a hair before
-        # it (the first sample would then take the radius from the break's other side)
-        return theta0
-    return start
+    target = np.array([float(train.dwell_start)])
+    forms = [[v[None] if k else v for k, v in enumerate(hermite_form(g))]
+             for g in (train.gear2, train.gear3)]
+    m = simulate_curves(*forms, train.L1, train.L2, train.a1, train.a2, train.carrier0,
+                        train.arm0, train.gear2_contact0, train.gear3_contact0, target, dense,
+                        train.dwell_start, train.dwell_theta1, target=target,
+                        in_dwell=np.zeros(1, dtype=bool), rescale=False)
+    g = float(m.gear2_angle[0, 0])
+    return theta0 + float(np.mod(train.gear2_contact0 + g - theta0, TWO_PI))

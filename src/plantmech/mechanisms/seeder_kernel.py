@@ -23,9 +23,11 @@ TWO_PI = 2.0 * np.pi
 
 @njit(cache=True, error_model="numpy")
 def _along(x, radii, slopes, n, c, h, D, value, slope):
-    """Values (mm) and slopes (mm/rad) of the periodic piecewise cubic Hermite through
-    (x[:n], radii) with node ``slopes`` (x: n + 1 knots, the last x[0] + 2 pi) at the body
-    angles c + j h, j = 0..D (rad): one march through the knots, no search per angle."""
+    """Values (mm) and slopes (mm/rad) of the piecewise cubic Hermite over one turn through
+    (x, radii) with node ``slopes`` (x, radii, slopes: n + 1 knots, the last x[0] + 2 pi;
+    radii[n], slopes[n] the left limits there: radii[0], slopes[0] for a periodic curve,
+    others at a break) at the body angles c + j h, j = 0..D (rad): one march through the
+    knots, no search per angle."""
     u0 = c - x[0]
     u0 = x[0] + (u0 - TWO_PI * np.floor(u0 / TWO_PI))
     k = 0
@@ -33,7 +35,8 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
         k += 1
     for j in range(D + 1):
         u = u0 + j * h if j < D else u0 + TWO_PI
-        while u >= x[k + 1]:
+        # the last angle closes the turn: at the end knot it takes the left limit there
+        while u > x[k + 1] or (u == x[k + 1] and (j < D or k + 1 < n)):
             k += 1
             if k == n:
                 k = 0
@@ -42,9 +45,8 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
         hk = x[k + 1] - x[k]
         inv = 1.0 / hk  # per sample: LLVM keeps it while k stays
         t = (u - x[k]) * inv
-        k1 = k + 1 if k + 1 < n else 0
-        y0, y1 = radii[k], radii[k1]
-        d0, d1 = slopes[k] * hk, slopes[k1] * hk
+        y0, y1 = radii[k], radii[k + 1]
+        d0, d1 = slopes[k] * hk, slopes[k + 1] * hk
         t2 = t * t
         t3 = t2 * t
         dy = y0 - y1
@@ -184,18 +186,22 @@ def _hermite_slope(y0, y1, d0, d1, h, s):
 
 
 @njit(cache=True, error_model="numpy")
-def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
+def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
                   psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0,
-                  play, has_play, cp, piv, tip, arm, ratio, rate, gear2, closure, a1_out,
-                  a2_out):
+                  play, has_play, rescale, cp, piv, tip, arm, ratio, rate, gear2, closure,
+                  a1_out, a2_out):
     """Every design p of the population, one after the other with one set of scratch
     rows (parallelism is the callers' processes: optimizer workers, Dask): node radii R2,
-    R3 (P, N) with node slopes S2, S3 at knots x (N + 1), contact angles c2, c3 (P,),
+    R3 (P, N2 + 1), (P, N3 + 1) with node slopes S2, S3 at knots x2 (N2 + 1), x3 (N3 + 1)
+    (the last column the left limit at x[0] + 2 pi, ``_along``), contact angles c2, c3 (P,),
     centre distances a*_in (P,) or solved (``solve1``/``solve2``: for turns turn1 and
-    2 pi), ``D`` dense steps; carrier samples ``psi`` (S,) (their cos and sin) with their
-    meshing targets and dwell mask; per-design L1, L2, carrier0, arm0, play (P,). Writes
-    tip, rate (P, S, 2), arm, ratio, gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
-    P, N = R2.shape
+    2 pi), ``D`` dense steps (``rescale``: the sun's integral scaled to the meshing span,
+    closing stage 1 exactly; else an unclosed pair rolls on periodically); carrier
+    samples ``psi`` (S,) (their cos and sin) with their meshing targets and dwell mask;
+    per-design L1, L2, carrier0, arm0, play (P,). Writes tip, rate (P, S, 2), arm, ratio,
+    gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
+    P = R2.shape[0]
+    N2, N3 = x2.shape[0] - 1, x3.shape[0] - 1
     S = psi.shape[0]
     h = TWO_PI / D
     r2 = np.empty(D + 1)
@@ -210,8 +216,8 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
     slopes_b = np.empty(D + 1)
     span = TWO_PI - theta1
     for p in range(P):
-        _along(x, R2[p], S2[p], N, c2[p], h, D, r2, dr2)
-        _along(x, R3[p], S3[p], N, c3[p], h, D, r3, dr3)
+        _along(x2, R2[p], S2[p], N2, c2[p], h, D, r2, dr2)
+        _along(x3, R3[p], S3[p], N3, c3[p], h, D, r3, dr3)
         a1 = _closing_centre_distance(r2, D, turn1) if solve1 else a1_in[p]
         a2 = _closing_centre_distance(r3, D, TWO_PI) if solve2 else a2_in[p]
         a1_out[p], a2_out[p] = a1, a2
@@ -221,11 +227,20 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
         _running_integrals(f_sun, f_pl, D, h, cp, piv, slopes, slopes_b, sun, planet)
         closure[p, 0] = abs(sun[D] + theta1 - TWO_PI)
         closure[p, 1] = abs(planet[D] - TWO_PI)
-        scale = span / sun[D]
+        scale = span / sun[D] if rescale else 1.0
         k = 0
+        turns = 0
+        base = 0.0
         ca = carrier0[p]
         for i in range(S):
-            tg = target[i]
+            tg = target[i] - base
+            # an unclosed pair (not rescaled): gear 2 turns on past its turn, the rolling
+            # integrals continue periodically
+            while not rescale and tg > sun[D] and sun[D] > 0:
+                base += sun[D]
+                tg -= sun[D]
+                turns += 1
+                k = 0
             while k < D and sun[k + 1] * scale <= tg:
                 k += 1
             kk = k if k < D else D - 1
@@ -238,8 +253,9 @@ def simulate_rows(x, R2, S2, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1
                 s = min(max(s - ds, 0.0), 1.0)
                 if abs(ds) < 1e-15:
                     break
-            gear2[p, i] = kk * h + s * h
-            rel = _hermite(planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1], h, s)
+            gear2[p, i] = turns * TWO_PI + kk * h + s * h
+            rel = turns * planet[D] + _hermite(planet[kk], planet[kk + 1], f_pl[kk],
+                                               f_pl[kk + 1], h, s)
             r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
             r3s = _hermite(r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1], h, s)
             ratio[p, i] = 0.0 if in_dwell[i] else (a1 - r2s) / r2s * r3s / (a2 - r3s)

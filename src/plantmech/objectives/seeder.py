@@ -151,15 +151,24 @@ def speed_checks(speeds: dict, limits) -> list[Check]:
 def mate_curves(train, dense: int = 4096) -> dict:
     """Sampled pitch curves (body angle rad, radius mm) of the sun and planet that
     roll on gears 2 and 3: theta_mate = integral of r / (a - r) (the forward model's
-    rolling integral, exact across a lock-point break), r_mate = a - r."""
-    from plantmech.mechanisms.seeder_forward import rolling_integral
+    rolling at ``dense`` carrier angles, ``seeder_forward.simulate``, exact across a
+    lock-point break; the samples of the dwell left out), r_mate = a - r, from gear 2's
+    turn 0 to its full turn (the sun's end at 360 deg less the toothless sector)."""
+    from plantmech.mechanisms.seeder_batch import meshing_angle
+    from plantmech.mechanisms.seeder_forward import simulate
 
-    t = np.linspace(0.0, 2 * np.pi, dense + 1)
+    res = simulate(train, samples=dense)
+    theta1 = train.dwell_theta1 if train.dwell_start is not None else 0.0
+    rolled, _ = meshing_angle(res.carrier_angle, train.dwell_start, theta1)
+    keep = ~res.in_dwell
+    turn = np.r_[res.gear2_angle[keep], 2 * np.pi]
     out = {}
-    for name, curve, c0, a in (("sun", train.gear2, train.gear2_contact0, train.a1),
-                               ("planet", train.gear3, train.gear3_contact0, train.a2)):
-        r = curve(c0 + t)
-        out[name] = (rolling_integral(curve, c0, a, dense)(t), a - r)
+    for name, curve, c0, a, ang in (
+            ("sun", train.gear2, train.gear2_contact0, train.a1,
+             np.r_[rolled[keep], 2 * np.pi - theta1]),
+            ("planet", train.gear3, train.gear3_contact0, train.a2,
+             np.r_[res.planet_rel[keep], 2 * np.pi])):
+        out[name] = (ang, a - curve(c0 + turn))
     return out
 
 
