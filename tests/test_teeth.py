@@ -443,6 +443,34 @@ def test_step_solid_follows_the_outline_within_its_tolerance_and_sits_like_the_s
     assert rec["max_deviation_mm"] <= STEP_TOLERANCE_MM
 
 
+def test_a_step_file_that_is_off_or_slow_is_a_finding_never_silent(tmp_path, monkeypatch):
+    """`gears --step`: a STEP file the writer refused (outline off its tolerance) and one
+    that imported too slowly are each a finding naming the gear, and the verdict is not
+    ok, on a gear set that otherwise passes (the manufacturable transplanter). The writer is
+    replaced by its two outcomes, so this runs without build123d."""
+    from plantmech.design import load_design
+    from plantmech.outputs import gear_files as gf
+    from plantmech.workflows import run_gears
+    from tests.conftest import EXAMPLES
+
+    outcomes = {
+        "internal.step": {"written": False, "why": "the STEP outline deviates 0.0071 mm from "
+                          "the cut outline (> 0.005)", "max_deviation_mm": 0.0071,
+                          "tolerance_mm": 0.005, "slow_import": False},
+        "planet.step": {"written": True, "why": None, "import_s": 7.5, "slow_import": True,
+                        "tolerance_mm": 0.005, "max_deviation_mm": 0.0044}}
+    monkeypatch.setattr(gf, "write_step", lambda path, poly, width: outcomes[path.name])
+    rec = run_gears(load_design(EXAMPLES / "rice_transplanter_manufacturable.toml"),
+                    tmp_path, steps=36, step=True)
+    found = {(f["gear"], f["check"]): f for f in rec["findings"]}
+    assert set(found) == {("internal", "step_file"), ("planet", "step_import_time")}
+    assert found[("internal", "step_file")]["value"] == 0.0071
+    assert found[("planet", "step_import_time")]["value"] == 7.5
+    assert found[("planet", "step_import_time")]["limit"] == gf.STEP_IMPORT_LIMIT_S
+    assert rec["verdict"] == "not manufacturable"
+    assert "planet.step" in rec["files"] and "internal.step" not in rec["files"]
+
+
 def test_tooth_proportions_are_parameters_checked_and_recorded(tmp_path):
     """--pressure-angle / --addendum / --dedendum reach the cutter and the checks: the
     K-H-V set cut at 25 deg meshes, and its working pressure angle is 5 deg higher than at
