@@ -1074,7 +1074,7 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
               step: bool = False, outlines: dict | None = None,
               method: str = "envelope") -> dict:
     """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
-    STEP files, build123d, slow: minutes per gear, docs/manufacturing.md); returns the
+    STEP files, build123d: seconds per gear, docs/manufacturing.md); returns the
     verification record (also written as verification.json) with its ``verdict`` ("ok" /
     "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
     pitch curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
@@ -1143,6 +1143,11 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                 c["step"] = st
                 if st["written"]:
                     record["files"].append(f"{gname}.step")
+                    if st["slow_import"]:
+                        findings.append(fnd.finding(
+                            gname, "step_import_time", st["import_s"], gf.STEP_IMPORT_LIMIT_S,
+                            "s", {}, "the STEP file took longer to import back than a CAD "
+                            "import in seconds allows"))
                 elif st.get("skipped"):
                     record["step"] = st["why"]
                 else:

@@ -544,7 +544,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "the meshing equation (default, fast, smooth outlines) or by simulated "
                        "cutting (the reference); shaper-cut gears are always simulated")
     gears.add_argument("--step", action="store_true",
-                       help="also write STEP solids (needs plantmech[step]; minutes per gear)")
+                       help="also write STEP solids (needs plantmech[step]; seconds per gear)")
     add_report_option(gears)
     gears.set_defaults(func=_gears)
     from plantmech.optimize import PROBLEMS
