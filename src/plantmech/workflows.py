@@ -1145,9 +1145,9 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                     record["files"].append(f"{gname}.step")
                     if st["slow_import"]:
                         findings.append(fnd.finding(
-                            gname, "step_import_time", st["import_s"], gf.STEP_IMPORT_LIMIT_S,
-                            "s", {}, "the STEP file took longer to import back than a CAD "
-                            "import in seconds allows"))
+                            gname, "step_import_time", st["import_cpu_s"], gf.STEP_IMPORT_LIMIT_S,
+                            "s", {}, "the STEP file took longer to import back (CPU "
+                            "seconds) than a CAD import in seconds allows"))
                 elif st.get("skipped"):
                     record["step"] = st["why"]
                 else:

@@ -94,7 +94,7 @@ def write_stl(path: Path, poly, face_width: float) -> dict:
 
 
 STEP_TOLERANCE_MM = 5e-3  # the STEP outline's largest distance from the cut outline (mm)
-STEP_IMPORT_LIMIT_S = 5.0  # a STEP file that takes longer to import back is reported (s)
+STEP_IMPORT_LIMIT_S = 5.0  # a STEP file whose import back takes more CPU is reported (s)
 
 
 def _bspline_edge(curve):
@@ -199,11 +199,15 @@ def write_step(path: Path, poly, face_width: float,
     solid = bd.extrude(face, amount=face_width, dir=(0, 0, 1))
     bd.export_step(solid, str(path))
     write_s = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     solids = bd.import_step(str(path)).solids()
     import_s = time.perf_counter() - t0
+    # the limit is held to the import's CPU time: on a shared machine the wall time
+    # measures the neighbours too (the import is single-threaded)
+    import_cpu_s = time.process_time() - c0
     rec = {"tolerance_mm": tolerance, "write_s": round(write_s, 3),
-           "import_s": round(import_s, 3), "size_bytes": path.stat().st_size,
+           "import_s": round(import_s, 3), "import_cpu_s": round(import_cpu_s, 3),
+           "size_bytes": path.stat().st_size,
            "solids": len(solids), "edges": sum(len(f) for f in fits),
            "poles": sum(len(c.control_points) for f in fits for c in f),
            "outline_vertices": sum(len(r) - 1 for r in rings)}
@@ -236,7 +240,7 @@ def write_step(path: Path, poly, face_width: float,
             why = f"the STEP outline deviates {dev:.4f} mm from the cut outline (> {tolerance})"
     if why is not None:
         path.unlink()
-    rec["slow_import"] = why is None and import_s > STEP_IMPORT_LIMIT_S
+    rec["slow_import"] = why is None and import_cpu_s > STEP_IMPORT_LIMIT_S
     return rec | {"written": why is None, "why": why}
 
 
