@@ -310,12 +310,15 @@ def report() -> None:
                   f"edits: {r['requests']} answers, {r['errors']} errors, p50 "
                   f"{r['p50_ms']:.0f} ms, p95 {r['p95_ms']:.0f} ms, max {r['max_ms']:.0f} ms "
                   f"in {r['wall_s']:.1f} s, {rate:.0f} answers/s, server CPU "
-                  f"{cpu:.1f} ms per answer (target p95 < 100 ms: {ok}; load average "
+                  f"{cpu:.1f} ms per answer, load generator CPU "
+                  f"{r['client_cpu_ms_per_request']:.2f} ms per request (target p95 < 100 ms:"
+                  f" {ok}; load average "
                   f"{os.getloadavg()[0]:.1f})")
             figure("app_load_test_closed_loop_p95_ms" if pace is None else
                    "app_load_test_paced_p95_ms",
                    r["p95_ms"] if r["p95_ms"] is not None else float("inf"), "ms", 100.0,
                    answers_per_s=rate, server_cpu_ms_per_answer=cpu, errors=r["errors"],
+                   client_cpu_ms_per_request=r["client_cpu_ms_per_request"],
                    clients=r["clients"])
             if pace is None and cpu:
                 # closed loop: every client waits for its answer, so the mean latency is
