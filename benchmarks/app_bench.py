@@ -19,7 +19,6 @@ import os
 import socket
 import subprocess
 import sys
-import threading
 import time
 from pathlib import Path
 
@@ -109,54 +108,98 @@ def _example(port: int, name: str) -> dict:
     return json.loads(c.getresponse().read())["design"]
 
 
+def _edit_bodies(base: dict, rng, count: int) -> list[bytes]:
+    """``count`` seeder drag-edit request bodies, each with one type-value point away from
+    the seeding section moved by up to 3 mm (a fresh copy of only the points list)."""
+    import orjson
+
+    out = []
+    for _ in range(count):
+        points = [list(p) for p in base["trajectory"]["points"]]
+        j = int(rng.integers(8, 18))  # a point away from the seeding section
+        points[j][0] += float(rng.uniform(-3, 3))
+        points[j][1] += float(rng.uniform(-3, 3))
+        d = {**base, "trajectory": {**base["trajectory"], "points": points}}
+        out.append(orjson.dumps({"design": d, "quality": "drag"}))
+    return out
+
+
+async def _read_response(reader) -> tuple[int, int]:
+    """(status, body bytes) of one HTTP/1.1 response with a Content-Length, read whole."""
+    head = await reader.readuntil(b"\r\n\r\n")
+    lines = head.split(b"\r\n")
+    status = int(lines[0].split(b" ", 2)[1])
+    length = 0
+    for line in lines[1:]:
+        name, _, value = line.partition(b":")
+        if name.strip().lower() == b"content-length":
+            length = int(value)
+    body = await reader.readexactly(length)
+    return status, len(body)
+
+
 def load_test(clients: int = 20, requests: int = 10, pace_s: float | None = None,
               cap_s: float = 90.0, port: int | None = None, server_pid: int | None = None
               ) -> dict:
     """Latencies (ms) of seeder drag-edit requests from ``clients`` concurrent clients,
     ``requests`` each; ``pace_s``: seconds between one client's edits (None: closed loop).
-    With ``server_pid``: the server's CPU (its process and its compute workers) per
-    answer, ms.
-    """
+
+    The clients are ``clients`` keep-alive connections driven by one asyncio event loop in
+    this process (plain HTTP/1.1 on a socket: the load generator takes as little of the
+    shared cores as it can). Each latency runs from writing the request to the last byte
+    of its answer. Bounded: ``requests`` per client and ``cap_s`` seconds of wall time
+    (no request starts after it; one in flight then is given 30 s more). With
+    ``server_pid``: the server's CPU (its process and its compute workers) per answer,
+    ms; always: the load generator's own CPU per request, ms."""
+    import asyncio
+
     base = _example(port, "sugarcane_seeder")
     lat: list[float] = []
     errors: list[str] = []
-    lock = threading.Lock()
-    stop_at = time.time() + cap_s
 
-    def client(k: int):
-        c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+    async def client(k: int, stop_at: float):
         rng = np.random.default_rng(k)
-        time.sleep(rng.uniform(0, pace_s or 0.05))  # do not start in lockstep
-        for _ in range(requests):
-            if time.time() > stop_at:
-                return
-            d = json.loads(json.dumps(base))
-            j = int(rng.integers(8, 18))  # a point away from the seeding section
-            d["trajectory"]["points"][j][0] += float(rng.uniform(-3, 3))
-            d["trajectory"]["points"][j][1] += float(rng.uniform(-3, 3))
-            body = json.dumps({"design": d, "quality": "drag"})
-            t0 = time.perf_counter()
-            c.request("POST", "/api/evaluate", body, {"Content-Type": "application/json"})
-            r = c.getresponse()
-            r.read()
-            dt = (time.perf_counter() - t0) * 1e3
-            with lock:
-                (lat.append(dt) if r.status == 200 else errors.append(str(r.status)))
-            if pace_s:
-                time.sleep(max(0.0, pace_s - dt / 1e3))
+        bodies = _edit_bodies(base, rng, requests)  # built before the clock starts
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        await asyncio.sleep(rng.uniform(0, pace_s or 0.05))  # do not start in lockstep
+        try:
+            for body in bodies:
+                if time.perf_counter() > stop_at:
+                    return
+                head = (f"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+                        f"Content-Type: application/json\r\nContent-Length: {len(body)}"
+                        "\r\n\r\n").encode()
+                t0 = time.perf_counter()
+                writer.write(head + body)
+                try:
+                    status, _ = await asyncio.wait_for(_read_response(reader), 30)
+                except (TimeoutError, asyncio.IncompleteReadError, OSError) as exc:
+                    errors.append(type(exc).__name__)
+                    return
+                dt = (time.perf_counter() - t0) * 1e3
+                (lat.append(dt) if status == 200 else errors.append(str(status)))
+                if pace_s:
+                    await asyncio.sleep(max(0.0, pace_s - dt / 1e3))
+        finally:
+            writer.close()
 
-    threads = [threading.Thread(target=client, args=(k,)) for k in range(clients)]
+    async def run_all():
+        stop_at = time.perf_counter() + cap_s
+        await asyncio.wait_for(asyncio.gather(*(client(k, stop_at) for k in range(clients))),
+                               cap_s + 30)
+
     cpu0 = process_cpu_s(server_pid) if server_pid else 0.0
+    own0 = time.process_time()
     t0 = time.time()
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(cap_s + 30)
+    asyncio.run(run_all())
     wall = time.time() - t0
+    own = time.process_time() - own0
     cpu = process_cpu_s(server_pid) - cpu0 if server_pid else 0.0
     a = np.array(lat)
+    n = len(a) + len(errors)
     return {"clients": clients, "requests": len(a), "errors": len(errors),
             "wall_s": wall, "server_cpu_ms_per_answer": cpu / len(a) * 1e3 if len(a) else None,
+            "client_cpu_ms_per_request": own / n * 1e3 if n else None,
             "p50_ms": float(np.percentile(a, 50)) if len(a) else None,
             "p95_ms": float(np.percentile(a, 95)) if len(a) else None,
             "max_ms": float(a.max()) if len(a) else None}
@@ -267,12 +310,15 @@ def report() -> None:
                   f"edits: {r['requests']} answers, {r['errors']} errors, p50 "
                   f"{r['p50_ms']:.0f} ms, p95 {r['p95_ms']:.0f} ms, max {r['max_ms']:.0f} ms "
                   f"in {r['wall_s']:.1f} s, {rate:.0f} answers/s, server CPU "
-                  f"{cpu:.1f} ms per answer (target p95 < 100 ms: {ok}; load average "
+                  f"{cpu:.1f} ms per answer, load generator CPU "
+                  f"{r['client_cpu_ms_per_request']:.2f} ms per request (target p95 < 100 ms:"
+                  f" {ok}; load average "
                   f"{os.getloadavg()[0]:.1f})")
             figure("app_load_test_closed_loop_p95_ms" if pace is None else
                    "app_load_test_paced_p95_ms",
                    r["p95_ms"] if r["p95_ms"] is not None else float("inf"), "ms", 100.0,
                    answers_per_s=rate, server_cpu_ms_per_answer=cpu, errors=r["errors"],
+                   client_cpu_ms_per_request=r["client_cpu_ms_per_request"],
                    clients=r["clients"])
             if pace is None and cpu:
                 # closed loop: every client waits for its answer, so the mean latency is

@@ -382,3 +382,33 @@ def test_a_null_field_is_refused_by_name(client):
         body = r.json()
         assert f"field '{field}'" in body["error"] and "TOML" in body["error"]
         assert body["fields"][0]["field"] == field
+
+
+def test_edit_fast_path_answers_as_the_engine_and_keeps_the_host_rule(client):
+    """``POST /api/evaluate`` is answered by ``BodyLimit`` without FastAPI's routing: its
+    body is exactly ``evaluate_request``'s bytes for the same request (computed here,
+    in-process), with both Server-Timing entries; a foreign Host is still refused (the
+    rebinding rule), other methods still get the router's 405, and the body limit holds."""
+    import orjson
+
+    d = example(client, "sugarcane_seeder")
+    d["trajectory"]["points"][12][0] += 1.5
+    raw = orjson.dumps({"design": d, "quality": "drag"})
+    r = client.post("/api/evaluate", content=raw, headers={"content-type": "application/json"})
+    status, ref = server.evaluate_request(raw)
+    assert (r.status_code, r.content) == (status, ref) == (200, ref)
+    assert r.headers["content-type"] == "application/json"
+    assert int(r.headers["content-length"]) == len(ref)
+    timing = r.headers["server-timing"]
+    assert "compute;dur=" in timing and "server;dur=" in timing
+    # an invalid design: the same field-named error as in-process
+    bad = orjson.dumps({"design": {**d, "trajectory": {**d["trajectory"], "points": "x"}},
+                        "quality": "drag"})
+    r = client.post("/api/evaluate", content=bad)
+    assert (r.status_code, r.content) == server.evaluate_request(bad)
+    assert r.status_code == 422
+    r = client.post("/api/evaluate", content=raw, headers={"host": "evil.example"})
+    assert r.status_code == 400
+    assert client.get("/api/evaluate").status_code == 405
+    r = client.post("/api/evaluate", content=b"x" * (server.MAX_BODY_BYTES + 1))
+    assert r.status_code == 413

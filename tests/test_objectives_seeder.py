@@ -91,3 +91,64 @@ def test_seeding_speed_need_is_the_least_speed_with_enough_vertical_speed():
     vy = along[:, None] * np.sin(theta)[:, None] + across * np.cos(theta)[:, None]
     speed = np.where(np.abs(vy) >= 1.1, np.hypot(vx, vy), np.inf).min(axis=1)
     assert need == pytest.approx(speed, abs=1e-4)
+
+
+def _old_periodic_at(psi, values, p):
+    """The interpolation as it was before the table was shared (one table per call)."""
+    return float(np.interp(np.mod(p, 2 * np.pi), np.r_[psi, 2 * np.pi], np.r_[values, values[0]]))
+
+
+def test_shared_periodic_table_gives_identical_numbers():
+    """One table per cycle (``_periodic_table``) and one interpolation for several angles
+    give bit-identical values to one table per angle, at samples, between samples, at 0,
+    2 pi, past 2 pi and at negative angles, and the section speeds are identical."""
+    from plantmech.objectives.seeder import (
+        _periodic_at,
+        _periodic_table,
+        section_values,
+        speed_by_section,
+        zero_speed_travel,
+    )
+
+    rng = np.random.default_rng(3)
+    n = 360
+    psi = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    values = rng.normal(size=n)
+    angles = np.r_[psi[::7], rng.uniform(-10, 10, 50), 0.0, 2 * np.pi, -2 * np.pi, 7.5,
+                   psi[-1] + 1e-9, 2 * np.pi - 1e-12]
+    table = _periodic_table(psi)
+    together = _periodic_at(table, values, angles)
+    one_by_one = [_old_periodic_at(psi, values, p) for p in angles]
+    assert together.tolist() == one_by_one  # exact, not approximate
+    assert [_periodic_at(table, values, p) for p in angles] == one_by_one
+    # an interpolation between two samples is the straight line between them
+    assert _periodic_at(table, values, (psi[3] + psi[4]) / 2) == pytest.approx(
+        (values[3] + values[4]) / 2, rel=1e-12, abs=1e-12)
+    # past the last sample it closes on the first (the cycle is periodic)
+    assert _periodic_at(table, values, (psi[-1] + 2 * np.pi) / 2) == pytest.approx(
+        (values[-1] + values[0]) / 2, rel=1e-12, abs=1e-12)
+
+    velocity = rng.normal(size=(n, 2))
+    sec = {"d": 4.1, "e": 4.9, "f": 5.6}
+    static = np.hypot(velocity[:, 0], velocity[:, 1])
+    dynamic = np.hypot(velocity[:, 0] - 0.3, velocity[:, 1])
+
+    def old_section(v, a, b):
+        span = np.mod(b - a, 2 * np.pi)
+        m = np.mod(psi - a, 2 * np.pi) <= span
+        return np.r_[v[m], _old_periodic_at(psi, v, a), _old_periodic_at(psi, v, b)]
+
+    assert section_values(psi, static, sec["e"], sec["f"]).tolist() == old_section(
+        static, sec["e"], sec["f"]).tolist()
+    s = speed_by_section(psi, velocity, 0.3, sec)
+    assert s["max_speed_seeding_m_s"] == float(old_section(static, sec["d"], sec["e"]).max())
+    assert s["min_speed_return_static_m_s"] == float(
+        old_section(static, sec["e"], sec["f"]).min())
+    assert s["min_speed_return_dynamic_m_s"] == float(
+        old_section(dynamic, sec["e"], sec["f"]).min())
+    assert s["max_speed_seeding_dynamic_m_s"] == float(
+        old_section(dynamic, sec["d"], sec["e"]).max())
+    z = zero_speed_travel(psi, velocity, 10.0, sec["e"])
+    assert z["zero_speed_travel_m_s"] == _old_periodic_at(psi, velocity[:, 0], sec["e"])
+    assert z["speed_at_e_m_s"] == float(np.hypot(_old_periodic_at(psi, velocity[:, 0], sec["e"]),
+                                                 _old_periodic_at(psi, velocity[:, 1], sec["e"])))

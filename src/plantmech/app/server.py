@@ -357,13 +357,30 @@ def same_origin(headers) -> bool:
     return origin.split("://", 1)[-1].rstrip("/") == headers.get("host", "")
 
 
+LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "[::1]", "testserver")
+
+
+def _loopback_host(headers) -> bool:
+    """The Host header names a loopback host (the rule of the app's TrustedHostMiddleware:
+    a page elsewhere cannot reach the API by rebinding its name)."""
+    host = dict(headers).get(b"host", b"").decode("latin-1")
+    return host.split(":")[0] in LOOPBACK_HOSTS  # as starlette's TrustedHostMiddleware
+
+
 class BodyLimit:
     """ASGI middleware: a POST, PUT or PATCH needs a Content-Length of at most
     ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise). Plain ASGI rather than
-    ``@app.middleware("http")``: that wrapper costs every edit request a task and a stream."""
+    ``@app.middleware("http")``: that wrapper costs every edit request a task and a stream.
 
-    def __init__(self, app):
+    ``compute``: with it, ``POST /api/evaluate`` from a loopback Host is answered here —
+    body read, handed to ``compute`` (``pool.run``), its bytes sent — without FastAPI's
+    routing, request and response objects (the edit request is the hot path of the drag
+    and of the load test; every other request, and an edit with another Host, goes
+    through the whole stack). The answer and its headers are those of the route."""
+
+    def __init__(self, app, compute=None):
         self.app = app
+        self.compute = compute
 
     async def __call__(self, scope, receive, send):
         if scope["type"] == "http" and scope["method"] in ("POST", "PUT", "PATCH"):
@@ -381,6 +398,10 @@ class BodyLimit:
             await self.app(scope, receive, send)
             return
         t0 = time.perf_counter()
+        if (self.compute is not None and scope["method"] == "POST"
+                and _loopback_host(scope["headers"])):
+            await self._evaluate(receive, send, t0)
+            return
 
         async def timed_send(message):
             # the whole request inside the server (body, validation, queue, compute,
@@ -392,6 +413,24 @@ class BodyLimit:
             await send(message)
 
         await self.app(scope, receive, timed_send)
+
+    async def _evaluate(self, receive, send, t0: float) -> None:
+        chunks = []
+        while True:
+            message = await receive()
+            if message["type"] == "http.disconnect":
+                return
+            chunks.append(message.get("body", b""))
+            if not message.get("more_body", False):
+                break
+        status, answer, ms = await self.compute(b"".join(chunks))
+        dur = (time.perf_counter() - t0) * 1e3
+        await send({"type": "http.response.start", "status": status, "headers": [
+            (b"content-length", str(len(answer)).encode()),
+            (b"content-type", b"application/json"),
+            (b"server-timing", f"compute;dur={ms:.2f}".encode()),
+            (b"server-timing", f"server;dur={dur:.2f}".encode())]})
+        await send({"type": "http.response.body", "body": answer})
 
 
 # --- the application ----------------------------------------------------------------------
@@ -424,7 +463,7 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
     # loopback names only: a page elsewhere cannot reach the API by rebinding its name
     app.add_middleware(TrustedHostMiddleware,
-                       allowed_hosts=["127.0.0.1", "localhost", "[::1]", "testserver"])
+                       allowed_hosts=list(LOOPBACK_HOSTS))
     app.state.tasks = tasks
     app.state.compute = pool
     initial_payload: dict | None = None
@@ -434,7 +473,6 @@ def create_app(initial: Path | None = None, workers: int | None = None,
         design = load_design(initial)  # DesignError goes to the CLI, before the server
         initial_payload = {"name": initial.name, "design": design_json(design)}
 
-    app.add_middleware(BodyLimit)
 
     @app.exception_handler(AppError)
     async def _app_error(request: Request, exc: AppError):
@@ -450,6 +488,8 @@ def create_app(initial: Path | None = None, workers: int | None = None,
             import orjson
 
             return exc.status, orjson.dumps({"error": exc.message, "fields": []}), 0.0
+
+    app.add_middleware(BodyLimit, compute=compute)
 
     async def body(request: Request) -> dict:
         try:

@@ -88,16 +88,28 @@ def attitude_checks(att: dict, limits) -> list[Check]:
     ]
 
 
-def _periodic_at(psi, values, p):
-    """Linear interpolation of a sampled periodic quantity at carrier angle p (rad)."""
-    return float(np.interp(np.mod(p, 2 * np.pi), np.r_[psi, 2 * np.pi], np.r_[values, values[0]]))
+def _periodic_table(psi) -> np.ndarray:
+    """The carrier angles psi (rad, ascending in [0, 2 pi)) closed at 2 pi: the abscissae
+    of ``_periodic_at``'s interpolation, built once per cycle and shared by its calls."""
+    return np.append(psi, 2 * np.pi)
 
 
-def section_values(psi, values, p_start, p_end) -> np.ndarray:
+def _periodic_at(table, values, p):
+    """Linear interpolation of a sampled periodic quantity ``values`` (one per carrier
+    angle) at carrier angle(s) p (rad); ``table``: ``_periodic_table(psi)``. A float for
+    a scalar p, an array for an array of angles (one interpolation for all of them)."""
+    out = np.interp(np.mod(p, 2 * np.pi), table, np.append(values, values[0]))
+    return float(out) if np.ndim(out) == 0 else out
+
+
+def section_values(psi, values, p_start, p_end, table=None) -> np.ndarray:
     """Samples of ``values`` within the section [p_start, p_end] (clockwise carrier
-    angles, rad), including both ends interpolated."""
+    angles, rad), including both ends interpolated; ``table``: ``_periodic_table(psi)``
+    when the caller has it."""
     m = _section_mask(psi, p_start, p_end)
-    return np.r_[values[m], _periodic_at(psi, values, p_start), _periodic_at(psi, values, p_end)]
+    ends = _periodic_at(_periodic_table(psi) if table is None else table, values,
+                        np.array([p_start, p_end], dtype=float))
+    return np.r_[values[m], ends]
 
 
 def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dict:
@@ -108,8 +120,9 @@ def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dic
     there. The printed form v_c = v_A cos(pi/2 - beta) = v_A sin(beta) with beta the
     sowing (attitude) angle is reported beside it; both agree only when the tip moves
     along the cane (docs/conventions.md)."""
-    vx = _periodic_at(psi, velocity[:, 0], p_e)
-    vy = _periodic_at(psi, velocity[:, 1], p_e)
+    table = _periodic_table(psi)
+    vx = _periodic_at(table, velocity[:, 0], p_e)
+    vy = _periodic_at(table, velocity[:, 1], p_e)
     v = float(np.hypot(vx, vy))
     return {"zero_speed_travel_m_s": vx,
             "speed_at_e_m_s": v,
@@ -123,14 +136,15 @@ def speed_by_section(psi, velocity, travel_m_s: float, section_psi: dict[str, fl
     static = np.hypot(velocity[:, 0], velocity[:, 1])
     dynamic = np.hypot(velocity[:, 0] - travel_m_s, velocity[:, 1])
     p = section_psi
-    de_s = section_values(psi, static, p["d"], p["e"])
-    ef_s = section_values(psi, static, p["e"], p["f"])
-    ef_d = section_values(psi, dynamic, p["e"], p["f"])
+    table = _periodic_table(psi)  # once for the four sections' eight ends
+    de_s = section_values(psi, static, p["d"], p["e"], table)
+    ef_s = section_values(psi, static, p["e"], p["f"], table)
+    ef_d = section_values(psi, dynamic, p["e"], p["f"], table)
+    de_d = section_values(psi, dynamic, p["d"], p["e"], table)
     return {"max_speed_seeding_m_s": float(de_s.max()),
             "min_speed_return_static_m_s": float(ef_s.min()),
             "min_speed_return_dynamic_m_s": float(ef_d.min()),
-            "max_speed_seeding_dynamic_m_s": float(section_values(
-                psi, dynamic, p["d"], p["e"]).max()),
+            "max_speed_seeding_dynamic_m_s": float(de_d.max()),
             "max_speed_static_m_s": float(static.max()),
             "min_speed_static_m_s": float(static.min())}
 
