@@ -31,8 +31,9 @@ def test_circular_pitch_curve_gives_the_standard_involute_gear():
 
 
 def test_rack_cut_circle_is_the_standard_involute_gear():
-    """A rack rolled on a circle generates the involute exactly (the shaper only
-    approximately): same thickness and tip, root at r - 1.25 m, flanks closer."""
+    """A rack rolled on a circle generates the involute exactly (the simulated shaper only
+    approximately, the shaper's envelope exactly too: tests/test_shaper_envelope.py): same
+    thickness and tip, root at r - 1.25 m, flanks closer than the simulated shaper's."""
     spec = ToothSpec(module=2.0, cutter="rack")
     pitch = PitchPolyline.from_polar(TH[:-1], np.full(3000, 30.0))
     g = cut_gear(pitch, spec)
@@ -44,9 +45,14 @@ def test_rack_cut_circle_is_the_standard_involute_gear():
     ref = spur_gear_polygon(30, spec)
     ring = shapely.Point(0, 0).buffer(31.5, 2048).difference(shapely.Point(0, 0).buffer(29.0, 2048))
     rack_err = g.intersection(ring).symmetric_difference(ref.intersection(ring)).area
-    shaper = cut_gear(pitch, ToothSpec(module=2.0))
+    shaper = cut_gear(pitch, ToothSpec(module=2.0, method="simulated"))
     shaper_err = shaper.intersection(ring).symmetric_difference(ref.intersection(ring)).area
     assert rack_err < 0.3 and rack_err < 0.6 * shaper_err
+    # the shaper's envelope is as close as the rack (what remains is the reference's own
+    # polygon: 12 points per flank)
+    envelope = cut_gear(pitch, ToothSpec(module=2.0))
+    assert envelope.intersection(ring).symmetric_difference(
+        ref.intersection(ring)).area < 1.1 * rack_err
 
 
 def test_a_rack_cannot_cut_an_internal_gear():

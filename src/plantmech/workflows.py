@@ -1103,15 +1103,17 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
         names = pair.name.split("_")
         done = {g["name"] for g in record["gears"]}
-        for gname, poly, pitch, z, internal, cut_by in (
-                (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal, None),
+        for gname, poly, pitch, z, internal, cut_by, made in (
+                (names[0], pair.gear_a, pair.pitch_a, pair.teeth_a, pair.internal, None,
+                 getattr(pair, "made_a", None)),
                 (names[1], pair.gear_b, pair.pitch_b, pair.teeth_b, False,
-                 names[0] if pair.b_cut_by_a else None)):
+                 names[0] if pair.b_cut_by_a else None, getattr(pair, "made_b", None))):
             if gname in done:  # a gear in two meshes (the K-H-V middle) is cut once
                 continue
             if outlines is not None:
                 outlines[gname] = (poly, np.asarray(pitch.xy, dtype=float))
             c = gear_checks(gname, pitch, spec, z, internal, cut_by)
+            c["teeth_made_by"] = made  # envelope or simulated, and why (gears.teeth)
             teeth = teeth_on_outline(poly, pitch.xy, spec.module, spec.addendum, internal)
             c["teeth_on_outline"] = int(len(teeth["angle_deg"]))
             c["min_tip_land_mm"] = float(teeth["tip_land_mm"].min()) \

@@ -178,7 +178,23 @@ class PitchPolyline:
 def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
              tooth_at: float = 0.0, rim: float = 8.0, bore: float | None = None,
              steps_per_pitch: int = 12, toothless: tuple[float, float] | None = None):
-    """Generate a gear by rolling the shaper cutter along ``pitch``.
+    """The gear of ``cut_gear_made`` (the polygon alone)."""
+    return cut_gear_made(pitch, spec, internal, tooth_at, rim, bore, steps_per_pitch,
+                         toothless)[0]
+
+
+def cut_gear_made(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
+                  tooth_at: float = 0.0, rim: float = 8.0, bore: float | None = None,
+                  steps_per_pitch: int = 12, toothless: tuple[float, float] | None = None):
+    """Generate a gear by rolling the shaper cutter (or the rack) along ``pitch``; returns
+    (polygon, made) where ``made`` says how its teeth were made: {"method": "envelope" or
+    "simulated", "cutter": "rack" or "shaper", "why": why a gear asked for by the envelope
+    was simulated, else None}.
+
+    ``spec.method == "envelope"``: the teeth come from the envelope condition of the meshing
+    equation (gears/envelope.py: the rack on a convex curve, the shaper where its cutter
+    fits every concave span, the curve carries whole teeth and each space's cut is held by
+    its window); anything else falls back to simulation and says why.
 
     External: the cutter rolls outside, the blank is the pitch curve grown by the
     addendum. Internal: the cutter rolls inside, the blank is the ring between the pitch
@@ -226,8 +242,31 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
         b0 = toothless[1]
         s_eff = b0 + np.mod(s - b0, P)
         t_eff = b0 + np.mod(tooth_at - b0, P)
-    if spec.cutter == "rack" and spec.method == "envelope" and _convex(pitch):
-        polys = _rack_envelope(pitch, spec, t_eff, toothless)
+    base = shapely.Polygon(pitch.xy)
+    if internal:
+        inner = base.buffer(-spec.addendum * m, join_style="round")
+        outer = base.buffer((spec.dedendum + 0.25) * m + rim, join_style="round")
+        blank = outer.difference(inner)
+    else:
+        blank = base.buffer(spec.addendum * m, join_style="round")
+    made = {"method": "simulated", "cutter": spec.cutter, "why": None}
+    polys = None
+    if spec.method == "envelope":
+        if spec.cutter == "rack" and not _convex(pitch):
+            made["why"] = "a rack on a pitch curve with concave spans (its other teeth gouge)"
+        elif spec.cutter == "rack":
+            polys = _rack_envelope(pitch, spec, t_eff, toothless)
+        else:
+            from plantmech.gears.envelope import ShaperEnvelopeUnfit
+
+            try:
+                polys = _shaper_envelope(pitch, spec, t_eff, toothless, blank, internal)
+            except ShaperEnvelopeUnfit as e:
+                made["why"] = str(e)
+        if polys is not None:
+            made["method"] = "envelope"
+    if polys is not None:
+        pass
     elif spec.cutter == "rack":
         polys = _rack_teeth(spec, pz, tangent, n, s_eff, t_eff)
     else:
@@ -239,21 +278,54 @@ def cut_gear(pitch: PitchPolyline, spec: ToothSpec, internal: bool = False,
         pts = centre[:, None, None] + np.exp(1j * ang)[:, :, None] * wz[None, None, :]
         polys = shapely.polygons(np.stack([pts.real, pts.imag], -1).reshape(-1, len(wz), 2))
     sweep = shapely.union_all(shapely.make_valid(polys))
-    base = shapely.Polygon(pitch.xy)
-    if internal:
-        inner = base.buffer(-spec.addendum * m, join_style="round")
-        outer = base.buffer((spec.dedendum + 0.25) * m + rim, join_style="round")
-        blank = outer.difference(inner)
-        gear = blank.difference(sweep)
-    else:
-        blank = base.buffer(spec.addendum * m, join_style="round")
-        gear = blank.difference(sweep)
+    gear = blank.difference(sweep)
+    if not internal:
         if toothless is not None:
             gear = gear.difference(_toothless_wedge(pitch, toothless, base, spec))
         if bore:
             gear = gear.difference(shapely.Point(0, 0).buffer(bore / 2, 64))
     gear = _largest(gear)
-    return gear
+    return gear, made
+
+
+def _space_centres(P: float, p: float, t_eff: float,
+                   toothless: tuple[float, float] | None) -> np.ndarray:
+    """Arc (mm) of the centre of every tooth space of a gear with a tooth at ``t_eff``
+    (pitch ``p``, perimeter ``P``): every space of a closed gear; on a partial gear, the
+    spaces whose centres lie on its meshing arc (from the toothless arc's end round to
+    its start)."""
+    if toothless is None:
+        z = max(1, int(round(P / p)))
+        return t_eff + p / 2 + p * np.arange(z)
+    a0, b0 = toothless
+    arc = P - np.mod(b0 - a0, P)  # the meshing arc, from b0 on
+    k0 = np.ceil((b0 - (t_eff + p / 2)) / p)
+    centres = t_eff + p / 2 + p * np.arange(k0, k0 + int(np.ceil(P / p)) + 1)
+    return centres[(centres >= b0) & (centres <= b0 + arc)]
+
+
+def _shaper_envelope(pitch: PitchPolyline, spec: ToothSpec, t_eff: float,
+                     toothless: tuple[float, float] | None, blank, internal: bool):
+    """The tooth spaces the shaper cuts, by the envelope (``envelope.shaper_space_polygons``),
+    after the checks that make it the whole cut: the shaper fits every concave span (else
+    its neighbouring teeth gouge, which only the simulated cut shows) and a closed curve
+    carries whole teeth (else the simulated cutter's phase jumps at the seam).
+    Raises envelope.ShaperEnvelopeUnfit saying which failed."""
+    from plantmech.gears.envelope import ShaperEnvelopeUnfit, shaper_space_polygons
+
+    rc = spec.module * spec.cutter_teeth / 2
+    rho = smooth_curvature(pitch, internal)[1]
+    concave = -rho[np.isfinite(rho) & (rho < 0)]
+    if len(concave) and concave.min() <= rc:
+        raise ShaperEnvelopeUnfit(f"a concave span's radius of curvature "
+                                  f"{concave.min():.3f} mm is below the shaper's pitch "
+                                  f"radius {rc:.3f} mm (its other teeth gouge)")
+    P, p = pitch.perimeter, spec.pitch
+    if toothless is None and abs(P / p - round(P / p)) > 1e-3:
+        raise ShaperEnvelopeUnfit(f"the pitch curve carries {P / p:.4f} teeth, not a whole "
+                                  "number")
+    centres = _space_centres(P, p, t_eff, toothless)
+    return shaper_space_polygons(pitch, spec, centres, blank, internal)
 
 
 def _convex(pitch: PitchPolyline) -> bool:
@@ -446,9 +518,10 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     sa = _arc_to_angle(pa, th[0])
     sb = _arc_to_angle(pb, phib[0])
     delta = 0.0 if tooth_at_a is None else tooth_at_a - sa
+    made_a = None  # how A's teeth were made (``cut_gear_made``); None: cut for another mesh
     if gear_a is None:
-        gear_a = cut_gear(pa, spec, internal=internal, tooth_at=sa + delta, rim=rim,
-                          bore=bore_a)
+        gear_a, made_a = cut_gear_made(pa, spec, internal=internal, tooth_at=sa + delta,
+                                       rim=rim, bore=bore_a)
     # B's contact runs along decreasing arc for an external pair, increasing for internal
     sb_tooth = sb + (delta if internal else -delta)
     toothless = None
@@ -470,17 +543,21 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     b_by_rack = (tooth_at_a is None and spec.method == "envelope" and spec.cutter == "rack"
                  and not internal and whole and fit_cutter(spec, pb).cutter == "rack")
     if b_by_rack:
-        gear_b = cut_gear(pb, spec, internal=False, tooth_at=sb_tooth + spec.pitch / 2,
-                          rim=rim, bore=bore_b, toothless=toothless)
+        gear_b, made_b = cut_gear_made(pb, spec, internal=False,
+                                       tooth_at=sb_tooth + spec.pitch / 2, rim=rim,
+                                       bore=bore_b, toothless=toothless)
     elif tooth_at_a is None:
         # B is generated by A itself (its envelope), so the pair is exactly conjugate: two
         # shaper-cut gears have their cutters on opposite sides of the pitch point and are
         # conjugate only where the curvature is constant (docs/conventions.md)
         gear_b = envelope_cut(pa, pb, th, r, phib, a, spec, tooth_at=sa + delta,
                               internal=internal, rim=rim, bore=bore_b, toothless=toothless)
+        made_b = {"method": "simulated", "cutter": "mate",
+                  "why": "generated by its mate's cut teeth (Boolean cut of their positions)"}
     else:
-        gear_b = cut_gear(pb, spec, internal=False, tooth_at=sb_tooth + spec.pitch / 2,
-                          rim=rim, bore=bore_b, toothless=toothless)
+        gear_b, made_b = cut_gear_made(pb, spec, internal=False,
+                                       tooth_at=sb_tooth + spec.pitch / 2, rim=rim,
+                                       bore=bore_b, toothless=toothless)
     zb = (pb.perimeter - (np.mod(toothless[1] - toothless[0], pb.perimeter) + spec.pitch
                           if toothless else 0.0)) / spec.pitch
     pair = GearPair(name, pa, pb, th, phib, a, internal, int(round(za)), int(round(zb)),
@@ -489,6 +566,7 @@ def make_pair(name: str, theta_a, r_a, a: float, spec: ToothSpec, internal: bool
     # B is A's envelope (not cut by the cutter)
     pair.b_cut_by_a = tooth_at_a is None and not b_by_rack
     pair.tooth_at_b = sb_tooth + spec.pitch / 2
+    pair.made_a, pair.made_b = made_a, made_b
     return pair
 
 
