@@ -10,7 +10,7 @@
   comparison).
 
 Each is derived from the dedicated example file by the mapping the tests check
-(tests/test_trains.py, tests/test_planetary_examples.py: the files reproduce the dedicated
+(tests/test_planetary_examples.py: the files reproduce the dedicated
 models' tip paths to 1e-6 mm). Run ``python scripts/planetary_examples.py`` after changing
 a dedicated example; ``--check`` exits 1 if a committed file differs from what it writes.
 """
@@ -39,6 +39,24 @@ def _list(xs) -> str:
     return "[" + ", ".join(_f(x) for x in xs) + "]"
 
 
+def _carrier(initial_angle_deg: float, arms: int) -> str:
+    """The [carrier] table (clockwise, as both papers' carriers turn)."""
+    return (f"[carrier]\ninitial_angle_deg = {_f(initial_angle_deg)}\n"
+            f'direction = "clockwise"\narms = {arms}\n')
+
+
+def _radii_curve(radii, angles_deg, interpolation: str, lobes: int | None = None,
+                 phase_deg: float | None = None) -> str:
+    """The lines of a ``family = "radii"`` pitch-curve table."""
+    text = (f'family = "radii"\nradii_mm = {_list(radii)}\nangles_deg = {_list(angles_deg)}\n'
+            f'interpolation = "{interpolation}"\n')
+    if lobes is not None:
+        text += f"lobes = {lobes}\n"
+    if phase_deg is not None:
+        text += f"phase_deg = {_f(phase_deg)}\n"
+    return text
+
+
 def seeder_optimized() -> str:
     """Seed 000's train from examples/sugarcane_seeder_optimized.toml. Gear 3's phase on
     the shaft: the seeder gives both gears' contact angles in one body frame, c2 (sun side)
@@ -60,11 +78,7 @@ mechanism = "planetary"
 name = "Sugarcane seeder (seed 000, optimized train) as a general planetary train"
 samples = {t.samples}
 
-[carrier]
-initial_angle_deg = {_f(np.degrees(tr.carrier0))}
-direction = "clockwise"
-arms = 1
-
+{_carrier(np.degrees(tr.carrier0), 1)}
 [train]
 grid = 16384               # the seeder's dense integration
 
@@ -72,22 +86,13 @@ grid = 16384               # the seeder's dense integration
 kind = "external"
 centre_distance_mm = {_f(tr.a1)}
 [train.pairs.follower]
-family = "radii"
-radii_mm = {_list(tr.gear2(a2))}
-angles_deg = {_list(t.gear2.angles())}
-interpolation = "{t.interpolation}"
-phase_deg = {_f(np.degrees(c2))}
-
+{_radii_curve(tr.gear2(a2), t.gear2.angles(), t.interpolation, phase_deg=np.degrees(c2))}
 [[train.pairs]]            # gear 3 (on gear 2's shaft) -> planet
 kind = "external"
 centre_distance_mm = {_f(tr.a2)}
 [train.pairs.driver]
-family = "radii"
-radii_mm = {_list(tr.gear3(a3))}
-angles_deg = {_list(t.gear3.angles())}
-interpolation = "{t.interpolation}"
-phase_deg = {_f(np.degrees(c2 - c3 - np.pi))}
-
+{_radii_curve(tr.gear3(a3), t.gear3.angles(), t.interpolation,
+              phase_deg=np.degrees(c2 - c3 - np.pi))}
 [arm]
 length_mm = {_f(tr.L2)}
 initial_angle_deg = {_f(np.degrees(tr.arm0))}
@@ -116,11 +121,7 @@ mechanism = "planetary"
 name = "Rice transplanter (seed 001, differential train) as a general planetary train"
 samples = {d.samples}
 
-[carrier]
-initial_angle_deg = {_f(d.carrier.initial_angle_deg)}
-direction = "clockwise"
-arms = {d.carrier.arms}
-
+{_carrier(d.carrier.initial_angle_deg, d.carrier.arms)}
 [train]
 sun_speed_ratio = {_f(d.drive.speed_ratio)}
 grid = {4096 * g.lobes}              # 4096 per lobe, the dedicated model's density
@@ -129,13 +130,8 @@ grid = {4096 * g.lobes}              # 4096 per lobe, the dedicated model's dens
 kind = "internal"
 follower_turns = {_f(g.lobes)}
 [train.pairs.driver]
-family = "radii"
-radii_mm = {_list(np.asarray(g.radii_mm)[order])}
-angles_deg = {_list(np.degrees(nodes[order]))}
-interpolation = "{g.interpolation}"
-lobes = {g.lobes}
-phase_deg = {_f(np.degrees(C0 + sigma / g.lobes))}
-
+{_radii_curve(np.asarray(g.radii_mm)[order], np.degrees(nodes[order]), g.interpolation,
+              g.lobes, np.degrees(C0 + sigma / g.lobes))}
 [arm]                      # S and C0 + beta of seed 001's arm (the tip B)
 length_mm = {_f(d.arm.S_mm)}
 initial_angle_deg = {_f(d.carrier.initial_angle_deg + d.arm.beta_deg)}
@@ -157,22 +153,14 @@ mechanism = "planetary"
 name = "Rice transplanter, K-H-V train, as a general planetary train"
 samples = {d.samples}
 
-[carrier]
-initial_angle_deg = {_f(d.carrier.initial_angle_deg)}
-direction = "clockwise"
-arms = {d.carrier.arms}
-
+{_carrier(d.carrier.initial_angle_deg, d.carrier.arms)}
 [train]
 grid = 16384
 
 [[train.pairs]]            # fixed sun -> middle gear
 kind = "external"
 [train.pairs.driver]
-family = "radii"
-radii_mm = {_list(d.sun_gear.radii_mm)}
-angles_deg = {_list(d.sun_gear.angles())}
-interpolation = "{d.sun_gear.interpolation}"
-
+{_radii_curve(d.sun_gear.radii_mm, d.sun_gear.angles(), d.sun_gear.interpolation)}
 [[train.pairs]]            # middle gear (idler) -> planet
 kind = "external"
 

@@ -1,7 +1,8 @@
 """The papers' mechanisms as design files of the general train model (issue 16):
 examples/planetary/*.toml, written by scripts/planetary_examples.py from the dedicated
-examples, reproduce the dedicated models' motion (independent code: mechanisms/
-seeder_forward, mechanisms/transplanter)."""
+examples (the mapping of each mechanism onto the model lives there, once), reproduce the
+dedicated models' motion (independent code: mechanisms/seeder_forward,
+mechanisms/transplanter)."""
 
 from __future__ import annotations
 
@@ -19,8 +20,10 @@ from tests.conftest import EXAMPLES
 PLANETARY = EXAMPLES / "planetary"
 
 
-def _motion(name):
+def _motion(name, grid: int | None = None):
     d = load_design(PLANETARY / name)
+    if grid is not None:
+        d = d.model_copy(update={"train": d.train.model_copy(update={"grid": grid})})
     return d, simulate(build_from_design(d), d.samples)
 
 
@@ -31,18 +34,29 @@ def test_the_files_are_what_the_script_writes():
 
 
 def test_seeder_file_equals_seeder_forward_to_1e6():
+    """Seed 000's second-order train (the optimized seeder's [train]: gear 2 given, the
+    sun its mate; gear 3 on gear 2's shaft drives the planet) equals
+    mechanisms/seeder_forward.simulate to 1e-6 mm / rad (grid 16384, the specialised
+    code's dense integration)."""
     from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
     from plantmech.workflows import train_from_design as seeder_train
 
     tr, _ = seeder_train(load_design(EXAMPLES / "sugarcane_seeder_optimized.toml"))
+    assert tr.dwell_start is None and abs(tr.a1 + tr.a2 - tr.L1) < 1e-9  # collinear carrier
     d, m = _motion("sugarcane_seeder_optimized.toml")
     ref = seeder_simulate(tr, d.samples)
     assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
     assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-6  # rad
+    assert np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max() < 1e-6
+    # gears 2-3 turn clockwise relative to the carrier at d psi_2 / d psi = r1 / r2
+    assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
     assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
 
 
 def test_differential_file_equals_seed_001_model_to_1e6():
+    """The published rice transplanter (seed 001) through the general model equals the
+    specialised code (mechanisms/transplanter.simulate_differential) to 1e-6 mm and rad
+    on a grid of 4096 samples per lobe (the specialised code's density)."""
     from plantmech.gears.internal import lobed_internal_pair
     from plantmech.mechanisms.transplanter import ArmGeometry, simulate_differential
 
@@ -56,15 +70,19 @@ def test_differential_file_equals_seed_001_model_to_1e6():
                                 phase0=np.radians(g.initial_phase_deg),
                                 arms=ded.carrier.arms, samples=ded.samples)
     d, m = _motion("rice_transplanter.toml")
-    assert d.carrier.arms == 3 and m.tip.shape == (1, 3, ded.samples)
+    assert d.train.grid == 4096 * g.lobes and m.tip.shape == (1, 3, ded.samples)
     assert abs(m.built.laws[0].a[0] - ref.centre_distance[0]) < 1e-6
+    assert np.abs(m.centre - ref.centre).max() < 1e-6
     assert np.abs(m.tip - ref.B).max() < 1e-6
     assert np.abs(m.arm_angle - ref.arm_angle).max() < 1e-6
+    assert np.abs(m.tip_rate - ref.tip_rate).max() < 1e-6  # mm/rad, analytic both
+    assert np.abs(m.gear_rates[1] - ref.planet_rate).max() < 1e-6
 
 
 def test_khv_file_follows_the_khv_code_to_its_interpolation():
-    """The K-H-V code interpolates its tables linearly (np.interp): agreement to ~2e-4 mm
-    (tests/test_trains.py measures the general model converged to 1e-7 mm)."""
+    """The K-H-V example (sun, middle gear = idler, planet = the idler's mate): the
+    general model is converged (grid 4096 vs 16384 within 1e-7 mm); the specialised code
+    interpolates its tables linearly (np.interp), which bounds the agreement to ~2e-4 mm."""
     from plantmech.mechanisms.transplanter import ArmGeometry, khv_pair, simulate_khv
 
     ded = load_design(EXAMPLES / "rice_transplanter_khv.toml")
@@ -73,6 +91,10 @@ def test_khv_file_follows_the_khv_code_to_its_interpolation():
                                 ded.sun_gear.interpolation),
                        C0, ArmGeometry(ded.arm.S_mm, ded.arm.H1_mm, np.radians(ded.arm.beta_deg)),
                        arms=ded.carrier.arms, samples=ded.samples)
-    d, m = _motion("rice_transplanter_khv.toml")
-    assert np.allclose(m.built.centre_distances, ref.centre_distance[0], atol=1e-8)
-    assert np.abs(m.tip - ref.B).max() < 5e-4
+    tips = []
+    for grid in (4096, 16384):
+        _, m = _motion("rice_transplanter_khv.toml", grid)
+        tips.append(m.tip)
+        assert np.allclose(m.built.centre_distances, ref.centre_distance[0], atol=1e-8)
+    assert np.abs(tips[0] - tips[1]).max() < 1e-7
+    assert np.abs(tips[1] - ref.B).max() < 5e-4

@@ -1,4 +1,5 @@
-"""The general train model (trains/): closed forms, a paper's train, populations.
+"""The general train model (trains/): closed forms, populations (the papers' trains as
+design files of it: tests/test_planetary_examples.py).
 
 Closed form of two identical ellipses turning about their foci (docs/architecture.md,
 "Train model"): with r_1(theta) = A (1 - e^2) / (1 - e cos theta) (theta from the far end
@@ -145,83 +146,6 @@ def test_mate_of_a_general_curve_rolls_on_its_driver():
         assert np.abs(r_mate.ravel() - rf.ravel()).max() < 1e-7
 
 
-def _differential_reference(design):
-    from plantmech.gears.internal import lobed_internal_pair
-    from plantmech.mechanisms.transplanter import ArmGeometry, simulate_differential
-
-    g = design.internal_gear
-    pair = lobed_internal_pair(np.radians(g.phases()), g.radii_mm, g.lobes,
-                               kind=g.interpolation)
-    arm = ArmGeometry(design.arm.S_mm, design.arm.H1_mm, np.radians(design.arm.beta_deg))
-    return simulate_differential(pair, design.drive.speed_ratio,
-                                 np.radians(design.carrier.initial_angle_deg), arm,
-                                 phase0=np.radians(g.initial_phase_deg),
-                                 arms=design.carrier.arms, samples=design.samples)
-
-
-def _differential_as_train(design, grid: int) -> Train:
-    """Seed 001's differential train in the general model: the lobed internal gear is a
-    driven sun (k = omega_1 / omega_2) and an ``internal`` pair whose follower (the planet)
-    turns n times per ring turn. The ring's body angle is -lobe phase / n
-    (``gears.internal``): its control radii sit at phases -p_i, and at the start the
-    contact (on the carrier line) is at body angle -sigma / n."""
-    g = design.internal_gear
-    nodes = np.mod(-np.radians(g.phases()), TWO_PI)
-    order = np.argsort(nodes)
-    ring = interpolated(nodes[order], np.asarray(g.radii_mm)[order], grid, g.interpolation,
-                        lobes=g.lobes)
-    C0 = np.radians(design.carrier.initial_angle_deg)
-    sigma = np.radians(g.initial_phase_deg)
-    return Train([PairSpec("internal", ring, phase=C0 + sigma / g.lobes,
-                           follower_turns=float(g.lobes))],
-                 carrier0=C0, carrier_sense=-1, sun_speed_ratio=design.drive.speed_ratio,
-                 arm_length=design.arm.S_mm, arm_angle=C0 + np.radians(design.arm.beta_deg),
-                 arms=design.carrier.arms)
-
-
-def test_general_model_reproduces_seed_001_differential_train_to_1e6():
-    """The published rice transplanter (seed 001) through the general model equals the
-    specialised code (mechanisms/transplanter.simulate_differential) to 1e-6 mm and rad
-    on a grid of 4096 samples per lobe (the specialised code's density)."""
-    from plantmech.design import load_design
-
-    d = load_design(EXAMPLES / "rice_transplanter.toml")
-    ref = _differential_reference(d)
-    m = forward(_differential_as_train(d, 4096 * d.internal_gear.lobes), d.samples)
-    assert abs(m.built.laws[0].a[0] - ref.centre_distance[0]) < 1e-6
-    assert np.abs(m.centre - ref.centre).max() < 1e-6
-    assert np.abs(m.tip - ref.B).max() < 1e-6
-    assert np.abs(m.arm_angle - ref.arm_angle).max() < 1e-6
-    assert np.abs(m.tip_rate - ref.tip_rate).max() < 1e-6  # mm/rad, analytic both
-    assert np.abs(m.gear_rates[1] - ref.planet_rate).max() < 1e-6
-
-
-def test_general_model_and_the_khv_code_agree_to_the_khv_codes_interpolation():
-    """The K-H-V example (sun, middle gear = idler, planet = the idler's mate): the
-    general model is converged (grid 4096 vs 16384 within 1e-7 mm); the specialised code
-    interpolates its tables linearly (np.interp), which bounds the agreement to ~2e-4 mm."""
-    from plantmech.design import load_design
-    from plantmech.mechanisms.transplanter import ArmGeometry, khv_pair, simulate_khv
-
-    d = load_design(EXAMPLES / "rice_transplanter_khv.toml")
-    ang, radii = np.radians(d.sun_gear.angles()), d.sun_gear.radii_mm
-    C0 = np.radians(d.carrier.initial_angle_deg)
-    beta = np.radians(d.arm.beta_deg)
-    ref = simulate_khv(khv_pair(ang, radii, C0, d.sun_gear.interpolation),
-                       C0, ArmGeometry(d.arm.S_mm, d.arm.H1_mm, beta), arms=d.carrier.arms,
-                       samples=d.samples)
-    tips = []
-    for grid in (4096, 16384):
-        sun = interpolated(ang, radii, grid, d.sun_gear.interpolation)
-        train = Train([PairSpec("external", sun), PairSpec("external", None)], carrier0=C0,
-                      arm_length=d.arm.S_mm, arm_angle=C0 + beta, arms=d.carrier.arms)
-        m = forward(train, d.samples)
-        tips.append(m.tip)
-        assert np.allclose(m.built.centre_distances, ref.centre_distance[0], atol=1e-8)
-    assert np.abs(tips[0] - tips[1]).max() < 1e-7
-    assert np.abs(tips[1] - ref.B).max() < 5e-4
-
-
 def test_population_gives_the_same_numbers_as_single_runs():
     P = 4
     A = np.array([25.0, 24.0, 27.0, 22.0])
@@ -292,53 +216,6 @@ def test_hermite_periodic_is_exact_for_a_cubic_free_trigonometric_check():
     v, s = hermite_periodic(np.sin(th)[None], np.cos(th)[None], x)
     assert np.abs(v - np.sin(x)).max() < 1e-11
     assert np.abs(s - np.cos(x)).max() < 1e-7
-
-
-def test_seeder_train_as_a_planetary_design_file_equals_seeder_forward_to_1e6():
-    """Seed 000's second-order train (the optimized seeder's [train]: gear 2 given, the
-    sun its mate; gear 3 on gear 2's shaft drives the planet) written as a planetary design
-    file equals mechanisms/seeder_forward.simulate to 1e-6 mm / rad (grid 16384, the
-    specialised code's dense integration). Gear 3's phase on the shaft: the seeder gives
-    both gears' contact angles in one body frame, c2 (sun side) and c3 (planet side), so
-    alpha_3 = alpha_2 + c2 - c3 - pi. The radii are those after the file's closure
-    restoration (``closure = "scale"``), which the general model checks, not repeats."""
-    from plantmech.design import load_design
-    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
-    from plantmech.trains.spec import build_from_design
-    from plantmech.workflows import train_from_design as seeder_train
-
-    d = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml")
-    tr, _ = seeder_train(d)
-    assert tr.dwell_start is None and abs(tr.a1 + tr.a2 - tr.L1) < 1e-9  # collinear carrier
-    ref = seeder_simulate(tr, d.train.samples)
-    t = d.train
-    a2, a3 = np.radians(t.gear2.angles()), np.radians(t.gear3.angles())
-    c2, c3 = tr.gear2_contact0, tr.gear3_contact0
-    doc = {
-        "mechanism": "planetary", "samples": t.samples,
-        "carrier": {"initial_angle_deg": float(np.degrees(tr.carrier0)),
-                    "direction": "clockwise", "arms": 1},
-        "train": {"grid": 16384, "pairs": [
-            {"kind": "external", "centre_distance_mm": tr.a1,
-             "follower": {"family": "radii", "radii_mm": [float(r) for r in tr.gear2(a2)],
-                          "angles_deg": list(t.gear2.angles()),
-                          "interpolation": t.interpolation,
-                          "phase_deg": float(np.degrees(c2))}},
-            {"kind": "external", "centre_distance_mm": tr.a2,
-             "driver": {"family": "radii", "radii_mm": [float(r) for r in tr.gear3(a3)],
-                        "angles_deg": list(t.gear3.angles()),
-                        "interpolation": t.interpolation,
-                        "phase_deg": float(np.degrees(c2 - c3 - np.pi))}}]},
-        "arm": {"length_mm": tr.L2, "initial_angle_deg": float(np.degrees(tr.arm0))},
-    }
-    m = simulate(build_from_design(load_design(doc)), t.samples)
-    tip = ref.tip[:, 0] + 1j * ref.tip[:, 1]
-    assert np.abs(m.tip[0, 0] - tip).max() < 1e-6
-    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-6
-    assert np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max() < 1e-6
-    # gears 2-3 turn clockwise relative to the carrier at d psi_2 / d psi = r1 / r2
-    assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
-    assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
 
 
 def test_population_of_driven_internal_trains_with_given_followers_equals_single_runs():
