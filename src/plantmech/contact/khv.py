@@ -34,7 +34,7 @@ from scipy.interpolate import CubicSpline
 
 from plantmech.contact.outlines import GearOutline
 from plantmech.contact.tca import FreePlay, free_play
-from plantmech.contact.transplanter import arm_tips, tip_paths
+from plantmech.contact.transplanter import arm_record, arm_tips, chain_checks, tip_paths
 
 TWO_PI = 2.0 * np.pi
 KHV_GEARS = ("sun", "middle", "planet")
@@ -146,8 +146,7 @@ def analyse_khv(design, gears: dict[str, GearOutline], steps: int = 720) -> KHVC
 def khv_record(c: KHVContact, limits: dict) -> dict:
     """Every figure of the analysis per arm (both pairs, the chained arm) and the checks
     against ``limits`` (keys transmission_error_deg, attitude_error_deg, tip_band_mm)."""
-    from plantmech.contact.seeder import _pair_record, _spans
-    from plantmech.objectives import Check
+    from plantmech.contact.seeder import _pair_record
 
     psi_deg = np.degrees(c.psi)
     none = np.zeros(len(psi_deg), dtype=bool)
@@ -157,59 +156,13 @@ def khv_record(c: KHVContact, limits: dict) -> dict:
                                   "middle", "sun"))
         pairs.append(_pair_record(f"middle -> planet (arm {j + 1})", c.stage2[j], psi_deg,
                                   none, "planet", "middle"))
-        chained.append(_arm_record(j, c, psi_deg, _spans))
+        chained.append(arm_record(j, c, psi_deg))
     rec = {"steps": len(c.psi), "step_deg": float(360.0 / len(c.psi)), "pairs": pairs,
            "arms": chained}
-    rec["checks"] = [ch.as_dict() for ch in _checks(pairs, chained, limits, Check)]
+    te = [p["transmission_error_deg"]["max_abs_mid"] for p in pairs]
+    te_max = None if None in te else max(te)
+    rec["checks"] = [ch.as_dict() for ch in chain_checks(pairs, chained, limits, te_max,
+                                                         "pairs")]
     rec["limits"] = limits
     rec["ok"] = all(ch["ok"] for ch in rec["checks"])
     return rec
-
-
-def _arm_record(j: int, c, psi_deg, spans) -> dict:
-    """Arm j's attitude error (its planet's extreme extra turns through the train, deg),
-    the steps it is not held, the tip band and the tip's distance from the pitch-curve
-    path (mm)."""
-    lo, hi = c.planet_lo[j], c.planet_hi[j]
-    held = np.isfinite(lo) & np.isfinite(hi)
-    att = np.degrees(np.fmax(np.abs(lo), np.abs(hi)))
-    band = np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T)
-    dev = np.fmax(np.hypot(*(c.tip_hi[j] - c.tip_nominal[j]).T),
-                  np.hypot(*(c.tip_lo[j] - c.tip_nominal[j]).T))
-    return {
-        "arm": j + 1,
-        "arm_attitude_error_deg": {
-            "max_abs": float(np.nanmax(att)) if held.any() else None,
-            "lo_min": float(np.nanmin(np.degrees(lo))) if np.isfinite(lo).any() else None,
-            "hi_max": float(np.nanmax(np.degrees(hi))) if np.isfinite(hi).any() else None},
-        "arm_not_held_steps": int((~held).sum()),
-        "arm_not_held": spans(psi_deg, ~held),
-        "tip_band_mm": {"max": float(np.nanmax(band)) if held.any() else None,
-                        "median": float(np.nanmedian(band)) if held.any() else None},
-        "tip_deviation_from_pitch_curve_path_mm": float(np.nanmax(dev))
-        if held.any() else None}
-
-
-def _checks(pairs, chained, limits, Check) -> list:
-    """The verdict's checks over every pair and arm."""
-    te = [p["transmission_error_deg"]["max_abs_mid"] for p in pairs]
-    te_max = None if None in te else max(te)
-    lost = sum(p["contact_lost_steps"] for p in pairs)
-    jams = sum(p["interference_steps"] for p in pairs)
-    not_held = sum(a["arm_not_held_steps"] for a in chained)
-    att = [a["arm_attitude_error_deg"]["max_abs"] for a in chained]
-    bands = [a["tip_band_mm"]["max"] for a in chained]
-    amax = None if None in att else max(att)
-    bmax = None if None in bands else max(bands)
-    return [
-        Check("interference (steps jammed, all pairs)", float(jams), "0", jams == 0, "steps"),
-        Check("contact lost (steps, all pairs)", float(lost), "0", lost == 0, "steps"),
-        Check("transmission error, max |mid band|", te_max,
-              f"<= {limits['transmission_error_deg']:g}",
-              te_max is not None and te_max <= limits["transmission_error_deg"], "deg"),
-        Check("arm attitude error, max", amax, f"<= {limits['attitude_error_deg']:g}",
-              amax is not None and amax <= limits["attitude_error_deg"] and not_held == 0,
-              "deg"),
-        Check("tip band, max", bmax, f"<= {limits['tip_band_mm']:g}",
-              bmax is not None and bmax <= limits["tip_band_mm"] and not_held == 0, "mm"),
-    ]

@@ -108,8 +108,7 @@ def analyse_transplanter(design, gears: dict[str, GearOutline], steps: int = 720
 def transplanter_record(c: TransplanterContact, limits: dict) -> dict:
     """Every figure of the analysis per arm and the checks against ``limits`` (keys
     transmission_error_deg, attitude_error_deg, tip_band_mm)."""
-    from plantmech.contact.seeder import _pair_record, _spans
-    from plantmech.objectives import Check
+    from plantmech.contact.seeder import _pair_record
 
     psi_deg = np.degrees(c.psi)
     none = np.zeros(len(psi_deg), dtype=bool)
@@ -118,28 +117,52 @@ def transplanter_record(c: TransplanterContact, limits: dict) -> dict:
         p = _pair_record(f"internal -> planet (arm {j + 1})", fp, psi_deg, none, "planet",
                          "internal")
         pairs.append(p)
-        lo, hi = c.planet_lo[j], c.planet_hi[j]
-        held = np.isfinite(lo) & np.isfinite(hi)
-        att = np.degrees(np.fmax(np.abs(lo), np.abs(hi)))
-        band = np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T)
-        dev = np.fmax(np.hypot(*(c.tip_hi[j] - c.tip_nominal[j]).T),
-                      np.hypot(*(c.tip_lo[j] - c.tip_nominal[j]).T))
-        chained.append({
-            "arm": j + 1,
-            "arm_attitude_error_deg": {
-                "max_abs": float(np.nanmax(att)) if held.any() else None,
-                "lo_min": float(np.nanmin(np.degrees(lo))) if np.isfinite(lo).any() else None,
-                "hi_max": float(np.nanmax(np.degrees(hi))) if np.isfinite(hi).any() else None},
-            "arm_not_held_steps": int((~held).sum()),
-            "arm_not_held": _spans(psi_deg, ~held),
-            "tip_band_mm": {"max": float(np.nanmax(band)) if held.any() else None,
-                            "median": float(np.nanmedian(band)) if held.any() else None},
-            "tip_deviation_from_pitch_curve_path_mm": float(np.nanmax(dev))
-            if held.any() else None})
+        chained.append(arm_record(j, c, psi_deg))
     rec = {"steps": len(c.psi), "step_deg": float(360.0 / len(c.psi)), "pairs": pairs,
            "arms": chained}
     te = [p["transmission_error_deg"]["max_abs_mid"] for p in pairs]
     te_max = max((t for t in te if t is not None), default=None)
+    checks = chain_checks(pairs, chained, limits, te_max, "arms")
+    rec["limits"] = limits
+    rec["checks"] = [ch.as_dict() for ch in checks]
+    rec["ok"] = all(ch.ok for ch in checks)
+    return rec
+
+
+def arm_record(j: int, c, psi_deg) -> dict:
+    """Arm j's attitude error (its planet's extreme extra turns through the train, deg),
+    the steps it is not held, the tip band and the tip's distance from the pitch-curve
+    path (mm); ``c``: a contact analysis with planet_lo/hi and tip_lo/hi/nominal per arm
+    (the differential and the K-H-V trains)."""
+    from plantmech.contact.seeder import _spans
+
+    lo, hi = c.planet_lo[j], c.planet_hi[j]
+    held = np.isfinite(lo) & np.isfinite(hi)
+    att = np.degrees(np.fmax(np.abs(lo), np.abs(hi)))
+    band = np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T)
+    dev = np.fmax(np.hypot(*(c.tip_hi[j] - c.tip_nominal[j]).T),
+                  np.hypot(*(c.tip_lo[j] - c.tip_nominal[j]).T))
+    return {
+        "arm": j + 1,
+        "arm_attitude_error_deg": {
+            "max_abs": float(np.nanmax(att)) if held.any() else None,
+            "lo_min": float(np.nanmin(np.degrees(lo))) if np.isfinite(lo).any() else None,
+            "hi_max": float(np.nanmax(np.degrees(hi))) if np.isfinite(hi).any() else None},
+        "arm_not_held_steps": int((~held).sum()),
+        "arm_not_held": _spans(psi_deg, ~held),
+        "tip_band_mm": {"max": float(np.nanmax(band)) if held.any() else None,
+                        "median": float(np.nanmedian(band)) if held.any() else None},
+        "tip_deviation_from_pitch_curve_path_mm": float(np.nanmax(dev))
+        if held.any() else None}
+
+
+def chain_checks(pairs: list, chained: list, limits: dict, te_max, scope: str) -> list:
+    """The verdict's checks over every pair and arm of a transplanter's contact analysis:
+    no jam, no contact lost, the transmission error ``te_max`` (deg, the caller's rule
+    over its pairs), the arms' attitude error and tip band (every arm held); ``scope``
+    names what the step counts run over ("arms", "pairs")."""
+    from plantmech.objectives import Check
+
     lost = sum(p["contact_lost_steps"] for p in pairs)
     jams = sum(p["interference_steps"] for p in pairs)
     not_held = sum(a["arm_not_held_steps"] for a in chained)
@@ -147,9 +170,10 @@ def transplanter_record(c: TransplanterContact, limits: dict) -> dict:
     bands = [a["tip_band_mm"]["max"] for a in chained]
     amax = None if None in att else max(att)
     bmax = None if None in bands else max(bands)
-    checks = [
-        Check("interference (steps jammed, all arms)", float(jams), "0", jams == 0, "steps"),
-        Check("contact lost (steps, all arms)", float(lost), "0", lost == 0, "steps"),
+    return [
+        Check(f"interference (steps jammed, all {scope})", float(jams), "0", jams == 0,
+              "steps"),
+        Check(f"contact lost (steps, all {scope})", float(lost), "0", lost == 0, "steps"),
         Check("transmission error, max |mid band|", te_max,
               f"<= {limits['transmission_error_deg']:g}",
               te_max is not None and te_max <= limits["transmission_error_deg"], "deg"),
@@ -159,7 +183,3 @@ def transplanter_record(c: TransplanterContact, limits: dict) -> dict:
         Check("tip band, max", bmax, f"<= {limits['tip_band_mm']:g}",
               bmax is not None and bmax <= limits["tip_band_mm"] and not_held == 0, "mm"),
     ]
-    rec["limits"] = limits
-    rec["checks"] = [ch.as_dict() for ch in checks]
-    rec["ok"] = all(ch.ok for ch in checks)
-    return rec
