@@ -90,3 +90,28 @@ def test_loop_spans_kernel_matches_the_numpy_loop():
     assert np.array_equal(np.isnan(spans_ref), np.isnan(spans_new))
     ok = ~np.isnan(spans_ref)
     assert np.abs(spans_ref[ok] - spans_new[ok]).max() < 1e-9  # mm of chord parameter
+
+
+def test_the_kernel_modules_copies_of_np_mod_are_one_function_and_equal_np_mod():
+    """Three kernel modules each keep a copy of ``_mod`` (numba's disk cache does not see a
+    change in another module's function a kernel inlined): the copies stay the same source,
+    and each equals NumPy's np.mod bit for bit, on both sides of every branch."""
+    import inspect
+
+    from plantmech.geometry import pitch_kernels, trajectory_kernels
+    from plantmech.mechanisms import seeder_inverse_kernel
+
+    copies = [m._mod for m in (pitch_kernels, trajectory_kernels, seeder_inverse_kernel)]
+    sources = {inspect.getsource(f.py_func) for f in copies}
+    assert len(sources) == 1
+    rng = np.random.default_rng(0)
+    b = np.array([2 * np.pi, 1.0, 0.1, 7.3])
+    for period in b:
+        a = np.concatenate([rng.uniform(-5 * period, 5 * period, 400),
+                            period * np.array([-2, -1, -0.5, 0, 0.5, 1, 2, 3]),
+                            np.nextafter(period * np.array([-1, 0, 1, 2]), -np.inf),
+                            np.nextafter(period * np.array([-1, 0, 1, 2]), np.inf)])
+        expected = np.mod(a, period)
+        for f in copies:
+            got = np.array([f(x, period) for x in a])
+            assert np.array_equal(got, expected)
