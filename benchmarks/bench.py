@@ -431,11 +431,29 @@ def app_figures() -> None:
     app_bench.report()
 
 
+def _json_path() -> Path | None:
+    """``--json PATH`` checked before any benchmark runs (they take minutes): the path's
+    folder must exist; exits 2 naming the option otherwise."""
+    if "--json" not in sys.argv:
+        return None
+    i = sys.argv.index("--json")
+    if i + 1 >= len(sys.argv) or sys.argv[i + 1].startswith("--"):
+        print("error: option --json: give the path of the file to write (--json PATH)",
+              file=sys.stderr)
+        sys.exit(2)
+    out = Path(sys.argv[i + 1])
+    if not out.parent.is_dir() or out.is_dir():
+        print(f"error: option --json: {out} cannot be written (its folder does not exist or "
+              "it is a folder)", file=sys.stderr)
+        sys.exit(2)
+    return out
+
+
 if __name__ == "__main__":
+    json_out = _json_path()
     main()
     if "--study-only" not in sys.argv and "--transplanter-only" not in sys.argv:
         app_figures()
-    if "--json" in sys.argv:  # --json PATH: the named figures, for comparing runs by name
-        out = Path(sys.argv[sys.argv.index("--json") + 1])
-        write_json(out)
-        print(f"named figures written to {out}")
+    if json_out is not None:  # --json PATH: the named figures, for comparing runs by name
+        write_json(json_out)
+        print(f"named figures written to {json_out}")
