@@ -42,7 +42,10 @@ def plot_paths(motion, title: str = "") -> Figure:
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(title or "tip paths and the gears at the start")
+    import textwrap
+
+    # a design's name may be long: wrapped, not cut off at the figure's edge
+    ax.set_title(textwrap.fill(title or "tip paths and the gears at the start", 60))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
     return fig
