@@ -34,53 +34,19 @@ or of the mean kinetic energy if that is larger).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from plantmech.contact.loads import G, LoadSpec, PeriodicLaw, polygon_mass_properties
+from plantmech.contact.loads import (
+    Body,
+    LoadSpec,
+    MeshLaw,
+    PeriodicLaw,
+    _rot,
+    polygon_mass_properties,
+    solve_loads,
+)
 
 TWO_PI = 2.0 * np.pi
-
-
-@dataclass
-class Body:
-    """One rigid body: mass (kg), inertia about its centroid (kg m^2), its frame's angle
-    at t = 0 and angular velocity (rad, rad/s), its centroid in its frame relative to its
-    pivot (m), the pivot: on the ground at ``pivot`` (world, m) or on the carrier at
-    ``pivot`` (carrier frame, m)."""
-
-    name: str
-    mass: float
-    inertia: float
-    angle0: float
-    omega0: float
-    centroid: np.ndarray
-    pivot: np.ndarray
-    on_carrier: bool
-
-
-@dataclass
-class MeshLaw:
-    """sum_i a_i theta_i + b - F(sum_i w_i theta_i + x0) = 0 over body angles (indices
-    into the body list); ``radius`` (T,) m: the driven gear's pitch radius at the contact
-    over the carrier turn's samples (for the tooth force)."""
-
-    name: str
-    a: dict
-    b: float
-    w: dict
-    x0: float
-    F: PeriodicLaw
-    radius: np.ndarray = field(repr=False)
-
-
-def _rot(t: float) -> np.ndarray:
-    return np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
-
-
-def _perp(v: np.ndarray) -> np.ndarray:
-    return np.array([-v[1], v[0]])
 
 
 def _arm_body(name, planet_props, spec: LoadSpec, S: float, angle0, omega0, pivot,
@@ -96,159 +62,6 @@ def _arm_body(name, planet_props, spec: LoadSpec, S: float, angle0, omega0, pivo
          + spec.arm_mass_kg * (S**2 / 12 + (S / 2 - c[0]) ** 2 + c[1] ** 2)
          + spec.payload_kg * ((S - c[0]) ** 2 + c[1] ** 2))
     return Body(name, m, float(j), angle0, omega0, c, pivot, True)
-
-
-def solve_loads(bodies: list[Body], drives: list[int], laws: list[MeshLaw], spec: LoadSpec,
-                steps: int, gamma: float = 0.52) -> dict:
-    """Integrate two turns of the carrier (index-2 Newmark, as ``loads.seeder_loads``) and
-    report the second: input torques (N m) of the driven bodies ``drives`` (body 0 is the
-    carrier), mesh torques and tangential tooth forces, the energy balance."""
-    import exudyn as exu
-    from exudyn.itemInterface import (
-        Force,
-        MarkerBodyPosition,
-        MarkerNodeCoordinate,
-        MarkerNodeCoordinates,
-        MarkerObjectODE2Coordinates,
-        NodePointGround,
-        NodeRigidBody2D,
-        ObjectConnectorCoordinate,
-        ObjectConnectorCoordinateVector,
-        ObjectGenericODE2,
-        ObjectGround,
-        ObjectJointRevolute2D,
-        ObjectRigidBody2D,
-        SensorNode,
-        SensorObject,
-    )
-
-    omega = np.radians(spec.carrier_speed_deg_s)
-    period = TWO_PI / omega
-    carrier = bodies[0]
-    wc = carrier.omega0
-    c0 = carrier.angle0
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    ground = mbs.AddObject(ObjectGround())
-    nodes, objs, refs = [], [], []
-    for b in bodies:
-        piv = b.pivot if not b.on_carrier else _rot(c0) @ b.pivot
-        vpiv = np.zeros(2) if not b.on_carrier else wc * _perp(piv)
-        off = _rot(b.angle0) @ b.centroid
-        pos = piv + off
-        vel = vpiv + b.omega0 * _perp(off)
-        refs.append(np.r_[pos, b.angle0])
-        nodes.append(mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[*pos, b.angle0],
-                                                 initialVelocities=[*vel, b.omega0])))
-        objs.append(mbs.AddObject(ObjectRigidBody2D(nodeNumber=nodes[-1], mass=b.mass,
-                                                    inertia=b.inertia)))
-    for b, o in zip(bodies, objs, strict=True):
-        mk1 = mbs.AddMarker(MarkerBodyPosition(bodyNumber=o,
-                                               localPosition=[*(-b.centroid), 0.0]))
-        mk0 = mbs.AddMarker(MarkerBodyPosition(
-            bodyNumber=objs[0] if b.on_carrier else ground,
-            localPosition=[*(b.pivot - (carrier.centroid if b.on_carrier else 0.0)), 0.0]))
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk0, mk1]))
-    n_ground = mbs.AddNode(NodePointGround())
-    m_ground = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=n_ground, coordinate=0))
-    drive_objs = []
-    for i in drives:
-        w = bodies[i].omega0
-        mk = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[i], coordinate=2))
-        # node coordinates are displacements from the reference: theta - theta(0) = w t
-        drive_objs.append(mbs.AddObject(ObjectConnectorCoordinate(
-            markerNumbers=[m_ground, mk],
-            offsetUserFunction=lambda mbs_, t, item, off, w=w: w * t,
-            offsetUserFunction_t=lambda mbs_, t, item, off, w=w: w)))
-    holder = mbs.AddObject(ObjectGenericODE2(nodeNumbers=nodes))
-    m_all = mbs.AddMarker(MarkerObjectODE2Coordinates(objectNumber=holder))
-    m_none = mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=n_ground))
-    nq = 3 * len(bodies)
-    mesh_objs = []
-    for law in laws:
-        a = [(3 * i + 2, v) for i, v in law.a.items()]
-        w = [(3 * i + 2, v) for i, v in law.w.items()]
-
-        def jac(mbs_, t, item, q, q_t, vel, a=a, w=w, law=law):
-            d = law.F(sum(v * q[k] for k, v in w) + law.x0, 1)
-            out = np.zeros((1, nq))
-            for k, v in a:
-                out[0, k] += v
-            for k, v in w:
-                out[0, k] -= d * v
-            return out
-
-        def con(mbs_, t, item, q, q_t, vel, a=a, w=w, law=law, jac=jac):
-            if vel:  # index-2 form: the time derivative (scleronomic: jacobian x velocities)
-                return [float(jac(mbs_, t, item, q, q_t, vel)[0] @ np.asarray(q_t))]
-            return [sum(v * q[k] for k, v in a) + law.b
-                    - law.F(sum(v * q[k] for k, v in w) + law.x0)]
-
-        mesh_objs.append(mbs.AddObject(ObjectConnectorCoordinateVector(
-            markerNumbers=[m_none, m_all], scalingMarker0=np.zeros((1, nq)),
-            constraintUserFunction=con, jacobianUserFunction=jac)))
-    if spec.gravity:
-        for b, o in zip(bodies, objs, strict=True):
-            if b.mass > 0 and b is not carrier:
-                mk = mbs.AddMarker(MarkerBodyPosition(bodyNumber=o, localPosition=[0, 0, 0]))
-                mbs.AddLoad(Force(markerNumber=mk, loadVector=[0.0, -b.mass * G, 0.0]))
-    ov = exu.OutputVariableType
-    s_q = [mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True,
-                                    outputVariableType=ov.Coordinates)) for n in nodes]
-    s_v = [mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True,
-                                    outputVariableType=ov.Coordinates_t)) for n in nodes]
-    s_l = [mbs.AddSensor(SensorObject(objectNumber=o, storeInternal=True,
-                                      outputVariableType=ov.Force))
-           for o in drive_objs + mesh_objs]
-    mbs.Assemble()
-    sim = exu.SimulationSettings()
-    sim.timeIntegration.numberOfSteps = 2 * steps
-    sim.timeIntegration.endTime = 2 * period
-    sim.timeIntegration.verboseMode = 0
-    sim.timeIntegration.newton.relativeTolerance = 1e-10
-    sim.timeIntegration.newton.absoluteTolerance = 1e-10
-    sim.timeIntegration.generalizedAlpha.spectralRadius = 0.5
-    sim.timeIntegration.generalizedAlpha.useIndex2Constraints = True
-    sim.timeIntegration.generalizedAlpha.useNewmark = True
-    sim.timeIntegration.generalizedAlpha.newmarkGamma = gamma
-    sim.timeIntegration.generalizedAlpha.newmarkBeta = 0.25 * (gamma + 0.5) ** 2
-    sim.solution.file.write = False
-    sim.solution.sensors.writePeriod = period / steps
-    mbs.SolveDynamic(sim)
-    q = [np.asarray(mbs.GetSensorStoredData(s)) for s in s_q]
-    v = [np.asarray(mbs.GetSensorStoredData(s)) for s in s_v]
-    lam = [np.asarray(mbs.GetSensorStoredData(s)) for s in s_l]
-    t = q[0][:, 0]
-    last = t >= period - 0.5 * period / steps  # the second turn
-    q, v, lam = ([x[last] for x in arr] for arr in (q, v, lam))
-    t = t[last]
-    pos = [q[i][:, 1:4] + refs[i] for i in range(len(bodies))]
-    vel = [x[:, 1:4] for x in v]
-    ke = sum(0.5 * b.mass * (x[:, 0] ** 2 + x[:, 1] ** 2) + 0.5 * b.inertia * x[:, 2] ** 2
-             for b, x in zip(bodies, vel, strict=True) if b is not carrier)
-    pe = (sum(b.mass * G * p[:, 1] for b, p in zip(bodies, pos, strict=True)
-              if b is not carrier) if spec.gravity else np.zeros_like(t))
-    energy = ke + pe
-    # a drive's multiplier acts on its angle with the sign of its equation: the torque
-    # the motor applies is the generalised force that keeps the law
-    taus = [-lam[k][:, 1] for k in range(len(drives))]
-    power = sum(tau * vel[i][:, 2] for tau, i in zip(taus, drives, strict=True))
-    work = np.r_[0.0, np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t))]
-    change = energy - energy[0]
-    span = max(float(np.ptp(change)), float(np.mean(ke)))
-    err = float(np.abs(work - change).max()) / span
-    psi = omega * (t - t[0])
-    # the samples of the second turn are those of the first: psi on the laws' grid
-    mesh = [lam[len(drives) + k][:, 1] for k in range(len(laws))]
-    forces = {}
-    for law, tq in zip(laws, mesh, strict=True):
-        r = np.interp(psi, np.linspace(0.0, TWO_PI, len(law.radius), endpoint=False),
-                      law.radius, period=TWO_PI)
-        forces[law.name] = np.abs(tq) / r
-    return {
-        "t": t, "psi": psi, "input_torques": taus, "mesh_torques": mesh,
-        "tooth_forces": forces, "work": work, "energy_change": change, "kinetic": ke,
-        "error": err, "version": exu.config.Version()}
 
 
 def _record(res: dict, drive_names: list[str], laws: list[MeshLaw], bodies: list[Body],
