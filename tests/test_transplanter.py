@@ -106,3 +106,26 @@ def test_population_rows_match_single_designs():
         one = simulate_differential(lobed_internal_pair(PH, R[d], 4), 0.75, PHI0, ARM,
                                     samples=360)
         assert np.abs(pop.B[d] - one.B[0]).max() < 1e-9
+
+
+def test_interp_rows_is_np_interp_row_by_row():
+    """The population interpolation used by the K-H-V train against ``np.interp`` per
+    row: per-row tables, a shared table, a shared query (P = J on purpose), the ends."""
+    from plantmech.mechanisms.transplanter import interp_rows
+
+    rng = np.random.default_rng(5)
+    P, N = 7, 50
+    xp = np.cumsum(rng.uniform(0.01, 1.0, (P, N)), axis=1) - 3.0
+    fp = rng.standard_normal((P, N))
+    x = rng.uniform(-5.0, 50.0, (P, 33))  # beyond both ends too
+    x[:, 0], x[:, 1] = xp[:, 0], xp[:, -1]  # exactly on the ends
+    want = np.stack([np.interp(x[d], xp[d], fp[d]) for d in range(P)])
+    assert np.abs(interp_rows(x, xp, fp) - want).max() < 1e-12
+    grid = np.linspace(0.0, 10.0, N)
+    want = np.stack([np.interp(x[d], grid, fp[d]) for d in range(P)])
+    assert np.abs(interp_rows(x, grid, fp) - want).max() < 1e-12
+    q = rng.uniform(0.0, 10.0, (P, 11))  # shared by every row, as many rows as designs
+    got = interp_rows(q, grid, fp, shared_x=True)
+    assert got.shape == (P, P, 11)
+    want = np.stack([np.interp(q, grid, fp[d]) for d in range(P)])
+    assert np.abs(got - want).max() < 1e-12

@@ -24,9 +24,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from plantmech.gears.internal import LobedInternalPair
+from plantmech.geometry.periodic import periodic_spline_running_integral
 from plantmech.mechanisms.backlash import backlash_offset
 
 TWO_PI = 2.0 * np.pi
@@ -109,6 +109,49 @@ def _arm_points(centre, phi2, dcentre, dphi2, arm: ArmGeometry):
     A = centre + H1 * (along * np.exp(1j * arm.column("break_angle")))
     rate = dcentre + (1j * S) * dphi2 * along
     return A, B, ang, rate
+
+
+def interp_rows(x: np.ndarray, xp: np.ndarray, fp: np.ndarray,
+                shared_x: bool = False) -> np.ndarray:
+    """``np.interp`` for every row of a population at once: row d of the result
+    interpolates (xp[d], fp[d]) at x[d] (x (P, ...)), or at x itself for every row when
+    ``shared_x``; xp increasing along the row; xp or fp may be one (N,) row shared by all.
+    Outside a row's range the end values, as ``np.interp``. Shape (P, ...)."""
+    xp, fp = np.asarray(xp, dtype=float), np.asarray(fp, dtype=float)
+    P = max(xp.shape[0] if xp.ndim == 2 else 1, fp.shape[0] if fp.ndim == 2 else 1)
+    x = np.asarray(x, dtype=float)
+    xq = np.broadcast_to(x, (P, *x.shape)) if shared_x else x
+    flat = xq.reshape(P, -1)
+    n = xp.shape[-1]
+    if xp.ndim == 1:  # one table: one search
+        lo, hi = xp[0], xp[-1]
+        q = np.clip(flat, lo, hi)
+        h = (hi - lo) / (n - 1)
+        if np.all(np.abs(np.diff(xp) - h) <= 1e-12 * max(abs(hi), abs(lo), 1.0)):
+            # a uniform grid: the interval by arithmetic, corrected for round-off
+            i = np.clip(((q - lo) / h).astype(np.intp), 0, n - 2)
+            i -= (q < xp[i]) & (i > 0)
+            i += (q >= xp[i + 1]) & (i < n - 2)
+        else:
+            i = np.clip(np.searchsorted(xp, q, side="right") - 1, 0, n - 2)
+        x0, x1 = xp[i], xp[i + 1]
+    else:  # a table per row: rows shifted apart so that one sorted search finds every row
+        lo, hi = xp[:, :1], xp[:, -1:]
+        q = np.clip(flat, lo, hi)
+        rel = xp - lo
+        step = float(rel[:, -1].max()) + 1.0
+        shift = step * np.arange(P, dtype=float)[:, None]
+        i = np.searchsorted((rel + shift).ravel(), (q - lo + shift).ravel(), side="right")
+        i = np.clip(i.reshape(P, -1) - n * np.arange(P)[:, None] - 1, 0, n - 2)
+        x0 = np.take_along_axis(xp, i, axis=1)
+        x1 = np.take_along_axis(xp, i + 1, axis=1)
+    if fp.ndim == 1:
+        f0, f1 = fp[i], fp[i + 1]
+    else:
+        f0 = np.take_along_axis(np.broadcast_to(fp, (P, n)), i, axis=1)
+        f1 = np.take_along_axis(np.broadcast_to(fp, (P, n)), i + 1, axis=1)
+    w = np.divide(q - x0, x1 - x0, out=np.zeros_like(q), where=x1 > x0)
+    return (f0 + w * (f1 - f0)).reshape(P, *x.shape[(0 if shared_x else 1):])
 
 
 def _column(v):
@@ -224,7 +267,10 @@ def khv_pair(angles, radii, carrier0: float, kind: str = "hermite", dense: int =
         raise ValueError(f"sun pitch radius {r[d, k]:.3f} mm at {where:.2f} deg is not above "
                          f"{min_radius:g} mm")
     a = solve_centre_distances(r[:, :-1], TWO_PI)
-    M = CubicSpline(sigma, r / (a[:, None] - r), axis=1).antiderivative()(sigma)
+    # the running integral of the periodic cubic spline through the ratio (the ratio is
+    # periodic; SciPy's not-a-knot spline differed by < 1e-9 rad and cost 4x)
+    M = periodic_spline_running_integral((r[:, :-1] / (a[:, None] - r[:, :-1])).T,
+                                         sigma[1] - sigma[0]).T
     return KHVPair(sigma, r, a, M)
 
 
@@ -243,26 +289,25 @@ def simulate_khv(pair: KHVPair, carrier0: float, arm: ArmGeometry, arms: int = 2
     teeth keep each pair's ratio, which depends on r / a only); ``backlash`` (rad): the
     planet's (arm's) angular play against its drive (``mechanisms.backlash``).
     """
-    P = pair.r_sun.shape[0]
     psi = np.linspace(0.0, TWO_PI, samples, endpoint=False)
     offset = TWO_PI * np.arange(arms) / arms
     sg = pair.sigma
-    # planet rate as a function of the contact progress sigma on the dense grid (P, D+1)
-    rate = np.empty_like(pair.r_sun)
-    for d in range(P):  # M^-1 by interpolation in a monotone table (vectorised over sigma)
-        Md = pair.M[d]
-        target = np.mod(Md + 0.5 * Md[-1], Md[-1])
-        sig2 = np.interp(target, Md, sg)
-        rs2 = np.interp(sig2, sg, pair.r_sun[d])
-        rate[d] = (pair.r_sun[d] / (pair.a[d] - pair.r_sun[d])) * (pair.a[d] - rs2) / rs2
-    turn = CubicSpline(sg, rate, axis=1).antiderivative()(sg)  # planet turn P(sigma)
+    # planet rate as a function of the contact progress sigma on the dense grid (P, D+1):
+    # M^-1 by interpolation in each design's monotone table, vectorised over the population
+    end = pair.M[:, -1:]
+    sig2 = interp_rows(np.mod(pair.M + 0.5 * end, end), pair.M, sg)
+    rs2 = interp_rows(sig2, sg, pair.r_sun)
+    a = pair.a[:, None]
+    rate = (pair.r_sun / (a - pair.r_sun)) * (a - rs2) / rs2
+    # planet turn P(sigma): the periodic spline's running integral, as for M
+    turn = periodic_spline_running_integral(rate[:, :-1].T, sg[1] - sg[0]).T
     closure = np.abs(turn[:, -1] - TWO_PI)
     # every arm runs through the same chain: arm j at psi is at contact progress psi + 2 pi j/J
     x = psi[None, :] + offset[:, None]  # (J, S)
     wraps = np.floor(x / TWO_PI)
     xf = x - wraps * TWO_PI
-    gamma2 = np.stack([np.interp(xf, sg, turn[d]) for d in range(P)]) + TWO_PI * wraps[None]
-    out_rate = np.stack([np.interp(xf, sg, rate[d]) for d in range(P)])
+    gamma2 = interp_rows(xf, sg, turn, shared_x=True) + TWO_PI * wraps[None]
+    out_rate = interp_rows(xf, sg, rate, shared_x=True)
     phiH = _column(carrier0) - (offset[:, None] + psi[None, :])[None]  # (1 or P, J, S)
     centre = (2 * pair.a[:, None, None] + _column(carrier_offset)) * np.exp(1j * phiH)
     phi2 = phiH + gamma2
