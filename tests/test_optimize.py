@@ -535,3 +535,12 @@ def test_design_records_its_choices_in_run_json_the_headers_and_the_summary(tmp_
     assert final.manufacturing.pressure_angle_deg == 25.0
     assert final.limits.max_working_pressure_angle_deg == 70.0
     assert "interpolation: spline" in capsys.readouterr().out
+
+
+def test_the_staged_job_refuses_a_khv_transplanter_by_name(tmp_path, capsys):
+    from plantmech.interfaces.cli import main
+
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter_khv.toml"), "--problem",
+               "transplanter", "--out", str(tmp_path / "o"), "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "rice_transplanter design" in err and "Traceback" not in err

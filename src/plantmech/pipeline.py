@@ -4,7 +4,9 @@ to gears a workshop can cut, with one verdict.
 Job wiring only (no physics): check the design with the full-resolution model; if anything is
 not met, optimize it with every objective and the manufacturability checks required
 (``optimize.jobs.optimize``: the seeder's layered problem from a trajectory, its layer 2 from a
-[train], the transplanter's problem); cut the teeth of the final design when its pitch curves
+[train], the transplanter's staged problem, which chooses the lobe's interpolation and the
+tooth system where the file does not fix them: recorded in summary.json's optimize stage and in
+design.toml's header); cut the teeth of the final design when its pitch curves
 pass the manufacturability checks (``workflows.run_gears``), never for curves that fail them;
 write ``design.toml`` (the final design), ``summary.json`` and the subdirectories ``optimize/``
 and ``gears/``.

@@ -382,6 +382,8 @@ def transplanter_choices(design):
     the final design passes with it). Returns (design to search, record of each choice)."""
     from plantmech.design import Manufacturing
 
+    if design.mechanism != "rice_transplanter":
+        raise ValueError("the transplanter problem optimizes a rice_transplanter design")
     d = design.model_copy(deep=True)
     choices = {}
     g = design.internal_gear
