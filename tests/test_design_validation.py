@@ -289,10 +289,10 @@ def test_population_without_a_meshing_planet_is_infeasible(tmp_path, capsys, mon
 
     prob = Transplanter(load_design(EXAMPLES / "rice_transplanter.toml"))
 
-    def no_mesh(x):
+    def no_mesh(X):
         raise InternalPairError("planet cut")
 
-    monkeypatch.setattr(prob, "_single", no_mesh)
+    monkeypatch.setattr(prob, "_evaluate_rows", no_mesh)
     with pytest.raises(InfeasiblePopulation, match="no candidate"):
         prob._one_by_one(np.tile(prob.x0, (3, 1)))
 

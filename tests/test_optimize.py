@@ -397,3 +397,150 @@ def test_tradeoff_lines_name_the_files_the_run_wrote():
         "trade-off of the path itself (optimize/layer1/tradeoff.csv): x"]
     assert tradeoff_lines({"tradeoff": t}) == ["trade-off (tradeoff.csv): x"]
     assert tradeoff_lines({}) == []
+
+
+# --- the transplanter with the tooth fit: staged job pieces (issue 13) ---------------------
+
+
+def test_ring_scale_moves_the_module_and_leaves_the_tooth_fit_in_modules():
+    """All radii times s: the perimeter, hence the module (xi) P / (pi z), scales by s
+    exactly; the equivalent teeth 2 rho / m and the working pressure angle
+    alpha + atan(|dr/dtheta| / r) do not change (rho, r and dr/dtheta all scale by s).
+    The scaled evaluation equals the evaluation of radii scaled by hand."""
+    d = load_design(EXAMPLES / "rice_transplanter_manufacturable.toml")
+    p = Transplanter(d, samples=180, interference=False, tooth_fit=True, ring_scale_bound=0.1)
+    plain = Transplanter(d, samples=180, interference=False, tooth_fit=True)
+    assert p.variables[-1].name == "ring_scale" and p.n_var == plain.n_var + 1
+    s = 1.07
+    x = np.r_[p.x0[:-1], s]
+    b, b1 = p.evaluate_batch(np.vstack([p.x0, x])), None
+    col = {n: b.names.index(n) for n in b.names}
+    assert b.values[1, col["module"]] == pytest.approx(s * b.values[0, col["module"]],
+                                                       rel=1e-9)
+    for n in ("equivalent_teeth", "working_pressure_angle", "internal_teeth_difference"):
+        assert b.values[1, col[n]] == pytest.approx(b.values[0, col[n]], rel=1e-6), n
+    by_hand = plain.x0.copy()
+    by_hand[:plain.n_r] *= s
+    b1 = plain.evaluate_batch(by_hand[None, :])
+    assert b.values[1] == pytest.approx(b1.values[0], rel=1e-12, nan_ok=True)
+    assert p.decode(x).internal_gear.radii_mm == pytest.approx(
+        [s * r for r in d.internal_gear.radii_mm], rel=1e-12)
+
+
+def test_a_population_with_a_broken_planet_is_evaluated_in_halves():
+    """One candidate whose planet cannot mesh (a deep dent in the ring) gets the large
+    violation; the others get exactly their own evaluation."""
+    d = load_design(EXAMPLES / "rice_transplanter_manufacturable.toml")
+    p = Transplanter(d, samples=180, interference=False, tooth_fit=True)
+    X = np.tile(p.x0, (5, 1))
+    X[1, 0] += 3.0
+    X[3, 5:7] = 15.0  # r5, r6: the planet would have to pass through the ring
+    X[4, 2] -= 2.0
+    b = p.evaluate_batch(X)
+    assert b.violation[3] >= 1e6 and not b.feasible[3]
+    for k in (0, 1, 2, 4):
+        own = p.evaluate_batch(X[k:k + 1])
+        assert b.values[k] == pytest.approx(own.values[0], rel=1e-12, nan_ok=True)
+
+
+def test_the_job_chooses_interpolation_and_tooth_system_only_where_the_file_does_not():
+    from plantmech.optimize.jobs import tooth_system_name, transplanter_choices
+
+    published = load_design(EXAMPLES / "rice_transplanter.toml")
+    d, ch = transplanter_choices(published)
+    assert d.internal_gear.interpolation == "spline" and published.internal_gear.interpolation \
+        == "hermite"  # the input is not changed
+    assert (d.manufacturing.pressure_angle_deg, d.manufacturing.addendum,
+            d.manufacturing.dedendum) == (25.0, 0.8, 1.0)
+    assert all(c["set_by"].startswith("plantmech design") and c["why"] for c in ch.values())
+    fixed = load_design(EXAMPLES / "rice_transplanter_manufacturable.toml")
+    d2, ch2 = transplanter_choices(fixed)
+    assert ch2 == {"interpolation": {"value": "spline", "set_by": "design file"},
+                   "tooth_system": {"value": tooth_system_name(fixed.manufacturing),
+                                    "set_by": "design file"}}
+    assert d2.model_dump() == fixed.model_dump()
+
+
+def test_stage_limits_relax_the_files_and_the_last_stage_is_the_files_own():
+    from plantmech.optimize.jobs import TOOTH_FIT_STAGES, stage_limits
+
+    own = load_design(EXAMPLES / "rice_transplanter.toml").limits
+    lim = stage_limits(own, 2.0, 15.0)
+    assert lim.min_internal_teeth_difference == own.min_internal_teeth_difference + 2.0
+    assert lim.max_working_pressure_angle_deg == own.max_working_pressure_angle_deg + 15.0
+    assert own.max_working_pressure_angle_deg == 70.0  # stated by the published file
+    assert TOOTH_FIT_STAGES[-1][2:4] == (0.0, 0.0)
+    assert stage_limits(own, *TOOTH_FIT_STAGES[-1][2:4]) == own
+
+
+def test_staged_stages_hand_on_a_feasible_design_and_end_at_the_files_limits():
+    """From a design meeting every objective at the file's limits: every stage whose limits
+    are the file's or looser finds a feasible design in its first generation (the margin
+    stage asks a teeth difference of 10, which this design's 9.23 does not meet), the
+    stages' limits are the relaxed ones then the file's, and the best design meets
+    everything at full resolution."""
+    from plantmech.optimize.jobs import TOOTH_FIT_STAGES, transplanter_tooth_fit_staged, verify
+
+    d = load_design(EXAMPLES / "rice_transplanter_manufacturable.toml")
+    p, r, recs = transplanter_tooth_fit_staged(d, "nsga2", 1, 1, 8, progress=False)
+    assert len(recs) == len(TOOTH_FIT_STAGES)
+    own = d.limits
+    for rec, stage in zip(recs, TOOTH_FIT_STAGES, strict=True):
+        assert rec["feasible_at_stage_limits"] == (stage[2] == 0) and rec["evaluations"] == 8
+        assert rec["stage"]["min_internal_teeth_difference"] == \
+            own.min_internal_teeth_difference + stage[2]
+        assert rec["stage"]["max_working_pressure_angle_deg"] == \
+            own.max_working_pressure_angle_deg + stage[3]
+    assert p.design.limits == own and r.feasible and r.evaluations == 8 * len(recs)
+    best = p.decode(r.best_x)
+    assert best.limits == own and verify(best, True)["all_met"]
+
+
+def test_a_staged_run_cut_short_at_a_relaxed_stage_is_judged_by_the_files_limits():
+    from plantmech.optimize.jobs import transplanter_tooth_fit_staged
+    from plantmech.optimize.runner import time_budget
+
+    d = load_design(EXAMPLES / "rice_transplanter.toml")
+    with time_budget(0.0):
+        p, r, recs = transplanter_tooth_fit_staged(d, "cmaes", 1, 5, 8, progress=False)
+    assert len(recs) == 1 and recs[0]["stage"]["max_working_pressure_angle_deg"] == 85.0
+    assert p.design.limits == d.limits
+    k = r.best.names.index("working_pressure_angle")
+    assert r.best.limits[k] == "< 70 deg" and not r.feasible
+    assert np.array_equal(r.best_x, p.x0)
+
+
+def test_design_records_its_choices_in_run_json_the_headers_and_the_summary(tmp_path, capsys):
+    from plantmech.interfaces.cli import main
+
+    src = tmp_path / "rice.toml"
+    text = (EXAMPLES / "rice_transplanter.toml").read_text()
+    src.write_text(text)
+    out = tmp_path / "o"
+    rc = main(["design", str(src), "--out", str(out), "--generations", "1", "--quiet"])
+    assert src.read_text() == text
+    s = json.loads((out / "summary.json").read_text())
+    assert rc == s["verdict"]["exit_code"]
+    rec = json.loads((out / "optimize" / "run.json").read_text())
+    ch = rec["design_choices"]
+    assert ch["interpolation"]["value"] == "spline"
+    assert ch["tooth_system"]["value"].startswith("stub 25 deg")
+    assert [st for st in s["stages"] if st["stage"] == "optimize"][0]["design_choices"] == ch
+    for f in (out / "design.toml", out / "optimize" / "best.toml"):
+        head = f.read_text().split("\n\n")[0]
+        assert "# interpolation: spline (set by plantmech design" in head
+        assert "# tooth system: stub 25 deg" in head
+    final = load_design(out / "design.toml")
+    assert final.internal_gear.interpolation == "spline"
+    assert final.manufacturing.pressure_angle_deg == 25.0
+    assert final.limits.max_working_pressure_angle_deg == 70.0
+    assert "interpolation: spline" in capsys.readouterr().out
+
+
+def test_the_staged_job_refuses_a_khv_transplanter_by_name(tmp_path, capsys):
+    from plantmech.interfaces.cli import main
+
+    rc = main(["optimize", str(EXAMPLES / "rice_transplanter_khv.toml"), "--problem",
+               "transplanter", "--out", str(tmp_path / "o"), "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "rice_transplanter design" in err and "Traceback" not in err

@@ -4,7 +4,9 @@ to gears a workshop can cut, with one verdict.
 Job wiring only (no physics): check the design with the full-resolution model; if anything is
 not met, optimize it with every objective and the manufacturability checks required
 (``optimize.jobs.optimize``: the seeder's layered problem from a trajectory, its layer 2 from a
-[train], the transplanter's problem); cut the teeth of the final design when its pitch curves
+[train], the transplanter's staged problem, which chooses the lobe's interpolation and the
+tooth system where the file does not fix them: recorded in summary.json's optimize stage and in
+design.toml's header); cut the teeth of the final design when its pitch curves
 pass the manufacturability checks (``workflows.run_gears``), never for curves that fail them;
 write ``design.toml`` (the final design), ``summary.json`` and the subdirectories ``optimize/``
 and ``gears/``.
@@ -55,7 +57,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
     of the generation that passes it, and the record says so)."""
     from plantmech.optimize.jobs import optimize, verify
     from plantmech.outputs.files import write_json
-    from plantmech.outputs.optimization_report import design_toml
+    from plantmech.outputs.optimization_report import choice_lines, design_toml
 
     t0 = time.perf_counter()
     stages, written = [], []
@@ -70,7 +72,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
     say("[1/3] checking the design at full resolution (objectives and manufacturability)")
     start = design if design.mechanism != "sugarcane_seeder" or design.train is not None \
         else None  # a trajectory alone is no gear train yet: optimize it
-    final, check = design, None
+    final, check, opt_rec = design, None, {}
     if start is not None:
         check = verify(design, True)
         stage("check", all_met=check["all_met"], failed=_failed(check))
@@ -98,7 +100,12 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         cut = _stopped_by_time(outcome.record)
         if cut:
             say(f"      stopped by the time limit ({time_limit_s:g} s)")
+        opt_rec = outcome.record
+        choices = opt_rec.get("design_choices", {})
+        for line in choice_lines(opt_rec):
+            say(f"      {line}")
         stage("optimize", problem=name, feasible=outcome.feasible, stopped_by_time_limit=cut,
+              design_choices=choices,
               evaluations=outcome.record.get("evaluations"),
               failed=_failed(check), tradeoff=outcome.record.get("tradeoff", {}).get(
                   "conflict"), path_tradeoff=outcome.record.get("layer1_tradeoff", {}).get(
@@ -115,7 +122,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
                 say("      why a seeder path can force uncuttable gears: "
                     "docs/manufacturability.md")
     header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
-              "see summary.json")
+              "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec)))
     (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")
     written.append(out / "design.toml")
     failed = _failed(check)

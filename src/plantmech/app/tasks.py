@@ -109,7 +109,10 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
         # Pareto designs: decoded by the problem when it is the one the front belongs to
         # (NSGA-II problems without staging); otherwise the front is the best design.
         designs = None
-        if problem in ("transplanter", "seeder-layer2") and pareto:
+        # the transplanter's staged tooth-fit job (a ring scale, choices of its own) keeps
+        # its best design only: its front is best.toml, not a decode of the user's design
+        staged = "design_choices" in rec
+        if problem in ("transplanter", "seeder-layer2") and pareto and not staged:
             p = make_problem(design, problem)
             names = [f"{v.name}_{v.unit}" for v in p.variables]
             import numpy as np

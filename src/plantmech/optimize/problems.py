@@ -613,7 +613,8 @@ class Transplanter(DesignProblem):
                  "cuttable_module_margin")
 
     def __init__(self, design, radius_bound_mm: float = 6.0, samples: int = 360,
-                 interference: bool = True, tooth_fit: bool = False):
+                 interference: bool = True, tooth_fit: bool = False,
+                 ring_scale_bound: float = 0.0):
         if design.mechanism != "rice_transplanter":
             raise ValueError("the transplanter problem optimizes a rice_transplanter design")
         self.samples = samples
@@ -645,6 +646,14 @@ class Transplanter(DesignProblem):
             variables.append(Variable(name, x0, x0 - b, x0 + b,
                                       "deg" if name.endswith("deg") else "mm", setters[name]))
         self.n_r = len(g.radii_mm)
+        # the ring's size as one variable (all radii times s, 1 -+ ring_scale_bound): the
+        # module (xi) grows with it while the tooth fit in modules (xiii)-(xv) does not move
+        self.ring_scale = ring_scale_bound > 0
+        if self.ring_scale:
+            def scale_radii(d, val):
+                d.internal_gear.radii_mm = [float(r) * val for r in d.internal_gear.radii_mm]
+            variables.append(Variable("ring_scale", 1.0, 1.0 - ring_scale_bound,
+                                      1.0 + ring_scale_bound, "", scale_radii))
         # (i)-(xii), plus (xiii)-(xv) where the train's tooth fit is computed
         n_constr = 12 + len(self.TOOTH_FIT) if (design.mechanism == "rice_transplanter"
                                                 and g.teeth) else 12
@@ -652,11 +661,9 @@ class Transplanter(DesignProblem):
 
     def evaluate_batch(self, X):
         from plantmech.gears.internal import InternalPairError
-        from plantmech.workflows import evaluate_transplanter_population
 
         try:
-            motion, ev = evaluate_transplanter_population(
-                self.design, X[:, :self.n_r], self.samples, self.interference, self._params(X))
+            ev = self._evaluate_rows(X)
         except InternalPairError:
             return self._one_by_one(X)
         return self._batch(ev)
@@ -675,17 +682,11 @@ class Transplanter(DesignProblem):
         return Batch(F, G, names, ev.units, limits, v, ev.ok, required=required, extra=extra)
 
     def _one_by_one(self, X):
-        """Fallback when some candidate's planet cannot mesh: evaluate the others, give
-        the broken ones a large violation."""
-        from plantmech.gears.internal import InternalPairError
-
-        parts = []
-        for x in X:
-            try:
-                parts.append(self._batch(self._single(x)))
-            except InternalPairError:
-                parts.append(None)
-        good = next(p for p in parts if p is not None) if any(parts) else None
+        """Fallback when some candidate's planet cannot mesh: evaluate the others (in
+        halves, so a few broken candidates cost a few batch calls, not one call per
+        design), give the broken ones a large violation."""
+        parts = self._parts(X)
+        good = next((p for p in parts if p is not None), None)
         if good is None:
             raise InfeasiblePopulation("no candidate in the population has a meshing planet "
                                        "(every one's planet is cut by the internal gear)")
@@ -702,12 +703,30 @@ class Transplanter(DesignProblem):
                      good.names, good.units, good.limits, np.vstack([r.values for r in rows]),
                      np.vstack([r.ok for r in rows]), required=good.required, extra=extra)
 
-    def _single(self, x):
+    def _parts(self, X) -> list:
+        """Batches of consecutive rows of X, in order; None for a row whose pair cannot
+        mesh (bisection on InternalPairError)."""
+        from plantmech.gears.internal import InternalPairError
+
+        try:
+            return [self._batch(self._evaluate_rows(X))]
+        except InternalPairError:
+            if len(X) == 1:
+                return [None]
+            h = len(X) // 2
+            return self._parts(X[:h]) + self._parts(X[h:])
+
+    def _evaluate_rows(self, X):
+        """The evaluation of the rows of X (raises InternalPairError if one cannot mesh)."""
         from plantmech.workflows import evaluate_transplanter_population
 
-        X = x[None, :]
-        return evaluate_transplanter_population(self.design, X[:, :self.n_r], self.samples,
+        return evaluate_transplanter_population(self.design, self._radii(X), self.samples,
                                                 self.interference, self._params(X))[1]
+
+    def _radii(self, X) -> np.ndarray:
+        """The ring radii (P, N) of X, mm (times the ring scale, the last variable, if any)."""
+        r = X[:, :self.n_r]
+        return r * X[:, -1:] if self.ring_scale else r
 
     def _params(self, X) -> dict:
         """The scalar variables of X (P, n) by name; H1 kept below S."""

@@ -76,7 +76,7 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
     header = (f"Best design of `plantmech optimize --problem {result.problem}` "
               f"(algorithm {result.algorithm}, seed {result.seed}, {result.evaluations} "
               f"evaluations, {result.wall_s:.1f} s)\nfrom {design_input}\nverdict: {status}; "
-              "see run.json")
+              "see run.json" + "".join(f"\n{line}" for line in choice_lines(rec)))
     (out / "best.toml").write_text(design_toml(problem.decode(best_x), header),
                                    encoding="utf-8")
     hist = result.history
@@ -97,6 +97,13 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
     write_json(out / "run.json", rec)
     written += plot_run(out, result, problem)
     return written, rec
+
+
+def choice_lines(rec: dict) -> list[str]:
+    """One line per choice the job made or took from the design file (run.json's
+    ``design_choices``: interpolation, tooth system)."""
+    return [f"{name.replace('_', ' ')}: {c['value']} (set by {c['set_by']})"
+            for name, c in rec.get("design_choices", {}).items()]
 
 
 def run_verdict(rec: dict) -> dict:
