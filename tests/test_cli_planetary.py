@@ -135,7 +135,7 @@ def test_trains_that_cannot_be_built_exit_2_naming_the_pair(edit, message, tmp_p
     assert re.search(message, capsys.readouterr().err)
 
 
-@pytest.mark.parametrize("command", [["gears"], ["design"], ["inverse"],
+@pytest.mark.parametrize("command", [["design"], ["inverse"],
                                      ["optimize", "--problem", "transplanter"]])
 def test_other_commands_refuse_a_planetary_design_by_name(command, tmp_path, capsys):
     out = tmp_path / "o"

@@ -19,6 +19,7 @@ from plantmech.design import (
     MECHANISMS,
     AngleDeg,
     Interp,
+    Manufacturing,
     PositiveMM,
     Range,
     Samples,
@@ -152,7 +153,21 @@ class GearPair(_Strict):
     follower_turns: Annotated[float, Strict(), Field(gt=0, le=12, allow_inf_nan=False)] = (
         Field(1.0, description="q: follower turns per driver turn relative to the carrier "
               "(the pair closes when the rolled ratio's mean is q)"))
+    teeth: Annotated[int, Strict()] | None = Field(
+        None, ge=6, le=500, description="z: tooth count of the pair's driver (the sun, a "
+        "compound gear, or the derived driver of a given follower) for `plantmech gears`: "
+        "the module is its pitch perimeter / (pi z), so the curve closes on whole teeth; "
+        "default: the largest standard module leaving 20 teeth (or --module). An idler's "
+        "pair (no driver table) takes the previous pair's module; a multiple of the "
+        "driver's lobes")
 
+    @model_validator(mode="after")
+    def _teeth_fit(self):
+        lobes = getattr(self.driver, "lobes", 1)
+        if self.teeth is not None and self.teeth % lobes:
+            raise ValueError(f"teeth = {self.teeth} is not a multiple of driver.lobes = "
+                             f"{lobes}: every lobe must carry whole teeth")
+        return self
 
     @model_validator(mode="after")
     def _turns_fit_kind(self):
@@ -196,6 +211,10 @@ class PlanetaryTrain(_Strict):
             if p.driver is not None and p.follower is not None:
                 raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
                                  "follows from rolling)")
+            if k and p.driver is None and p.follower is None and p.teeth is not None:
+                raise ValueError(f"pairs.{k}.teeth: this pair's driver is the previous "
+                                 "follower (an idler), whose teeth follow from the pair "
+                                 "before; give teeth on the pair with the driver table")
         return self
 
 
@@ -234,6 +253,17 @@ class PlanetaryLimits(_Strict):
     max_tip_speed_m_s: Range | None = Field(None, description="largest tip speed (m/s)")
     min_tip_speed_m_s: Range | None = Field(None, description="smallest tip speed (m/s)")
     loops: Range | None = Field(None, description="self-crossings of the tip path (count)")
+    min_module_mm: Annotated[float, Strict(), Field(gt=0, le=100, allow_inf_nan=False)] = (
+        Field(1.0, description="smallest gear module (mm), a pitch-curve manufacturability "
+              "rule of `plantmech gears` (as the transplanters' (xi))"))
+    min_internal_teeth_difference: Annotated[float, Strict(), Field(
+        gt=0, le=1000, allow_inf_nan=False)] = Field(
+        8.0, description="smallest equivalent tooth-count difference ring - planet of an "
+        "internal pair (as the transplanters' (xv))")
+    max_working_pressure_angle_deg: Annotated[float, Strict(), Field(
+        gt=0, lt=90, allow_inf_nan=False)] = Field(45.0, description="largest working "
+                                                   "pressure angle of a pair (deg, as the "
+                                                   "transplanters' (xiv))")
 
 
 class PlanetaryDesign(_Strict):
@@ -250,6 +280,8 @@ class PlanetaryDesign(_Strict):
     arm: PlanetaryArm = Field(description="the arm on the planet")
     limits: PlanetaryLimits = Field(PlanetaryLimits(), description="limits on the "
                                     "objectives")
+    manufacturing: Manufacturing = Field(Manufacturing(), description="what the workshop "
+                                         "can cut (`plantmech gears`; docs/manufacturing.md)")
 
 
 MECHANISMS["planetary"] = PlanetaryDesign

@@ -98,16 +98,27 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
         return 130
 
 
+#: the commands that take a general planetary train (``mechanism = "planetary"``)
+PLANETARY_COMMANDS = ("forward", "gears")
+
+
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
-    forward`` only so far; any other command refuses it by name (DesignError, exit 2)."""
+    forward`` and ``plantmech gears`` so far; any other command refuses it by name
+    (DesignError, exit 2), and ``--report`` on it too."""
     from plantmech.design import DesignError
 
     command = getattr(args, "command", None)
-    if design.mechanism == "planetary" and command != "forward":
+    if design.mechanism != "planetary":
+        return
+    if command not in PLANETARY_COMMANDS:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
-                          f"'plantmech forward' only; '{command}' is for the seeder and the "
-                          "rice transplanters")
+                          f"'plantmech forward' and 'plantmech gears' so far; '{command}' is "
+                          "for the seeder and the rice transplanters only")
+    if command != "forward" and getattr(args, "report", False):
+        raise DesignError(f"{args.design}: option --report: the HTML report is not available "
+                          f"for mechanism \"planetary\" yet ('{command}' writes its files and "
+                          "verification.json without it)")
 
 
 def _load(args, require_trajectory: bool = False):
