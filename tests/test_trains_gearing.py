@@ -182,9 +182,10 @@ def test_circular_internal_pair_shapes_have_the_spur_values():
 
 def test_commands_still_refused_say_which_work(tmp_path, capsys):
     out = tmp_path / "o"
-    assert main(["optimize", str(EXAMPLE), "--out", str(out), "--problem", "transplanter"]) == 2
+    assert main(["design", str(EXAMPLE), "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "'plantmech forward' and 'plantmech gears'" in err and not out.exists()
+    assert ("'plantmech forward', 'plantmech gears' and 'plantmech optimize --problem "
+            "planetary'") in err and not out.exists()
     assert main(["gears", str(EXAMPLE), "--out", str(out), "--report"]) == 2
     assert "--report" in capsys.readouterr().err and not out.exists()
 

@@ -266,6 +266,77 @@ class PlanetaryLimits(_Strict):
                                                    "transplanters' (xiv))")
 
 
+#: most free variables of one optimization.
+MAX_VARIABLES = 32
+
+
+def resolve_path(root, path: str):
+    """(parent, key) of a dotted field path of a design ("train.pairs.0.driver.eccentricity":
+    attribute names and list indices); raises ValueError naming the first part that is not
+    there."""
+    parts = path.split(".")
+    node = root
+    for i, part in enumerate(parts[:-1]):
+        node = _step(node, part, ".".join(parts[:i + 1]))
+    last = parts[-1]
+    _step(node, last, path)  # it must exist
+    return node, last
+
+
+def _step(node, part: str, where: str):
+    if isinstance(node, list):
+        if not part.isdigit() or int(part) >= len(node):
+            raise ValueError(f"'{where}': no item {part} (the list has {len(node)})")
+        return node[int(part)]
+    if node is None or part not in getattr(type(node), "model_fields", {}):
+        raise ValueError(f"'{where}': no such field")
+    return getattr(node, part)
+
+
+def get_path(root, path: str):
+    node, key = resolve_path(root, path)
+    return node[int(key)] if isinstance(node, list) else getattr(node, key)
+
+
+def set_path(root, path: str, value) -> None:
+    """Write ``value`` at the dotted ``path`` of a design (a model or its model_dump())."""
+    parts = path.split(".")
+    node = root
+    for part in parts[:-1]:
+        node = node[int(part)] if isinstance(node, list) else (
+            node[part] if isinstance(node, dict) else getattr(node, part))
+    last = parts[-1]
+    if isinstance(node, list):
+        node[int(last)] = value
+    elif isinstance(node, dict):
+        node[last] = value
+    else:
+        setattr(node, last, value)
+
+
+class PlanetaryOptimize(_Strict):
+    """What `plantmech optimize --problem planetary` may change: the numeric fields named by
+    their dotted path in the file, each within [lower, upper]; every [limits] check and the
+    pitch-curve manufacturability rules are its constraints (docs/optimization.md)."""
+
+    variables: dict[Text, list[Annotated[float, Field(allow_inf_nan=False)]]] = Field(
+        description="free variables: \"dotted.path\" = [lower, upper], e.g. "
+        "\"train.pairs.0.driver.eccentricity\" = [0.1, 0.4] (a numeric field of this file; "
+        f"list items by index; 1 to {MAX_VARIABLES}); units those of the field",
+        min_length=1, max_length=MAX_VARIABLES)
+    samples: Annotated[int, Strict()] = Field(
+        720, ge=90, le=20000, description="samples per carrier turn while optimizing (the "
+        "best design is re-checked at the file's own `samples`)")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        for path, b in self.variables.items():
+            if len(b) != 2 or not b[0] < b[1]:
+                raise ValueError(f"variables.\"{path}\": give [lower, upper] with lower < "
+                                 f"upper, got {b}")
+        return self
+
+
 class PlanetaryDesign(_Strict):
     """A general non-circular planetary train (issue 16): any chain of pairs, forward
     simulated."""
@@ -282,6 +353,34 @@ class PlanetaryDesign(_Strict):
                                     "objectives")
     manufacturing: Manufacturing = Field(Manufacturing(), description="what the workshop "
                                          "can cut (`plantmech gears`; docs/manufacturing.md)")
+    optimize: PlanetaryOptimize | None = Field(
+        None, description="free variables for `plantmech optimize --problem planetary`")
+
+    @model_validator(mode="after")
+    def _variables_are_numeric_fields(self):
+        if self.optimize is None:
+            return self
+        from pydantic import ValidationError
+
+        for path, (lo, hi) in self.optimize.variables.items():
+            field = f"optimize.variables.\"{path}\""
+            try:
+                value = get_path(self, path)
+            except ValueError as exc:
+                raise ValueError(f"{field}: {exc}") from None
+            if isinstance(value, bool) or not isinstance(value, float | int):
+                raise ValueError(f"{field}: the field holds {value!r}, not a number")
+            data = self.model_dump(exclude={"optimize"})
+            for bound in (lo, hi):
+                set_path(data, path, float(bound))
+                try:
+                    PlanetaryDesign.model_validate(data)
+                except ValidationError as exc:
+                    e = exc.errors()[0]
+                    loc = ".".join(str(x) for x in e["loc"])
+                    raise ValueError(f"{field}: the bound {bound:g} makes the file invalid "
+                                     f"({loc}: {e['msg']})") from None
+        return self
 
 
 MECHANISMS["planetary"] = PlanetaryDesign

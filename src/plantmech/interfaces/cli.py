@@ -99,13 +99,14 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize")
 
 
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
-    forward`` and ``plantmech gears`` so far; any other command refuses it by name
-    (DesignError, exit 2), and ``--report`` on it too."""
+    forward``, ``plantmech gears`` and ``plantmech optimize --problem planetary`` so far;
+    any other command or problem refuses it by name (DesignError, exit 2), and
+    ``--report`` on it too."""
     from plantmech.design import DesignError
 
     command = getattr(args, "command", None)
@@ -113,8 +114,14 @@ def refuse_planetary(args, design) -> None:
         return
     if command not in PLANETARY_COMMANDS:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
-                          f"'plantmech forward' and 'plantmech gears' so far; '{command}' is "
-                          "for the seeder and the rice transplanters only")
+                          "'plantmech forward', 'plantmech gears' and 'plantmech optimize "
+                          f"--problem planetary' so far; '{command}' is for the seeder and the "
+                          "rice transplanters only")
+    problem = getattr(args, "problem", None)
+    if command == "optimize" and problem != "planetary":
+        raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
+                          f"optimized with --problem planetary ('{problem}' is for the seeder "
+                          "and the rice transplanters)")
     if command != "forward" and getattr(args, "report", False):
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
