@@ -199,3 +199,26 @@ def test_a_ring_follower_beside_an_idler_is_refused_by_field(tmp_path, capsys):
     err = capsys.readouterr().err
     # the idler would be a ring on one side: refused (or the pair does not roll at all)
     assert code == 2 and "train.pairs.1" in err and not out.exists()
+
+
+def test_a_ring_follower_is_cut_first_with_twice_the_teeth(tmp_path):
+    """An elliptic sun (e = 0.1) driving a ring that turns half a turn per sun turn: the
+    ring's pitch perimeter is twice the sun's (they roll without slip, the ring turning
+    half as often), so at one module it carries twice the teeth; the default module leaves
+    20 teeth on the smaller gear (the sun: 25 at 2 mm). The ring is gear A (internal)."""
+    from plantmech.workflows import run_gears
+
+    doc = _doc()
+    doc["carrier"]["arms"] = 1
+    doc["train"]["pairs"] = [{"kind": "internal_ring_follower", "follower_turns": 0.5,
+                              "driver": {"family": "ellipse", "semi_major_mm": 25.0,
+                                         "eccentricity": 0.1}}]
+    doc.pop("limits")
+    rec = run_gears(load_design(doc, name="t.toml"), tmp_path)
+    assert rec["verdict"] == "ok", rec["findings"]
+    ring, sun = rec["gears"]
+    assert (ring["name"], ring["internal"], sun["name"]) == ("planet", True, "sun")
+    assert (ring["teeth"], sun["teeth"]) == (50, 25)
+    assert sun["perimeter_mm"] == pytest.approx(ellipse_perimeter(25.0, 0.1), abs=2e-3)
+    assert ring["perimeter_mm"] == pytest.approx(2 * sun["perimeter_mm"], rel=1e-4)
+    assert rec["mesh"][0]["max_interference_mm"] <= 1e-3

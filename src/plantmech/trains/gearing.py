@@ -18,9 +18,10 @@ as in the K-H-V train.
 Modules (docs/design-file.md, ``train.pairs[].teeth``). A group of pairs joined by idlers
 shares one module; it comes from the group's first pair: its ``teeth`` z (the module that
 makes the driver's pitch perimeter P carry exactly z teeth, m = P / (pi z)), else
-``--module``, else the largest standard module leaving ``min_teeth`` teeth, turned into a
-whole tooth count (``gears.teeth.teeth_count``) that is a multiple of the driver's lobes
-and of an integer follower_turns q (the follower then carries z / q whole teeth).
+``--module``, else the largest standard module leaving ``min_teeth`` teeth on the group's
+smallest gear, turned into a whole tooth count on the driver (``gears.teeth.teeth_count``)
+that is a multiple of the driver's lobes and of an integer follower_turns q (the follower
+then carries z / q whole teeth).
 """
 
 from __future__ import annotations
@@ -114,47 +115,52 @@ def _cut_first(built, k: int) -> tuple[Curve, bool]:
 
 def pair_modules(design, built, module: float | None = None, samples: int = 3000,
                  min_teeth: int = 20) -> list[dict]:
-    """Per pair: {module_mm, teeth_a, source, perimeter_a_mm}: the module of its group
-    (module docstring) and the tooth count of the gear cut first. Raises ValueError
-    naming the field or option when a gear would get fewer than 6 or more than 500 teeth."""
+    """Per pair: {module_mm, teeth_a, teeth_driver, source, perimeter_a_mm}: the module of
+    its group (module docstring: from the group's first pair's driver, z_d whole and a
+    multiple of its lobes and of an integer follower_turns q, so the follower carries
+    z_d / q whole teeth; by default the largest standard module leaving ``min_teeth`` on
+    the group's smallest gear) and the tooth counts of the gear cut first and of the
+    driver. Raises ValueError naming the field or option when a gear would get fewer than
+    6 or more than 500 teeth."""
     from plantmech.gears.teeth import check_tooth_counts, standard_module, teeth_count
 
     pairs = design.train.pairs
     groups = _groups(design)
     names = gear_names(design)
+    perims = [(_perimeter(built.drivers[k], samples), _perimeter(built.followers[k], samples))
+              for k in range(len(pairs))]
     chosen: dict[int, tuple[float, str]] = {}
     out = []
     for k, p in enumerate(pairs):
-        curve, _ = _cut_first(built, k)
-        perimeter = _perimeter(curve, samples)
         g = groups[k]
         if g not in chosen:
             spec = p.driver if p.driver is not None else p.follower
             q = p.follower_turns
             multiple = _lobes(spec)
-            if abs(q - round(q)) < 1e-9 and not _RING_FIRST[p.kind]:
+            if abs(q - round(q)) < 1e-9:
                 multiple = multiple * round(q) // math.gcd(multiple, round(q))
+            driver_perimeter = perims[k][0]
             if p.teeth is not None and module is None:
                 source = f"train.pairs.{k}.teeth"
                 if p.teeth % multiple:
                     raise ValueError(f"{source}: {p.teeth} teeth on the driver leave the "
                                      f"follower (turning {q:g} times per driver turn) or a "
                                      f"lobe without whole teeth: use a multiple of {multiple}")
-                m = perimeter / (np.pi * p.teeth)
+                m = driver_perimeter / (np.pi * p.teeth)
             else:
                 source = "--module" if module is not None else (
                     f"the default module of train.pairs.{k}")
-                m0 = module or standard_module(perimeter, min_teeth, multiple)
-                check_tooth_counts(m0, {names[k][1 if _RING_FIRST[p.kind] else 0]: perimeter},
-                                   source)
-                _, m = teeth_count(perimeter, m0, multiple)
+                smallest = min(min(perims[j]) for j in range(len(pairs)) if groups[j] == g)
+                m0 = module or standard_module(smallest, min_teeth)
+                check_tooth_counts(m0, {names[k][0]: driver_perimeter}, source)
+                _, m = teeth_count(driver_perimeter, m0, multiple)
             chosen[g] = (m, source)
         m, source = chosen[g]
-        mate = built.drivers[k] if _RING_FIRST[p.kind] else built.followers[k]
-        a_name, b_name = names[k][::-1] if _RING_FIRST[p.kind] else names[k]
-        check_tooth_counts(m, {a_name: perimeter, b_name: _perimeter(mate, samples)}, source)
-        out.append({"module_mm": float(m), "teeth_a": int(round(perimeter / (np.pi * m))),
-                    "source": source, "perimeter_a_mm": float(perimeter)})
+        check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
+        a_perimeter = perims[k][1] if _RING_FIRST[p.kind] else perims[k][0]
+        out.append({"module_mm": float(m), "teeth_a": int(round(a_perimeter / (np.pi * m))),
+                    "teeth_driver": int(round(perims[k][0] / (np.pi * m))), "source": source,
+                    "perimeter_a_mm": float(a_perimeter)})
     return out
 
 
