@@ -103,6 +103,7 @@ def test_manufacturability_is_a_constraint_unless_reported_only():
     ({"carrier.direction": [0.0, 1.0]}, r"not a number"),
     ({"samples": [100.0, 200.0]}, r"samples: Input should be a valid integer"),
     ({"arm.length_mm": [200.0, 100.0]}, r"lower < upper"),
+    ({"optimize.samples": [100.0, 200.0]}, r"not design variables"),
 ])
 def test_bad_variables_are_refused_naming_them(variables, message):
     doc = _doc()

@@ -364,6 +364,9 @@ class PlanetaryDesign(_Strict):
 
         for path, (lo, hi) in self.optimize.variables.items():
             field = f"optimize.variables.\"{path}\""
+            if path.split(".")[0] in ("optimize", "mechanism"):
+                raise ValueError(f"{field}: the optimization's own settings and the "
+                                 "mechanism are not design variables")
             try:
                 value = get_path(self, path)
             except ValueError as exc:
