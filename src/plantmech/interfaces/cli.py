@@ -542,7 +542,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_output_options(gears)
     gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
                        default=None, help="target module (mm, 0.5-50); default: the largest "
-                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth)")
+                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth; "
+                       "planetary: from train.pairs[].teeth)")
     gears.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0),
                        default=12.0, help="mm (up to 1000), for STL/STEP")
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),
