@@ -19,6 +19,7 @@ from plantmech.design import (
     MECHANISMS,
     AngleDeg,
     Interp,
+    Manufacturing,
     PositiveMM,
     Range,
     Samples,
@@ -152,7 +153,21 @@ class GearPair(_Strict):
     follower_turns: Annotated[float, Strict(), Field(gt=0, le=12, allow_inf_nan=False)] = (
         Field(1.0, description="q: follower turns per driver turn relative to the carrier "
               "(the pair closes when the rolled ratio's mean is q)"))
+    teeth: Annotated[int, Strict()] | None = Field(
+        None, ge=6, le=500, description="z: tooth count of the pair's driver (the sun, a "
+        "compound gear, or the derived driver of a given follower) for `plantmech gears`: "
+        "the module is its pitch perimeter / (pi z), so the curve closes on whole teeth; "
+        "default: the largest standard module leaving 20 teeth (or --module). An idler's "
+        "pair (no driver table) takes the previous pair's module; a multiple of the "
+        "driver's lobes")
 
+    @model_validator(mode="after")
+    def _teeth_fit(self):
+        lobes = getattr(self.driver, "lobes", 1)
+        if self.teeth is not None and self.teeth % lobes:
+            raise ValueError(f"teeth = {self.teeth} is not a multiple of driver.lobes = "
+                             f"{lobes}: every lobe must carry whole teeth")
+        return self
 
     @model_validator(mode="after")
     def _turns_fit_kind(self):
@@ -196,6 +211,10 @@ class PlanetaryTrain(_Strict):
             if p.driver is not None and p.follower is not None:
                 raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
                                  "follows from rolling)")
+            if k and p.driver is None and p.follower is None and p.teeth is not None:
+                raise ValueError(f"pairs.{k}.teeth: this pair's driver is the previous "
+                                 "follower (an idler), whose teeth follow from the pair "
+                                 "before; give teeth on the pair with the driver table")
         return self
 
 
@@ -234,6 +253,88 @@ class PlanetaryLimits(_Strict):
     max_tip_speed_m_s: Range | None = Field(None, description="largest tip speed (m/s)")
     min_tip_speed_m_s: Range | None = Field(None, description="smallest tip speed (m/s)")
     loops: Range | None = Field(None, description="self-crossings of the tip path (count)")
+    min_module_mm: Annotated[float, Strict(), Field(gt=0, le=100, allow_inf_nan=False)] = (
+        Field(1.0, description="smallest gear module (mm), a pitch-curve manufacturability "
+              "rule of `plantmech gears` (as the transplanters' (xi))"))
+    min_internal_teeth_difference: Annotated[float, Strict(), Field(
+        gt=0, le=1000, allow_inf_nan=False)] = Field(
+        8.0, description="smallest equivalent tooth-count difference ring - planet of an "
+        "internal pair (as the transplanters' (xv))")
+    max_working_pressure_angle_deg: Annotated[float, Strict(), Field(
+        gt=0, lt=90, allow_inf_nan=False)] = Field(45.0, description="largest working "
+                                                   "pressure angle of a pair (deg, as the "
+                                                   "transplanters' (xiv))")
+
+
+#: most free variables of one optimization.
+MAX_VARIABLES = 32
+
+
+def resolve_path(root, path: str):
+    """(parent, key) of a dotted field path of a design ("train.pairs.0.driver.eccentricity":
+    attribute names and list indices); raises ValueError naming the first part that is not
+    there."""
+    parts = path.split(".")
+    node = root
+    for i, part in enumerate(parts[:-1]):
+        node = _step(node, part, ".".join(parts[:i + 1]))
+    last = parts[-1]
+    _step(node, last, path)  # it must exist
+    return node, last
+
+
+def _step(node, part: str, where: str):
+    if isinstance(node, list):
+        if not part.isdigit() or int(part) >= len(node):
+            raise ValueError(f"'{where}': no item {part} (the list has {len(node)})")
+        return node[int(part)]
+    if node is None or part not in getattr(type(node), "model_fields", {}):
+        raise ValueError(f"'{where}': no such field")
+    return getattr(node, part)
+
+
+def get_path(root, path: str):
+    node, key = resolve_path(root, path)
+    return node[int(key)] if isinstance(node, list) else getattr(node, key)
+
+
+def set_path(root, path: str, value) -> None:
+    """Write ``value`` at the dotted ``path`` of a design (a model or its model_dump())."""
+    parts = path.split(".")
+    node = root
+    for part in parts[:-1]:
+        node = node[int(part)] if isinstance(node, list) else (
+            node[part] if isinstance(node, dict) else getattr(node, part))
+    last = parts[-1]
+    if isinstance(node, list):
+        node[int(last)] = value
+    elif isinstance(node, dict):
+        node[last] = value
+    else:
+        setattr(node, last, value)
+
+
+class PlanetaryOptimize(_Strict):
+    """What `plantmech optimize --problem planetary` may change: the numeric fields named by
+    their dotted path in the file, each within [lower, upper]; every [limits] check and the
+    pitch-curve manufacturability rules are its constraints (docs/optimization.md)."""
+
+    variables: dict[Text, list[Annotated[float, Field(allow_inf_nan=False)]]] = Field(
+        description="free variables: \"dotted.path\" = [lower, upper], e.g. "
+        "\"train.pairs.0.driver.eccentricity\" = [0.1, 0.4] (a numeric field of this file; "
+        f"list items by index; 1 to {MAX_VARIABLES}); units those of the field",
+        min_length=1, max_length=MAX_VARIABLES)
+    samples: Annotated[int, Strict()] = Field(
+        720, ge=90, le=20000, description="samples per carrier turn while optimizing (the "
+        "best design is re-checked at the file's own `samples`)")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        for path, b in self.variables.items():
+            if len(b) != 2 or not b[0] < b[1]:
+                raise ValueError(f"variables.\"{path}\": give [lower, upper] with lower < "
+                                 f"upper, got {b}")
+        return self
 
 
 class PlanetaryDesign(_Strict):
@@ -250,6 +351,39 @@ class PlanetaryDesign(_Strict):
     arm: PlanetaryArm = Field(description="the arm on the planet")
     limits: PlanetaryLimits = Field(PlanetaryLimits(), description="limits on the "
                                     "objectives")
+    manufacturing: Manufacturing = Field(Manufacturing(), description="what the workshop "
+                                         "can cut (`plantmech gears`; docs/manufacturing.md)")
+    optimize: PlanetaryOptimize | None = Field(
+        None, description="free variables for `plantmech optimize --problem planetary`")
+
+    @model_validator(mode="after")
+    def _variables_are_numeric_fields(self):
+        if self.optimize is None:
+            return self
+        from pydantic import ValidationError
+
+        for path, (lo, hi) in self.optimize.variables.items():
+            field = f"optimize.variables.\"{path}\""
+            if path.split(".")[0] in ("optimize", "mechanism"):
+                raise ValueError(f"{field}: the optimization's own settings and the "
+                                 "mechanism are not design variables")
+            try:
+                value = get_path(self, path)
+            except ValueError as exc:
+                raise ValueError(f"{field}: {exc}") from None
+            if isinstance(value, bool) or not isinstance(value, float | int):
+                raise ValueError(f"{field}: the field holds {value!r}, not a number")
+            data = self.model_dump(exclude={"optimize"})
+            for bound in (lo, hi):
+                set_path(data, path, float(bound))
+                try:
+                    PlanetaryDesign.model_validate(data)
+                except ValidationError as exc:
+                    e = exc.errors()[0]
+                    loc = ".".join(str(x) for x in e["loc"])
+                    raise ValueError(f"{field}: the bound {bound:g} makes the file invalid "
+                                     f"({loc}: {e['msg']})") from None
+        return self
 
 
 MECHANISMS["planetary"] = PlanetaryDesign

@@ -912,6 +912,10 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
     if method not in ("envelope", "simulated"):
         raise ValueError(f"teeth method {method!r}: choose 'envelope' or 'simulated'")
     tooth = tooth_proportions(**(tooth or {}))
+    if design.mechanism == "planetary":  # any chain of pairs (trains/gearing.py)
+        from plantmech.trains.gearing import gear_pairs as train_gear_pairs
+
+        return train_gear_pairs(design, module, backlash, samples, min_teeth, tooth, method)
     from plantmech.gears.teeth import (
         PitchPolyline,
         ToothSpec,
@@ -1040,6 +1044,10 @@ def pitch_curve_findings(design) -> list[dict]:
 
     from plantmech.gears.findings import finding
 
+    if design.mechanism == "planetary":
+        from plantmech.trains.gearing import pitch_curve_findings as train_findings
+
+        return train_findings(design)
     if design.mechanism == "sugarcane_seeder":
         rows = run_seeder_forward(design).summary["objectives"]
     else:

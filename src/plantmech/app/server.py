@@ -638,7 +638,8 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     async def problems(mechanism: str = "sugarcane_seeder"):
         from plantmech.optimize.jobs import DEFAULTS, PROBLEMS
 
-        names = [p for p in PROBLEMS if (p == "transplanter") == (mechanism != "sugarcane_seeder")]
+        names = [p for p in PROBLEMS if p != "planetary"  # the general train: CLI only
+                 and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
         return {"problems": [{"name": p, "algorithm": DEFAULTS[p][0],
                               "generations": DEFAULTS[p][1], "pop": DEFAULTS[p][2]}
                              for p in names]}

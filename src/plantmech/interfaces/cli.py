@@ -98,16 +98,34 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
         return 130
 
 
+#: the commands that take a general planetary train (``mechanism = "planetary"``)
+PLANETARY_COMMANDS = ("forward", "gears", "optimize")
+
+
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
-    forward`` only so far; any other command refuses it by name (DesignError, exit 2)."""
+    forward``, ``plantmech gears`` and ``plantmech optimize --problem planetary`` so far;
+    any other command or problem refuses it by name (DesignError, exit 2), and
+    ``--report`` on it too."""
     from plantmech.design import DesignError
 
     command = getattr(args, "command", None)
-    if design.mechanism == "planetary" and command != "forward":
+    if design.mechanism != "planetary":
+        return
+    if command not in PLANETARY_COMMANDS:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
-                          f"'plantmech forward' only; '{command}' is for the seeder and the "
-                          "rice transplanters")
+                          "'plantmech forward', 'plantmech gears' and 'plantmech optimize "
+                          f"--problem planetary' so far; '{command}' is for the seeder and the "
+                          "rice transplanters only")
+    problem = getattr(args, "problem", None)
+    if command == "optimize" and problem != "planetary":
+        raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
+                          f"optimized with --problem planetary ('{problem}' is for the seeder "
+                          "and the rice transplanters)")
+    if command != "forward" and getattr(args, "report", False):
+        raise DesignError(f"{args.design}: option --report: the HTML report is not available "
+                          f"for mechanism \"planetary\" yet ('{command}' writes its files and "
+                          "verification.json without it)")
 
 
 def _load(args, require_trajectory: bool = False):
@@ -524,7 +542,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_output_options(gears)
     gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
                        default=None, help="target module (mm, 0.5-50); default: the largest "
-                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth)")
+                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth; "
+                       "planetary: from train.pairs[].teeth)")
     gears.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0),
                        default=12.0, help="mm (up to 1000), for STL/STEP")
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),

@@ -88,3 +88,55 @@ def checks(values: dict, limits, design: int = 0) -> list[Check]:
             continue
         out.append(range_check(name, float(values[name][design]), rng.min, rng.max, unit))
     return out
+
+
+def design_evaluation(design, samples: int | None = None) -> list[dict]:
+    """Every check of one planetary design file as rows {name, value, unit, limit, ok,
+    violation, note}: its [limits] checks (``checks``; violation: the relative one of
+    ``objectives.relative_violation``) and, per pair, the pitch-curve manufacturability
+    rules of ``gears.manufacturability`` (``trains.gearing.assess``): the module window
+    (``cuttable_module_<pair>``: the largest module the curves allow, mm, against the
+    smallest the pair needs) and the working pressure angle (``working_pressure_angle_
+    <pair>``, deg), with the relative violations of ``manufacturability.violation``.
+    ``samples``: carrier samples (default the file's). A train that cannot be built (a pair
+    that does not roll or close) gives every row value None, not ok, violation inf, and the
+    reason as its note; the rows are the same in number and order for every design with
+    the same structure (an optimizer's columns)."""
+    from plantmech.gears.manufacturability import violation
+    from plantmech.objectives import relative_violation
+    from plantmech.trains.gearing import assess, gear_names
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import TrainSpecError, build_from_design
+
+    names = gear_names(design)
+    limited = [n for n in UNITS if getattr(design.limits, n) is not None]
+    try:
+        built = build_from_design(design)
+    except TrainSpecError as exc:
+        note = f"the train cannot be built: {exc}"
+        rows = [{"name": n, "value": None, "unit": UNITS[n], "limit": "", "ok": False,
+                 "violation": np.inf, "note": note} for n in limited]
+        for a, b in names:
+            rows += [{"name": f"{c}_{a}_{b}", "value": None, "unit": u, "limit": "",
+                      "ok": False, "violation": np.inf, "note": note}
+                     for c, u in (("cuttable_module", "mm"), ("working_pressure_angle", "deg"))]
+        return rows
+    motion = simulate(built, samples or design.samples)
+    values = motion_objectives(motion, design.carrier.speed_deg_s)
+    rows = []
+    for c in checks(values, design.limits):
+        rng = getattr(design.limits, c.name)
+        rows.append(dict(c.as_dict(), violation=float(relative_violation(
+            values[c.name][0], rng.min, rng.max))))
+    verdicts, rules = assess(design, built)
+    for v in verdicts:
+        g = violation(v, rules)[0]
+        lo, hi = float(v.module_low[0]), float(v.module_high[0])
+        w = float(v.working_pressure_angle_deg[0])
+        rows.append({"name": f"cuttable_module_{v.name}", "value": round(hi, 6), "unit": "mm",
+                     "limit": f">= {lo:g} mm", "ok": bool(hi >= lo), "violation": float(g[0])})
+        lim = rules.max_working_pressure_angle_deg
+        rows.append({"name": f"working_pressure_angle_{v.name}", "value": round(w, 6),
+                     "unit": "deg", "limit": f"<= {lim:g} deg", "ok": bool(w <= lim),
+                     "violation": float(g[1])})
+    return rows

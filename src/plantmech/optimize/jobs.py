@@ -24,6 +24,7 @@ DEFAULTS = {  # algorithm, generations, population
     # the transplanter with the tooth fit required: staged CMA-ES (TOOTH_FIT_STAGES),
     # generations per stage
     "transplanter-tooth-fit": ("cmaes", 100, 40),
+    "planetary": ("de", 30, 20),
 }
 
 
@@ -39,6 +40,10 @@ def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = T
 
     if name == "transplanter":
         return P.Transplanter(design, tooth_fit=tooth_fit)
+    if name == "planetary":
+        from plantmech.optimize.planetary_problem import PlanetaryProblem
+
+        return PlanetaryProblem(design, manufacturability=tooth_fit)
     if design.mechanism != "sugarcane_seeder":
         raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
     if name == "seeder-layer1":
@@ -526,6 +531,10 @@ def verify(design, tooth_fit: bool = True) -> dict:
     transplanter's tooth-fit objectives (xiii)-(xv) are reported, not required."""
     from plantmech.optimize.problems import is_gear_shape_check
 
+    if design.mechanism == "planetary":
+        from plantmech.optimize.planetary_problem import verify as verify_planetary
+
+        return verify_planetary(design, tooth_fit)
     if design.mechanism != "sugarcane_seeder":
         from plantmech.workflows import run_transplanter
 

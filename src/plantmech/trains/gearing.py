@@ -1,0 +1,311 @@
+"""Teeth for a general planetary train: every pair of a ``mechanism = "planetary"`` design
+as the toothed gear pairs of ``gears.teeth`` and its pitch curves judged by
+``gears.manufacturability``, the same code the seeder and the transplanters use.
+
+``gear_pairs`` hands ``workflows.run_gears`` (``plantmech gears``) one
+``gears.teeth.GearPair`` per pair of the chain; ``pitch_curve_findings`` the failing
+pitch-curve manufacturability rules (module window, working pressure angle) before any
+tooth is cut. Nothing here cuts, checks or writes a gear itself.
+
+Frames. Every pair is cut from its first gear's pitch curve sampled from body angle 0 of
+that gear's own frame (``trains.curves``), so gear A's frame is the train's driver frame
+and B's (``gears.teeth.polar_contacts``: its contact angle 0 touches A's 0) is the train's
+follower frame (``trains.pairs``: theta_f = sense F(theta_d), F(0) = 0). An idler (a pair
+without a driver table) is therefore the previous pair's gear B, already cut: it is passed
+on with its teeth (``make_pair(gear_a=..., tooth_at_a=...)``) and its mate is phased to them,
+as in the K-H-V train.
+
+Modules (docs/design-file.md, ``train.pairs[].teeth``). A group of pairs joined by idlers
+shares one module; it comes from the group's first pair: its ``teeth`` z (the module that
+makes the driver's pitch perimeter P carry exactly z teeth, m = P / (pi z)), else
+``--module``, else the largest standard module leaving ``min_teeth`` teeth on the group's
+smallest gear, turned into a whole tooth count on the driver (``gears.teeth.teeth_count``)
+that is a multiple of the driver's lobes and of an integer follower_turns q (the follower
+then carries z / q whole teeth).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from plantmech.trains.curves import TWO_PI, Curve
+
+#: the gear that is cut first (A) for each kind: the driver, except for a ring follower
+_RING_FIRST = {"external": False, "internal": False, "internal_ring_follower": True}
+
+
+class TeethError(ValueError):
+    """A train whose gears cannot be given teeth as asked (message names the field)."""
+
+
+def gear_names(design) -> list[tuple[str, str]]:
+    """(driver, follower) gear names of every pair (no underscores: ``run_gears`` splits
+    a pair's name on them): ``sun``; a follower ``planet`` (the last), ``idler<k>`` (it
+    drives the next pair) or ``gear<k>`` (shaft k); a compound driver on shaft k
+    ``gear<k>b``."""
+    pairs = design.train.pairs
+    names, previous = [], "sun"
+    for k, p in enumerate(pairs):
+        if k == 0:
+            driver = "sun"
+        elif p.driver is None and p.follower is None:
+            driver = previous
+        else:
+            driver = f"gear{k}b"
+        last = k == len(pairs) - 1
+        idler_next = not last and pairs[k + 1].driver is None and pairs[k + 1].follower is None
+        follower = "planet" if last else (f"idler{k + 1}" if idler_next else f"gear{k + 1}")
+        names.append((driver, follower))
+        previous = follower
+    return names
+
+
+def _groups(design) -> list[int]:
+    """For every pair, the index of the pair that starts its module group."""
+    out = []
+    for k, p in enumerate(design.train.pairs):
+        idler = k > 0 and p.driver is None and p.follower is None
+        out.append(out[-1] if idler else k)
+    return out
+
+
+def _sampled(curve: Curve, samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """Body angles 0..2 pi (both ends) and radii (mm) of design 0 of ``curve``."""
+    th = np.linspace(0.0, TWO_PI, samples)
+    return th, curve(th[None, :])[0][0]
+
+
+def _perimeter(curve: Curve, samples: int) -> float:
+    from plantmech.gears.teeth import PitchPolyline
+
+    th, r = _sampled(curve, samples)
+    return PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+
+
+def _lobes(spec) -> int:
+    return int(getattr(spec, "lobes", 1) or 1) if spec is not None else 1
+
+
+def _bore(min_pitch_radius: float, spec, rules) -> float | None:
+    """A bore leaving ``rules.hub_modules`` modules of material below the tooth roots
+    (mm, at most 30); none when below ``rules.min_bore_mm``."""
+    d = 2 * (min_pitch_radius - (spec.dedendum + rules.hub_modules) * spec.module)
+    return float(min(d, 30.0)) if d >= max(rules.min_bore_mm, 1e-9) else None
+
+
+def built_train(design):
+    """The built train (P = 1) of a planetary design; TeethError names the pair."""
+    from plantmech.trains.spec import TrainSpecError, build_from_design
+
+    try:
+        return build_from_design(design)
+    except TrainSpecError as exc:
+        raise TeethError(f"field '{exc}") from None
+
+
+def _cut_first(built, k: int) -> tuple[Curve, bool]:
+    """(curve of the gear cut first, is it a ring) of pair k."""
+    kind = built.train.pairs[k].kind
+    if _RING_FIRST[kind]:
+        return built.followers[k], True
+    return built.drivers[k], kind == "internal"
+
+
+def pair_modules(design, built, module: float | None = None, samples: int = 3000,
+                 min_teeth: int = 20) -> list[dict]:
+    """Per pair: {module_mm, teeth_a, teeth_driver, source, perimeter_a_mm}: the module of
+    its group (module docstring: from the group's first pair's driver, z_d whole and a
+    multiple of its lobes and of an integer follower_turns q, so the follower carries
+    z_d / q whole teeth; by default the largest standard module leaving ``min_teeth`` on
+    the group's smallest gear) and the tooth counts of the gear cut first and of the
+    driver. Raises ValueError naming the field or option when a gear would get fewer than
+    6 or more than 500 teeth."""
+    from plantmech.gears.teeth import check_tooth_counts, standard_module, teeth_count
+
+    pairs = design.train.pairs
+    groups = _groups(design)
+    names = gear_names(design)
+    perims = [(_perimeter(built.drivers[k], samples), _perimeter(built.followers[k], samples))
+              for k in range(len(pairs))]
+    chosen: dict[int, tuple[float, str]] = {}
+    out = []
+    for k, p in enumerate(pairs):
+        g = groups[k]
+        if g not in chosen:
+            spec = p.driver if p.driver is not None else p.follower
+            q = p.follower_turns
+            multiple = _lobes(spec)
+            if abs(q - round(q)) < 1e-9:
+                multiple = multiple * round(q) // math.gcd(multiple, round(q))
+            driver_perimeter = perims[k][0]
+            if p.teeth is not None and module is None:
+                source = f"train.pairs.{k}.teeth"
+                if p.teeth % multiple:
+                    raise ValueError(f"{source}: {p.teeth} teeth on the driver leave the "
+                                     f"follower (turning {q:g} times per driver turn) or a "
+                                     f"lobe without whole teeth: use a multiple of {multiple}")
+                m = driver_perimeter / (np.pi * p.teeth)
+            else:
+                source = "--module" if module is not None else (
+                    f"the default module of train.pairs.{k}")
+                smallest = min(min(perims[j]) for j in range(len(pairs)) if groups[j] == g)
+                m0 = module or standard_module(smallest, min_teeth)
+                check_tooth_counts(m0, {names[k][0]: driver_perimeter}, source)
+                _, m = teeth_count(driver_perimeter, m0, multiple)
+            chosen[g] = (m, source)
+        m, source = chosen[g]
+        check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
+        a_perimeter = perims[k][1] if _RING_FIRST[p.kind] else perims[k][0]
+        out.append({"module_mm": float(m), "teeth_a": int(round(a_perimeter / (np.pi * m))),
+                    "teeth_driver": int(round(perims[k][0] / (np.pi * m))), "source": source,
+                    "perimeter_a_mm": float(a_perimeter)})
+    return out
+
+
+def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
+               samples: int = 3000, min_teeth: int = 20, tooth: dict | None = None,
+               method: str = "envelope"):
+    """Toothed gear pairs of every pair of a planetary train, [(GearPair, ToothSpec)],
+    for ``workflows.run_gears``; ``tooth``: checked tooth proportions
+    (``workflows.tooth_proportions``); ``method`` as ``workflows.gear_pairs``. A pair is
+    named "<A>_<B>" (``gear_names``; A the gear cut first: the driver, or the ring of an
+    ``internal_ring_follower`` pair). Raises ValueError naming the field (``train.pairs.<k>``)
+    for what the teeth cannot follow yet: an idler that is a ring on one side, a ring
+    follower whose driver was cut for the pair before or which drives an idler."""
+    from plantmech.gears.manufacturability import rules_for
+    from plantmech.gears.teeth import ToothSpec, make_pair
+
+    built = built_train(design)
+    rules = rules_for(design, tooth)
+    pairs = design.train.pairs
+    names = gear_names(design)
+    modules = pair_modules(design, built, module, samples, min_teeth)
+    out = []
+    for k, p in enumerate(pairs):
+        field = f"train.pairs.{k}"
+        idler = k > 0 and p.driver is None and p.follower is None
+        feeds_idler = k + 1 < len(pairs) and pairs[k + 1].driver is None \
+            and pairs[k + 1].follower is None
+        spec = ToothSpec(module=modules[k]["module_mm"], backlash_mm=backlash, method=method,
+                         **(tooth or {}))
+        a = float(built.laws[k].a[0])
+        if p.kind == "internal_ring_follower":
+            if idler or feeds_idler:
+                raise ValueError(f"{field}.kind: a ring follower next to an idler is not cut "
+                                 "by 'plantmech gears' yet (give the ring's driver its own "
+                                 "driver table and no idler after the ring)")
+            th, r = _sampled(built.followers[k], samples)
+            gp = make_pair(f"{names[k][1]}_{names[k][0]}", th, r, a, spec, internal=True,
+                           samples=samples, bore_b=_bore(float((r - a).min()), spec, rules))
+        elif idler:
+            prev_kind = pairs[k - 1].kind
+            if p.kind != "external" or prev_kind == "internal_ring_follower":
+                raise ValueError(f"{field}.kind: an idler that meshes inside a ring on one "
+                                 "side is not cut by 'plantmech gears' yet (only external "
+                                 "meshes on both sides of an idler)")
+            prev = out[-1][0]
+            th, r = _sampled(built.drivers[k], samples)
+            gp = make_pair(f"{names[k][0]}_{names[k][1]}", th, r, a, spec, samples=samples,
+                           gear_a=prev.gear_b, pitch_a=prev.pitch_b, tooth_at_a=prev.tooth_at_b,
+                           bore_b=_bore(float((a - r).min()), spec, rules))
+        else:
+            internal = p.kind == "internal"
+            th, r = _sampled(built.drivers[k], samples)
+            rf = r - a if internal else a - r
+            gp = make_pair(f"{names[k][0]}_{names[k][1]}", th, r, a, spec, internal=internal,
+                           samples=samples,
+                           bore_a=None if internal else _bore(float(r.min()), spec, rules),
+                           bore_b=_bore(float(rf.min()), spec, rules))
+        gp.module_source = modules[k]["source"]
+        out.append((gp, spec))
+    return out
+
+
+def _second_derivative(curve: Curve) -> np.ndarray:
+    """d^2 r / d theta^2 (P, N) from the tabulated slopes' centred differences."""
+    h = TWO_PI / curve.r.shape[1]
+    return (np.roll(curve.dr, -1, axis=1) - np.roll(curve.dr, 1, axis=1)) / (2 * h)
+
+
+def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None):
+    """``gears.manufacturability.PairShape`` of every pair of P built trains, both gears
+    sampled along the driver's grid t (rad): the driver r(t); the follower rho = kappa r +
+    c a (``trains.pairs``) at body-angle rate phi' = r / rho, phi'' = c a r' / rho^2; the
+    ring's material outside its pitch curve (``internal``); mu = atan(|r'| / r); for an
+    internal pair the equivalent internal difference 2 (rho_ring - rho_planet) where the
+    ring's pitch curve is convex (it wraps the planet), +inf elsewhere. ``modules``: a
+    fixed module per pair (mm) or None (the window chooses)."""
+    from dataclasses import replace
+
+    from plantmech.gears.manufacturability import PairShape, shape_from_polar
+    from plantmech.trains.pairs import _KIND
+
+    out = []
+    for k, law in enumerate(built.laws):
+        d = law.driver
+        r, r1, r2 = d.r, d.dr, _second_derivative(d)
+        t = d.theta
+        _, kappa, c, _, _ = _KIND[law.kind]
+        a = law.a[:, None]
+        rho = kappa * r + c * a
+        dphi = r / rho
+        ddphi = c * a * r1 / rho**2
+        ring_d, ring_f = law.kind == "internal", law.kind == "internal_ring_follower"
+        gd = shape_from_polar(names[k][0], t, r, r1, r2, internal=ring_d)
+        gf = shape_from_polar(names[k][1], t, rho, kappa * r1, kappa * r2, dphi, ddphi,
+                              internal=ring_f)
+        # t spans one driver turn, q follower turns: the follower's own perimeter
+        gf = replace(gf, perimeter=gf.perimeter / law.follower_turns)
+        diff = None
+        if ring_d or ring_f:
+            ring, planet = (gd, gf) if ring_d else (gf, gd)
+            wraps = ring.curvature_radius < 0  # ring material concave: it wraps the planet
+            diff = np.where(wraps, 2 * (-ring.curvature_radius - planet.curvature_radius),
+                            np.inf)
+        fixed = None if modules is None or modules[k] is None else np.asarray(modules[k])
+        out.append(PairShape(f"{names[k][0]}_{names[k][1]}", (gd, gf),
+                             np.arctan(np.abs(r1) / r), diff, fixed))
+    return out
+
+
+def assess(design, built=None, modules: list | None = None):
+    """[PairVerdict] of every pair of a planetary design under its cutting rules
+    (``gears.manufacturability.rules_for``), and the rules."""
+    from plantmech.gears.manufacturability import assess_pair, rules_for
+
+    built = built or built_train(design)
+    rules = rules_for(design)
+    return [assess_pair(s, rules) for s in pair_shapes(built, gear_names(design), modules)], \
+        rules
+
+
+def pitch_curve_findings(design, modules: list | None = None) -> list[dict]:
+    """The failing pitch-curve manufacturability rules of every pair (module window and
+    working pressure angle, ``gears.manufacturability.findings``) as ``gears.findings``
+    findings naming the gear and its body angle, so ``plantmech gears`` judges a planetary
+    train by the rules it applies to the seeder and the transplanters. ``modules``: the
+    module of each pair (mm; None: the window chooses one); default: the modules the teeth
+    are cut with (``pair_modules`` from the design's teeth, else the default module)."""
+    import re
+
+    from plantmech.gears import manufacturability as mf
+    from plantmech.gears.findings import finding
+
+    built = built_train(design)
+    if modules is None:  # the modules the teeth are cut with (without --module)
+        modules = [m["module_mm"] for m in pair_modules(design, built)]
+    verdicts, rules = assess(design, built, modules)
+    out = []
+    for v in verdicts:
+        for f in mf.findings(v, rules):
+            where = {}
+            hit = re.search(r"body angle ([-0-9.]+) deg", f.get("where", ""))
+            if hit:
+                where["body_angle_deg"] = float(hit.group(1))
+            check = ("cuttable_module" if f["check"] == "module window"
+                     else "working_pressure_angle")
+            out.append(finding(f["gear"], check, f["value"], f["limit"], f["unit"], where,
+                               f"pair {v.name}: {f['why']}"))
+    return out

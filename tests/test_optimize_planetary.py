@@ -1,0 +1,124 @@
+"""``plantmech optimize --problem planetary`` (optimize/planetary_problem.py): the free
+fields of a planetary design file against its [limits] and the pitch-curve
+manufacturability rules, with the runner's record and the full-resolution re-check."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+from plantmech.design import DesignError, load_design
+from plantmech.interfaces.cli import main
+from tests.conftest import EXAMPLES
+
+EXAMPLE = EXAMPLES / "rotary_transplanter_elliptic.toml"
+VARIABLES = {"train.pairs.0.driver.eccentricity": [0.1, 0.4], "arm.length_mm": [140.0, 200.0]}
+
+
+def _doc(height_min: float = 270.0) -> dict:
+    d = tomllib.loads(EXAMPLE.read_text())
+    d["limits"]["path_height_mm"] = {"min": height_min}
+    d["optimize"] = {"variables": dict(VARIABLES)}
+    return d
+
+
+def _write(tmp_path, doc) -> str:
+    import tomli_w
+
+    p = tmp_path / "d.toml"
+    p.write_text(tomli_w.dumps(doc))
+    return str(p)
+
+
+def test_a_small_run_meets_a_limit_the_start_misses(tmp_path, capsys):
+    path = _write(tmp_path, _doc())
+    # the starting design misses the height (239 mm with a 160 mm arm)
+    assert main(["forward", path, "--out", str(tmp_path / "f0"), "--no-plots"]) == 4
+    out = tmp_path / "o"
+    code = main(["optimize", path, "--problem", "planetary", "--out", str(out), "--quiet",
+                 "--pop", "8", "--generations", "6", "--seed", "1"])
+    text = capsys.readouterr().out
+    assert code == 0, text
+    rec = json.loads((out / "run.json").read_text())
+    assert rec["problem"] == "planetary" and rec["algorithm"] == "de" and rec["feasible"]
+    assert rec["verified_full_resolution"]["all_met"]
+    assert rec["evaluations"] > 0 and rec["wall_s"] > 0
+    assert [v["name"] for v in rec["settings"]["variables"]] == list(VARIABLES)
+    names = [o["name"] for o in rec["objectives"]]
+    assert names == ["path_height_mm", "loops", "cuttable_module_sun_idler1",
+                     "working_pressure_angle_sun_idler1", "cuttable_module_idler1_planet",
+                     "working_pressure_angle_idler1_planet"]
+    e, L = rec["best_x"]
+    assert 0.1 <= e <= 0.4 and 140.0 <= L <= 200.0
+    best = load_design(out / "best.toml")  # a valid design file with the variables applied
+    assert best.train.pairs[0].driver.eccentricity == pytest.approx(e)
+    assert best.arm.length_mm == pytest.approx(L)
+    # independently: the forward command on best.toml meets every limit
+    assert main(["forward", str(out / "best.toml"), "--out", str(tmp_path / "f1"),
+                 "--no-plots"]) == 0
+    s = json.loads((tmp_path / "f1" / "summary.json").read_text())
+    assert s["values"]["path_height_mm"] > 270.0
+    # the working pressure angle of the ellipses: 20 + atan(e / sqrt(1 - e^2)) deg
+    wpa = next(o for o in rec["objectives"] if o["name"] == "working_pressure_angle_sun_idler1")
+    assert wpa["value"] == pytest.approx(20 + np.degrees(np.arctan(e / np.sqrt(1 - e * e))),
+                                         abs=0.05)
+    for f in ("best.toml", "history.csv", "pareto.csv", "convergence.png"):
+        assert (out / f).exists()
+
+
+def test_limits_out_of_reach_exit_4_with_an_honest_record(tmp_path, capsys):
+    """A 1000 mm high path with an arm of at most 200 mm: no design meets it."""
+    out = tmp_path / "o"
+    code = main(["optimize", _write(tmp_path, _doc(1000.0)), "--problem", "planetary",
+                 "--out", str(out), "--quiet", "--pop", "6", "--generations", "2"])
+    assert code == 4
+    rec = json.loads((out / "run.json").read_text())
+    assert not rec["feasible"] and rec["verdict"]["failed"] == ["path_height_mm"]
+    assert "NOT every objective met" in (out / "best.toml").read_text().splitlines()[2]
+
+
+def test_manufacturability_is_a_constraint_unless_reported_only():
+    from plantmech.optimize.planetary_problem import PlanetaryProblem
+
+    doc = _doc(200.0)
+    doc["optimize"]["variables"] = {"train.pairs.0.driver.eccentricity": [0.1, 0.8]}
+    d = load_design(doc, name="t.toml")
+    X = np.array([[0.18], [0.6]])  # 0.6: working pressure angle 56.9 deg > 45
+    b = PlanetaryProblem(d).evaluate_batch(X)
+    assert b.feasible.tolist() == [True, False]
+    k = b.names.index("working_pressure_angle_sun_idler1")
+    assert b.G[1, k] == pytest.approx((20 + np.degrees(np.arctan(0.75)) - 45) / 45, rel=1e-3)
+    assert b.F[:, 0] == pytest.approx([20 + np.degrees(np.arctan(0.18 / np.sqrt(1 - 0.0324))),
+                                       20 + np.degrees(np.arctan(0.75))], abs=0.05)
+    loose = PlanetaryProblem(d, manufacturability=False).evaluate_batch(X)
+    assert loose.feasible.tolist() == [True, True] and loose.G[1, k] == 0.0
+
+
+@pytest.mark.parametrize("variables, message", [
+    ({"train.pairs.0.driver.eccentricity": [0.1, 0.9]}, r"bound 0\.9 makes the file invalid"),
+    ({"train.pairs.5.driver.eccentricity": [0.1, 0.2]}, r"no item 5"),
+    ({"carrier.direction": [0.0, 1.0]}, r"not a number"),
+    ({"samples": [100.0, 200.0]}, r"samples: Input should be a valid integer"),
+    ({"arm.length_mm": [200.0, 100.0]}, r"lower < upper"),
+    ({"optimize.samples": [100.0, 200.0]}, r"not design variables"),
+])
+def test_bad_variables_are_refused_naming_them(variables, message):
+    doc = _doc()
+    doc["optimize"]["variables"] = variables
+    with pytest.raises(DesignError, match=message):
+        load_design(doc, name="t.toml")
+
+
+def test_wrong_problem_or_missing_table_exit_2(tmp_path, capsys):
+    out = tmp_path / "o"
+    path = _write(tmp_path, _doc())
+    assert main(["optimize", path, "--problem", "transplanter", "--out", str(out)]) == 2
+    assert "--problem planetary" in capsys.readouterr().err and not out.exists()
+    assert main(["optimize", str(EXAMPLE), "--problem", "planetary", "--out", str(out)]) == 2
+    assert "[optimize.variables]" in capsys.readouterr().err and not out.exists()
+    seeder = EXAMPLES / "sugarcane_table4.toml"
+    assert main(["optimize", str(seeder), "--problem", "planetary", "--out", str(out)]) == 2
+    assert "planetary" in capsys.readouterr().err and not out.exists()
