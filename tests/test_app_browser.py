@@ -154,15 +154,15 @@ def test_drag_sends_the_next_edit_before_drawing_and_keeps_the_check_rows(page):
     page.mouse.down()
     for k in range(1, 4):  # a few mm at most: the design stays feasible
         page.mouse.move(x0 + k, y0)
-    page.wait_for_function("window.__dragBreakdown.length >= 1", timeout=30000)
+    page.wait_for_function("window.__dragBreakdown.length >= 1", timeout=60000)
     n0 = page.evaluate("""() => { document.querySelector(
         '#checks tr[data-check="large_ring_width"]').__marked = true;
         return window.__dragBreakdown.length; }""")
     for k in range(1, 41):  # no pause: moves come faster than answers
         page.mouse.move(x0 + 3 + k * 0.05, y0 + k * 0.05)
-    page.wait_for_function(f"window.__dragBreakdown.length >= {n0 + 2}", timeout=30000)
+    page.wait_for_function(f"window.__dragBreakdown.length >= {n0 + 2}", timeout=60000)
     page.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending",
-                           timeout=30000)
+                           timeout=60000)
     row = page.evaluate("""(n0) => { const tr = document.querySelector(
         '#checks tr[data-check="large_ring_width"]'); const s = window.__plantmech;
         const c = s.result.checks.find((c) => c.name === 'large_ring_width');
@@ -171,7 +171,7 @@ def test_drag_sends_the_next_edit_before_drawing_and_keeps_the_check_rows(page):
                 window.__dragBreakdown.length - n0]; }""", n0)
     page.mouse.up()
     page.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending"
-                           " && window.__plantmech.result.quality === 'full'", timeout=30000)
+                           " && window.__plantmech.result.quality === 'full'", timeout=60000)
     marked, shown, expected, quality, drawn = row
     assert quality == "drag" and drawn >= 2
     assert marked, "the checks table's rows were rebuilt during the drag"
