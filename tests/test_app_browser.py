@@ -142,6 +142,47 @@ def test_drag_changes_objectives_and_undo(page):
     assert check_value(page, "large_ring_width") == before
 
 
+def test_drag_sends_the_next_edit_before_drawing_and_keeps_the_check_rows(page):
+    """While a point is dragged faster than the answers come, the waiting edit goes out
+    the moment an answer arrives, before that answer is drawn (the server computes while
+    the page draws), and the checks table keeps its rows: only their cells change, and
+    they show the drawn answer's values."""
+    load(page, "sugarcane_seeder")
+    x0, y0 = point_px(page, 10)
+    page.evaluate("window.__dragBreakdown.length = 0")
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    for k in range(1, 4):  # a few mm at most: the design stays feasible
+        page.mouse.move(x0 + k, y0)
+    page.wait_for_function("window.__dragBreakdown.length >= 1", timeout=60000)
+    n0 = page.evaluate("""() => { document.querySelector(
+        '#checks tr[data-check="large_ring_width"]').__marked = true;
+        return window.__dragBreakdown.length; }""")
+    for k in range(1, 41):  # no pause: moves come faster than answers
+        page.mouse.move(x0 + 3 + k * 0.05, y0 + k * 0.05)
+    page.wait_for_function(f"window.__dragBreakdown.length >= {n0 + 2}", timeout=60000)
+    page.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending",
+                           timeout=60000)
+    row = page.evaluate("""(n0) => { const tr = document.querySelector(
+        '#checks tr[data-check="large_ring_width"]'); const s = window.__plantmech;
+        const c = s.result.checks.find((c) => c.name === 'large_ring_width');
+        return [tr.__marked === true, tr.cells[1].textContent,
+                `${+c.value.toPrecision(5)} ${c.unit}`, s.result.quality,
+                window.__dragBreakdown.length - n0]; }""", n0)
+    page.mouse.up()
+    page.wait_for_function("!window.__plantmech.inflight && !window.__plantmech.pending"
+                           " && window.__plantmech.result.quality === 'full'", timeout=60000)
+    marked, shown, expected, quality, drawn = row
+    assert quality == "drag" and drawn >= 2
+    assert marked, "the checks table's rows were rebuilt during the drag"
+    assert shown == expected  # the cell shows the drawn answer's value
+    parts = page.evaluate("window.__dragBreakdown")
+    ahead = [b for b in parts if b["next_sent"] is not None]
+    assert ahead, "no answer arrived with an edit waiting: the drag was not fast enough"
+    for b in ahead:  # sent after the answer came and before its drawing began (ms)
+        assert 0.0 <= b["next_sent"] <= b["send_next"]
+
+
 def test_infeasible_span_drawn_red_with_reason(page):
     load(page, "sugarcane_seeder")
     x, _ = page.evaluate("window.__plantmech.design.trajectory.points[3]")

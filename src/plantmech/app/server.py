@@ -82,15 +82,17 @@ def field_errors(message: str) -> list[dict]:
     return out
 
 
-def validate_design(raw: Any, label: str = "design"):
+def validate_design(raw: Any, label: str = "design", may_hold_null: bool = True):
     """Validate a design given as JSON tables, exactly as a design file is validated
     (``load_design``): returns the design model or raises AppError(422) whose
-    message and fields name what is wrong."""
+    message and fields name what is wrong. ``may_hold_null=False``: the caller knows the
+    tables hold no JSON null (``evaluate_request``: no ``null`` in the request's bytes),
+    so the walk looking for one is skipped."""
     from plantmech.design import DesignError, load_design
 
     if not isinstance(raw, dict):
         raise AppError(422, f"{label}: a design must be a table of fields")
-    null = _null_field(raw)
+    null = _null_field(raw) if may_hold_null else None
     if null is not None:  # the one JSON value a design file (TOML) cannot hold
         msg = (f"{label}: field '{null}': cannot be written as TOML: null has no TOML form "
                "(leave the field out)")
@@ -324,7 +326,9 @@ def evaluate_request(raw: bytes) -> tuple[int, bytes]:
         quality = data.get("quality", "full")
         if quality not in ("drag", "full"):
             raise AppError(400, "field 'quality': expected 'drag' or 'full'")
-        design = validate_design(data.get("design"))
+        # a JSON null is written "null": without those four bytes (anywhere, strings
+        # included) the tables hold none and the walk looking for one is skipped
+        design = validate_design(data.get("design"), may_hold_null=b"null" in raw)
         result = evaluate(design, quality)
         result["design"] = design_json(design)
         result["parameters"] = editable_parameters(design) if quality == "full" else None

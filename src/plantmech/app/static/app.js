@@ -103,19 +103,35 @@ function openStream() {
   return stream.opening;
 }
 
-// one edit to the server: its answer and the times of its way (ms, performance.now())
-async function postEdit(body) {
+// one edit to the server: its answer and the times of its way (ms, performance.now()).
+// On an open stream the message is sent before this function returns (no await first), so
+// a caller can send the next edit and then draw the previous answer while it computes.
+function postEdit(body) {
+  const ws = stream.useFetch ? null : stream.ws;
+  if (ws && ws.readyState === WebSocket.OPEN) return streamEdit(ws, body);
+  return postEditOpening(body);
+}
+
+async function streamEdit(ws, body) {
+  const id = stream.next++;
+  const answered = new Promise((resolve) => stream.waiting.set(id, resolve));
+  const tSend = performance.now();
+  ws.send(JSON.stringify({ id, ...body }));
+  stream.lastSend = tSend;
+  const { msg, tRecv, tParsed, bytes } = await answered;
+  if (msg && msg.superseded) return { superseded: true };
+  if (msg) return { status: msg.status, res: msg.result, tSend, tHead: tRecv, tBody: tRecv, tParsed,
+    compute: msg.compute, server: msg.server, bytes, transport: "websocket" };
+  return postFetch(body); // the stream was lost meanwhile: resent by fetch
+}
+
+async function postEditOpening(body) {
   const ws = stream.useFetch ? null : await openStream();
-  if (ws) {
-    const id = stream.next++;
-    const answered = new Promise((resolve) => stream.waiting.set(id, resolve));
-    const tSend = performance.now();
-    ws.send(JSON.stringify({ id, ...body }));
-    const { msg, tRecv, tParsed, bytes } = await answered;
-    if (msg && msg.superseded) return { superseded: true };
-    if (msg) return { status: msg.status, res: msg.result, tSend, tHead: tRecv, tBody: tRecv, tParsed,
-      compute: msg.compute, server: msg.server, bytes, transport: "websocket" };
-  }
+  if (ws) return streamEdit(ws, body);
+  return postFetch(body);
+}
+
+async function postFetch(body) {
   const tSend = performance.now();
   const r = await fetch("/api/evaluate", { method: "POST", headers: { "Content-Type": "application/json" },
     body: JSON.stringify(body) });
@@ -132,6 +148,15 @@ async function postEdit(body) {
 // ---------------------------------------------------------------- evaluation
 // One request in flight; during a drag the newest design waits and replaces older ones
 // (coalescing: the pointer moves faster than answers come, only the latest is computed).
+// When an answer arrives the waiting edit is sent first and the answer drawn after, so the
+// server computes the next edit while the page draws (docs/app.md, "How an edit travels").
+function sendPending() {
+  if (!state.pending || state.inflight) return false;
+  const p = state.pending; state.pending = null;
+  evaluate(p.quality, p.t0);
+  return true;
+}
+
 async function evaluate(quality, t0 = null) {
   if (state.inflight) {
     // a move replaced before it was answered is measured from its own time: the latency
@@ -142,8 +167,15 @@ async function evaluate(quality, t0 = null) {
   }
   state.inflight = true;
   const seq = ++state.seq;
+  let a, failure = null;
+  try { a = await postEdit({ quality, design: state.design }); } catch (e) { failure = e; }
+  state.inflight = false;
+  const tAnswer = performance.now();
+  const sentNext = sendPending(); // the next edit computes while this answer is drawn
+  // when it went out (ms after this answer arrived; on the stream it is sent at once)
+  const nextSent = sentNext && stream.lastSend >= tAnswer ? stream.lastSend - tAnswer : null;
   try {
-    const a = await postEdit({ quality, design: state.design });
+    if (failure) throw failure;
     if (a.superseded) return; // a newer edit of this page replaced it on the server
     const res = a.res;
     if (a.status !== 200) { const e = new Error(res.error || `${a.status}`); e.data = res; e.status = a.status; throw e; }
@@ -152,7 +184,8 @@ async function evaluate(quality, t0 = null) {
     if (quality === "full") state.fullResult = res;
     if (res.parameters) state.parameters = res.parameters;
     setStatus(quality === "drag" ? "live (working resolution)" : "up to date");
-    render();
+    const tDraw = performance.now();
+    const parts = render();
     if (t0 !== null) {
       // drag -> redraw of the mechanism and the objectives, measured in the browser:
       // from the pointer move to the drawn answer, and where that time went
@@ -161,7 +194,8 @@ async function evaluate(quality, t0 = null) {
       window.__dragTimes.push(t1 - t0);
       window.__dragBreakdown.push({ total: t1 - t0, queued: a.tSend - t0, compute: a.compute, server: a.server,
         browser_http: a.tHead - a.tSend - (a.server || 0), body: a.tBody - a.tHead, parse: a.tParsed - a.tBody,
-        draw: t1 - a.tParsed, bytes: a.bytes, transport: a.transport });
+        send_next: tDraw - tAnswer, next_sent: nextSent, draw: t1 - a.tParsed, ...parts,
+        bytes: a.bytes, transport: a.transport });
     }
   } catch (e) {
     state.fieldErrors = (e.data && e.data.fields) || [];
@@ -173,9 +207,7 @@ async function evaluate(quality, t0 = null) {
     v.textContent = "INVALID INPUT (see the field marked red): the mechanism and checks shown are the last valid design's";
     v.className = "bad";
   } finally {
-    state.inflight = false;
     state.shown = seq;
-    if (state.pending) { const p = state.pending; state.pending = null; evaluate(p.quality, p.t0); }
   }
 }
 
@@ -387,10 +419,9 @@ function setupDrag() {
 function renderChecks() {
   const res = state.result;
   const tb = $("checks").querySelector("tbody");
-  tb.innerHTML = "";
   const diag = $("diagnostics"); diag.innerHTML = "";
   const verdict = $("verdict");
-  if (!res) { verdict.textContent = ""; return; }
+  if (!res) { verdict.textContent = ""; tb.innerHTML = ""; tb.dataset.key = ""; return; }
   const checks = res.checks || [];
   const failed = checks.filter((c) => !c.ok).length;
   if (!res.feasible) { verdict.textContent = "INFEASIBLE: no gear train can follow this design (reasons below)"; verdict.className = "bad"; }
@@ -407,14 +438,28 @@ function renderChecks() {
   const live = new Set(checks.map((c) => c.name));
   const kept = res.quality === "drag" && state.fullResult && state.fullResult.feasible
     ? (state.fullResult.checks || []).filter((c) => !live.has(c.name)).map((c) => ({ ...c, stale: true })) : [];
-  for (const c of checks.concat(kept)) {
-    const tr = document.createElement("tr");
-    if (c.stale) { tr.className = "stale"; tr.title = "from the last release: updates on release"; }
-    const val = c.value === null ? "—" : `${+c.value.toPrecision(5)} ${c.unit}`;
-    tr.innerHTML = `<td>${c.name.replaceAll("_", " ")}</td><td class="num">${val}</td><td>${c.limit}</td><td class="${c.ok ? "ok" : "fail"}">${c.ok ? "pass" : "FAIL"}</td>`;
-    tr.dataset.check = c.name;
-    tb.appendChild(tr);
+  const rows = checks.concat(kept);
+  // the same checks as drawn last (every answer of a drag): their cells are updated in place
+  const key = rows.map((c) => `${c.name}${c.stale ? "~" : ""}`).join("|");
+  if (tb.dataset.key !== key) {
+    tb.innerHTML = "";
+    for (const c of rows) {
+      const tr = document.createElement("tr");
+      if (c.stale) { tr.className = "stale"; tr.title = "from the last release: updates on release"; }
+      tr.innerHTML = `<td>${c.name.replaceAll("_", " ")}</td><td class="num"></td><td></td><td></td>`;
+      tr.dataset.check = c.name;
+      tb.appendChild(tr);
+    }
+    tb.dataset.key = key;
   }
+  rows.forEach((c, i) => {
+    const cells = tb.rows[i].cells;
+    const val = c.value === null ? "—" : `${+c.value.toPrecision(5)} ${c.unit}`;
+    if (cells[1].textContent !== val) cells[1].textContent = val;
+    if (cells[2].textContent !== String(c.limit)) cells[2].textContent = c.limit;
+    const verdict = c.ok ? "pass" : "FAIL", cls = c.ok ? "ok" : "fail";
+    if (cells[3].textContent !== verdict) { cells[3].textContent = verdict; cells[3].className = cls; }
+  });
   $("quality").textContent = res.quality === "drag" ? `live, ${res.samples || ""} samples/turn${res.pending ? " — " + res.pending : ""}` : `${res.samples || ""} samples/turn`;
 }
 
@@ -621,12 +666,18 @@ function render() {
     const n = frameCount(res);
     $("scrub").max = Math.max(0, n - 1);
   }
+  const t0 = performance.now();
   drawMechanism();
+  const t1 = performance.now();
   teethNote();
   renderChecks();
+  const t2 = performance.now();
   renderPlots();
+  const t3 = performance.now();
   if (!state.drag && !document.activeElement.closest?.("#edit")) renderEdit();
   else if (state.design && state.design.train) { const c = $("radii"); if (c) drawRadiiEditor(c); }
+  // where a redraw's time goes (ms; window.__dragBreakdown, printed by make bench)
+  return { draw_mechanism: t1 - t0, draw_checks: t2 - t1, draw_plots: t3 - t2, draw_edit: performance.now() - t3 };
 }
 
 function tick(t) {
