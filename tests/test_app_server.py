@@ -412,3 +412,18 @@ def test_edit_fast_path_answers_as_the_engine_and_keeps_the_host_rule(client):
     assert client.get("/api/evaluate").status_code == 405
     r = client.post("/api/evaluate", content=b"x" * (server.MAX_BODY_BYTES + 1))
     assert r.status_code == 413
+
+
+def test_problem_list_states_what_each_problem_runs(client):
+    """The optimize menu's defaults are the ones the job uses: the app requires
+    manufacturability, so the transplanter runs the staged tooth-fit job."""
+    from plantmech.optimize.jobs import DEFAULTS, TOOTH_FIT_STAGES
+
+    r = client.get("/api/problems", params={"mechanism": "rice_transplanter"}).json()
+    (tp,) = r["problems"]
+    assert tp["name"] == "transplanter" and tp["stages"] == len(TOOTH_FIT_STAGES) > 1
+    assert (tp["algorithm"], tp["generations"], tp["pop"]) == \
+        DEFAULTS["transplanter-tooth-fit"]
+    seeder = client.get("/api/problems").json()["problems"]
+    assert {p["name"] for p in seeder} >= {"seeder-layer1", "seeder-layered"}
+    assert all(p["stages"] == 1 and "transplanter" not in p["name"] for p in seeder)

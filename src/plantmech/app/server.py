@@ -640,13 +640,18 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
     @app.get("/api/problems")
     async def problems(mechanism: str = "sugarcane_seeder"):
-        from plantmech.optimize.jobs import DEFAULTS, PROBLEMS
+        from plantmech.optimize.jobs import DEFAULTS, PROBLEMS, TOOTH_FIT_STAGES
 
         names = [p for p in PROBLEMS if p != "planetary"  # the general train: CLI only
                  and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
-        return {"problems": [{"name": p, "algorithm": DEFAULTS[p][0],
-                              "generations": DEFAULTS[p][1], "pop": DEFAULTS[p][2]}
-                             for p in names]}
+        out = []
+        for p in names:
+            # the app requires manufacturability: the transplanter runs the staged job
+            staged = p == "transplanter"
+            algo, gen, pop = DEFAULTS["transplanter-tooth-fit" if staged else p]
+            out.append({"name": p, "algorithm": algo, "generations": gen, "pop": pop,
+                        "stages": len(TOOTH_FIT_STAGES) if staged else 1})
+        return {"problems": out}
 
     @app.post("/api/optimize")
     async def start_optimize(request: Request):

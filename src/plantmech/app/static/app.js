@@ -705,7 +705,7 @@ async function refreshProblems() {
   if (!state.design) return;
   const r = await api(`/api/problems?mechanism=${state.design.mechanism}`);
   const sel = $("opt-problem"); sel.innerHTML = "";
-  for (const p of r.problems) { const o = document.createElement("option"); o.value = p.name; o.textContent = `${p.name} (${p.algorithm}, default ${p.generations} gen × ${p.pop})`; sel.appendChild(o); }
+  for (const p of r.problems) { const o = document.createElement("option"); o.value = p.name; o.textContent = p.stages > 1 ? `${p.name} (${p.algorithm}, ${p.stages} stages, default ${p.generations} gen per stage × ${p.pop})` : `${p.name} (${p.algorithm}, default ${p.generations} gen × ${p.pop})`; sel.appendChild(o); }
   if (state.design.mechanism === "sugarcane_seeder") sel.value = state.design.train ? "seeder-layer2" : "seeder-layer1";
 }
 
