@@ -21,38 +21,65 @@ from numba import njit
 TWO_PI = 2.0 * np.pi
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite_span(y0, y1, d0, d1, inv, xk, u0, h, j0, j1, value, slope):
+    """``_along``'s cubic of one knot interval (x[k], values y0, y1, slopes times the width
+    d0, d1, 1 / width ``inv``) at the body angles u0 + j h, j0 <= j < j1: a loop without
+    branches (SIMD)."""
+    dy = y0 - y1
+    for j in range(j0, j1):
+        t = (u0 + j * h - xk) * inv
+        t2 = t * t
+        t3 = t2 * t
+        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                    + (3 * t2 - 2 * t) * d1) * inv
+
+
 @njit(cache=True, error_model="numpy")
 def _along(x, radii, slopes, n, c, h, D, value, slope):
     """Values (mm) and slopes (mm/rad) of the piecewise cubic Hermite over one turn through
     (x, radii) with node ``slopes`` (x, radii, slopes: n + 1 knots, the last x[0] + 2 pi;
     radii[n], slopes[n] the left limits there: radii[0], slopes[0] for a periodic curve,
     others at a break) at the body angles c + j h, j = 0..D (rad): one march through the
-    knots, no search per angle."""
+    knots, each interval's samples in one branch-free loop (a sample on a knot belongs to
+    the interval it starts; the last angle, a turn after the first, takes the left limit
+    at the end knot)."""
     u0 = c - x[0]
     u0 = x[0] + (u0 - TWO_PI * np.floor(u0 / TWO_PI))
     k = 0
     while k < n - 1 and x[k + 1] <= u0:
         k += 1
-    for j in range(D + 1):
-        u = u0 + j * h if j < D else u0 + TWO_PI
-        # the last angle closes the turn: at the end knot it takes the left limit there
-        while u > x[k + 1] or (u == x[k + 1] and (j < D or k + 1 < n)):
+    j0 = 0
+    while j0 < D:
+        xk1 = x[k + 1]
+        # j1: the first sample at or beyond the interval's end (at most D)
+        j1 = int(np.ceil((xk1 - u0) / h))
+        j1 = min(max(j1, j0), D)
+        while j1 > j0 and u0 + (j1 - 1) * h >= xk1:
+            j1 -= 1
+        while j1 < D and u0 + j1 * h < xk1:
+            j1 += 1
+        hk = xk1 - x[k]
+        _hermite_span(radii[k], radii[k + 1], slopes[k] * hk, slopes[k + 1] * hk, 1.0 / hk,
+                      x[k], u0, h, j0, j1, value, slope)
+        j0 = j1
+        if j0 < D:
             k += 1
             if k == n:
                 k = 0
                 u0 -= TWO_PI
-                u -= TWO_PI
-        hk = x[k + 1] - x[k]
-        inv = 1.0 / hk  # per sample: LLVM keeps it while k stays
-        t = (u - x[k]) * inv
-        y0, y1 = radii[k], radii[k + 1]
-        d0, d1 = slopes[k] * hk, slopes[k + 1] * hk
-        t2 = t * t
-        t3 = t2 * t
-        dy = y0 - y1
-        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
-        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
-                    + (3 * t2 - 2 * t) * d1) * inv
+    # the closing angle: a turn after the first, the left limit at the end knot
+    u = u0 + TWO_PI
+    while u > x[k + 1] or (u == x[k + 1] and k + 1 < n):
+        k += 1
+        if k == n:
+            k = 0
+            u0 -= TWO_PI
+            u -= TWO_PI
+    hk = x[k + 1] - x[k]
+    _hermite_span(radii[k], radii[k + 1], slopes[k] * hk, slopes[k + 1] * hk, 1.0 / hk,
+                  x[k], u - D * h, h, D, D + 1, value, slope)
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
@@ -110,7 +137,7 @@ def _closing_centre_distance(r, D, turn):
     return a
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
     """Running integrals outa, outb [0..D] (from 0) of the not-a-knot cubic splines through
     the D + 1 samples ya, yb at uniform step h (the splines SciPy's ``CubicSpline(t, y)``
@@ -118,35 +145,44 @@ def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
     tridiagonal system s[i-1] + 4 s[i] + s[i+1] = 3 (q[i-1] + q[i]) (q the chord slopes),
     s[0] + 2 s[1] = (5 q[0] + q[1]) / 2 and 2 s[D-1] + s[D] = (q[D-2] + 5 q[D-1]) / 2 at
     the ends, by the Thomas sweep with the shared factors ``cp``, ``piv``
-    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12.
-    Two rows at once: each sweep is a chain of dependent operations, two independent
-    chains side by side keep the core busy. sa, sb: scratch rows (D + 1)."""
+    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12,
+    whose running sum is the trapezoid's plus h^2 (s[0] - s[k]) / 12 (the slope terms
+    telescope). Two rows at once: each sweep is a chain of dependent multiply-adds, two
+    independent chains (and the trapezoid sums) side by side keep the core busy. sa, sb:
+    scratch rows (D + 1)."""
     n = D + 1
     three_over_h = 3.0 / h
+    half = 0.5 * h
     sa[0] = (0.5 * (5.0 * ((ya[1] - ya[0]) / h) + (ya[2] - ya[1]) / h)) * piv[0]
     sb[0] = (0.5 * (5.0 * ((yb[1] - yb[0]) / h) + (yb[2] - yb[1]) / h)) * piv[0]
-    for i in range(1, n - 1):
-        da = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h
-        db = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h
-        sa[i] = (da - sa[i - 1]) * piv[i]
-        sb[i] = (db - sb[i - 1]) * piv[i]
+    for i in range(1, n - 1):  # right-hand sides times the pivots (SIMD)
+        sa[i] = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h * piv[i]
+        sb[i] = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h * piv[i]
+    outa[0] = outb[0] = 0.0
+    ta = 0.0
+    tb = 0.0
+    for i in range(1, n - 1):  # forward sweep: one multiply-add per step and row
+        sa[i] = sa[i] - sa[i - 1] * piv[i]
+        sb[i] = sb[i] - sb[i - 1] * piv[i]
+        ta += half * (ya[i - 1] + ya[i])
+        tb += half * (yb[i - 1] + yb[i])
+        outa[i] = ta
+        outb[i] = tb
+    outa[n - 1] = ta + half * (ya[n - 2] + ya[n - 1])
+    outb[n - 1] = tb + half * (yb[n - 2] + yb[n - 1])
     for y, s_ in ((ya, sa), (yb, sb)):
         qa = (y[n - 2] - y[n - 3]) / h
         qb = (y[n - 1] - y[n - 2]) / h
         s_[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s_[n - 2]) * piv[n - 1]
     for i in range(n - 2, -1, -1):
-        sa[i] -= cp[i] * sa[i + 1]
-        sb[i] -= cp[i] * sb[i + 1]
-    outa[0] = outb[0] = 0.0
-    acca = 0.0
-    accb = 0.0
+        sa[i] = sa[i] - cp[i] * sa[i + 1]
+        sb[i] = sb[i] - cp[i] * sb[i + 1]
     hh = h * h / 12.0
-    half = 0.5 * h
-    for i in range(D):
-        acca += half * (ya[i] + ya[i + 1]) + hh * (sa[i] - sa[i + 1])
-        accb += half * (yb[i] + yb[i + 1]) + hh * (sb[i] - sb[i + 1])
-        outa[i + 1] = acca
-        outb[i + 1] = accb
+    s0a = sa[0]
+    s0b = sb[0]
+    for i in range(1, n):
+        outa[i] += hh * (s0a - sa[i])
+        outb[i] += hh * (s0b - sb[i])
 
 
 def spline_factors(D: int):
@@ -315,30 +351,43 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
     smallest curvature x radius and the number of concave spans (cyclic; one when all is
     concave); then the largest angle mu = atan(|r'| / r) (rad) between the pitch tangent
     and the normal to the radius vector, and the largest |mu| (NaN kept as numpy's min and
-    max keep it)."""
+    max keep it).
+
+    Per sample the curvature kappa = num / speed^3 (``_curvature``'s terms) is the one
+    division per curve: the smallest convex (concave) radius of curvature is 1 / the
+    largest (most negative) curvature."""
     P, N = R.shape
     step = TWO_PI / M
+    inv_width = np.empty(N)
+    for k in range(N):
+        inv_width[k] = 1.0 / (x[k + 1] - x[k])
     acc = np.empty(12)
     for p in range(P):
         for col in (0, 6):
-            acc[col] = acc[col + 1] = acc[col + 2] = acc[col + 4] = np.inf
+            acc[col] = acc[col + 1] = 0.0  # largest convex / concave curvature
+            acc[col + 2] = acc[col + 4] = np.inf
             acc[col + 3] = acc[col + 5] = 0.0
         ratio_max = ratio_abs = -np.inf
-        prev = np.zeros(2, dtype=np.bool_)
-        first = np.zeros(2, dtype=np.bool_)
-        every = np.ones(2, dtype=np.bool_)
+        prev0 = prev1 = False
+        first0 = first1 = False
+        every0 = every1 = True
         ap = a[p]
+        w0 = (c[p] - x[0]) % TWO_PI
         k = 0
         for j in range(M):
-            # the angle as the matrix path wrapped it (a knot on a sample takes the span
+            # the angle wrapped into the turn from x[0] (a knot on a sample takes the span
             # that starts there, where the second derivative of a C1 curve jumps)
-            u = x[0] + ((j * step + c[p]) - x[0]) % TWO_PI
+            w = w0 + j * step
+            if w >= TWO_PI:
+                w -= TWO_PI
+            u = x[0] + w
             if u < x[k]:
                 k = 0
             while k < N - 1 and x[k + 1] <= u:
                 k += 1
             hk = x[k + 1] - x[k]
-            t = (u - x[k]) / hk
+            ih = inv_width[k]
+            t = (u - x[k]) * ih
             k1 = k + 1 if k + 1 < N else 0
             y0, y1 = R[p, k], R[p, k1]
             d0, d1 = Sl[p, k] * hk, Sl[p, k1] * hk
@@ -347,43 +396,62 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
             dy = y0 - y1
             r = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
             r1 = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
-                  + (3 * t2 - 2 * t) * d1) / hk
-            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) / (hk * hk)
+                  + (3 * t2 - 2 * t) * d1) * ih
+            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) * (ih * ih)
             m = ap - r
+            r1r1 = r1 * r1
+            # the gear: rho = r, phi = t
+            num = r * r + 2 * r1r1 - r * r2
+            sp2 = r1r1 + r * r
+            sp = np.sqrt(sp2)
+            kap_g = num / (sp2 * sp)
+            # the mate: rho = m, rho' = -r', rho'' = -r'', phi' = r / m, phi'' = a r' / m^2
+            im = 1.0 / m
+            dphi = r * im
+            ddphi = ap * r1 * im * im
+            num = m * m * (dphi * dphi * dphi) + 2 * r1r1 * dphi + m * r2 * dphi \
+                - m * r1 * ddphi
+            sp2m = r1r1 + (m * dphi) * (m * dphi)
+            spm = np.sqrt(sp2m)
+            kap_m = num / (sp2m * spm)
             for curve in range(2):
                 if curve == 0:
-                    rho = r
-                    rc, speed = _curvature(r, r1, r2, 1.0, 0.0)
+                    rho, kappa, speed, col = r, kap_g, sp, 0
                 else:
-                    rho = m
-                    rc, speed = _curvature(m, -r1, -r2, r / m, ap * r1 / (m * m))
-                col = 6 * curve
-                if rc > 0 and rc < acc[col]:
-                    acc[col] = rc
-                if rc < 0 and -rc < acc[col + 1]:
-                    acc[col + 1] = -rc
+                    rho, kappa, speed, col = m, kap_m, spm, 6
+                if kappa > acc[col]:
+                    acc[col] = kappa
+                if -kappa > acc[col + 1]:
+                    acc[col + 1] = -kappa
                 acc[col + 2] = _nan_min(acc[col + 2], rho)
                 acc[col + 3] += speed
-                kappa = 1.0 / rc
                 acc[col + 4] = _nan_min(acc[col + 4], kappa * rho)
-                concave = kappa < 0
-                if j == 0:
-                    first[curve] = concave
-                elif concave and not prev[curve]:
-                    acc[col + 5] += 1.0
-                prev[curve] = concave
-                every[curve] = every[curve] and concave
+            concave0 = kap_g < 0
+            concave1 = kap_m < 0
+            if j == 0:
+                first0 = concave0
+                first1 = concave1
+            else:
+                if concave0 and not prev0:
+                    acc[5] += 1.0
+                if concave1 and not prev1:
+                    acc[11] += 1.0
+            prev0 = concave0
+            prev1 = concave1
+            every0 = every0 and concave0
+            every1 = every1 and concave1
             # atan is monotonic: the largest angle is the angle of the largest |r'| / r
             ratio = np.abs(r1) / r
             ratio_max = _nan_max(ratio_max, ratio)
             ratio_abs = _nan_max(ratio_abs, abs(ratio))
-        for curve in range(2):
-            col = 6 * curve
-            if first[curve] and not prev[curve]:  # a span starting at sample 0 (cyclic)
+        for col, first, prev, every in ((0, first0, prev0, every0), (6, first1, prev1, every1)):
+            if first and not prev:  # a span starting at sample 0 (cyclic)
                 acc[col + 5] += 1.0
-            if every[curve]:
+            if every:
                 acc[col + 5] += 1.0
             acc[col + 3] *= step
+            acc[col] = np.inf if acc[col] == 0.0 else 1.0 / acc[col]
+            acc[col + 1] = np.inf if acc[col + 1] == 0.0 else 1.0 / acc[col + 1]
         for i in range(12):
             out[p, i] = acc[i]
         out[p, 12] = np.arctan(ratio_max)
