@@ -520,8 +520,11 @@ def _speed_at(psi, vx, vy, where, travel):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _in_section(psi_i, start, span):
-    return (psi_i - start) % TWO_PI <= span
+def _offset(psi_i, start0):
+    """(psi_i - start0) mod 2 pi for psi_i and start0 in [0, 2 pi): one subtraction and,
+    behind the start, one turn added."""
+    d = psi_i - start0
+    return d + TWO_PI if d < 0 else d
 
 
 @njit(cache=True, error_model="numpy")
@@ -536,23 +539,28 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
     attitude at e (signed), the horizontal speed at e, the travel speed, the seeding
     section's peak static speed (de), the return section's least static and least dynamic
     speed (ef). Section ends are interpolated and included; NaN is kept as numpy's max and
-    min keep it."""
+    min keep it. A sample psi[i] is in the section [start, start + span] when
+    (psi[i] - start) mod 2 pi <= span (``_offset``: one subtraction, psi in [0, 2 pi))."""
     P, S = angle.shape
     rel = np.empty(S)
     vx = np.empty(S)
     vy = np.empty(S)
+    static = np.empty(S)
     for p in range(P):
         for i in range(S):
             rel[i] = (angle[p, i] - angle[p, 0]) * angle_scale
             vx[i] = rate[p, i, 0] * rate_scale
             vy[i] = rate[p, i, 1] * rate_scale
+        for i in range(S):
+            static[i] = np.sqrt(vx[i] * vx[i] + vy[i] * vy[i])
         for col, s0, s1 in ((0, 0, 1), (1, 3, 4)):  # attitude swings over ab and de
             start, end = sec[p, s0], sec[p, s1]
             ref = _at_row(psi, rel, start)
             span = (end - start) % TWO_PI
+            start0 = start % TWO_PI
             dev = -np.inf
             for i in range(S):
-                d = abs(rel[i] - ref) if _in_section(psi[i], start, span) else 0.0
+                d = abs(rel[i] - ref) if _offset(psi[i], start0) <= span else 0.0
                 dev = _nan_max(dev, d)
             out[p, col] = _nan_max(dev, abs(_at_row(psi, rel, end) - ref))
         d_, e, f = sec[p, 3], sec[p, 4], sec[p, 5]
@@ -563,16 +571,18 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
         out[p, 4] = tr
         span_de = (e - d_) % TWO_PI
         span_ef = (f - e) % TWO_PI
+        d0 = d_ % TWO_PI
+        e0 = e % TWO_PI
         peak = -np.inf
         low_s = np.inf
         low_d = np.inf
         for i in range(S):
-            st = np.hypot(vx[i], vy[i])
-            if _in_section(psi[i], d_, span_de):
-                peak = _nan_max(peak, st)
-            if _in_section(psi[i], e, span_ef):
-                low_s = _nan_min(low_s, st)
-                low_d = _nan_min(low_d, np.hypot(vx[i] - tr, vy[i]))
+            if _offset(psi[i], d0) <= span_de:
+                peak = _nan_max(peak, static[i])
+            if _offset(psi[i], e0) <= span_ef:
+                low_s = _nan_min(low_s, static[i])
+                wx = vx[i] - tr
+                low_d = _nan_min(low_d, np.sqrt(wx * wx + vy[i] * vy[i]))
         # the section ends: the speed samples interpolated
         for w in (d_, e):
             peak = _nan_max(peak, _speed_at(psi, vx, vy, w, 0.0))
