@@ -112,3 +112,32 @@ def test_section_values_against_direct_numpy():
     low = np.minimum(dynamic[:, ef].min(axis=1),
                      np.minimum(at(dynamic, sec[4]), at(dynamic, sec[5])))
     assert np.allclose(got[:, 7], low, atol=1e-12)
+
+
+def test_spans_of_designs_on_threads_give_the_one_thread_result():
+    """The kernels split P designs into spans run on numba's threads (``chunks_for``):
+    every design is computed once, whatever the split (1, 3 or 7 spans, bit for bit)."""
+    from plantmech.mechanisms import seeder_kernel as K
+    from plantmech.mechanisms.seeder_batch import simulate_population
+
+    rng = np.random.default_rng(5)
+    P = 70
+    nodes = np.radians(np.arange(8) * 45.0)
+    R2, R3 = 60 + rng.uniform(-5, 5, (P, 8)), 60 + rng.uniform(-5, 5, (P, 8))
+    assert K.chunks_for(P) >= 1 and K.chunks_for(1) == 1
+    runs = []
+    for chunks in (1, 3, 7):
+        orig = K.chunks_for
+        K.chunks_for = lambda P, c=chunks: c
+        try:
+            m = simulate_population(nodes, R2, R3, 240.0, 450.0, None, None, 0.3, 0.3,
+                                    samples=90, dense=256, kind="hermite")
+            ext = pitch_curve_metrics(nodes, R2, m.a1, 0.1, "hermite", 90)
+            sec = section_values(m.carrier_angle, m.arm_angle, np.radians(
+                [10, 60, 120, 200, 250, 300]), m.tip_rate)
+        finally:
+            K.chunks_for = orig
+        runs.append((m.tip, m.arm_angle, m.a1, m.a2, ext["gear"]["min_kappa_r"], sec))
+    for other in runs[1:]:
+        for a, b in zip(runs[0], other, strict=True):
+            assert np.array_equal(a, b)

@@ -16,9 +16,11 @@ start-up; its compilation is cached on disk (``cache=True``).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 TWO_PI = 2.0 * np.pi
+# below this many designs the kernels run on one thread (starting the others costs more)
+PARALLEL_MIN_DESIGNS = 64
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -185,6 +187,17 @@ def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
         outb[i] += hh * (s0b - sb[i])
 
 
+def chunks_for(P: int) -> int:
+    """Spans of designs the ``*_rows`` kernels split P designs into: one (a single thread)
+    below ``PARALLEL_MIN_DESIGNS`` designs or with one numba thread (``NUMBA_NUM_THREADS=1``,
+    e.g. inside a process pool that already fills the cores), else four per thread (spans
+    of unequal cost balance out)."""
+    import numba
+
+    threads = numba.get_num_threads()
+    return 1 if P < PARALLEL_MIN_DESIGNS or threads == 1 else min(P, 4 * threads)
+
+
 def spline_factors(D: int):
     """Shared factors of the not-a-knot system of ``_running_integrals`` on D + 1 uniform
     samples: the Thomas sweep's modified super-diagonal ``cp`` and reciprocal pivots."""
@@ -222,12 +235,12 @@ def _hermite_slope(y0, y1, d0, d1, h, s):
 
 
 @njit(cache=True, error_model="numpy")
-def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
-                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0,
-                  play, has_play, rescale, cp, piv, tip, arm, ratio, rate, gear2, closure,
-                  a1_out, a2_out):
-    """Every design p of the population, one after the other with one set of scratch
-    rows (parallelism is the callers' processes: optimizer workers, Dask): node radii R2,
+def _simulate_rows_span(lo, hi, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2,
+                        turn1, D, psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2,
+                        carrier0, arm0, play, has_play, rescale, cp, piv, tip, arm, ratio,
+                        rate, gear2, closure, a1_out, a2_out):
+    """Designs lo..hi - 1 of the population, one after the other with one set of scratch
+    rows (``simulate_rows`` runs spans of designs on numba's threads): node radii R2,
     R3 (P, N2 + 1), (P, N3 + 1) with node slopes S2, S3 at knots x2 (N2 + 1), x3 (N3 + 1)
     (the last column the left limit at x[0] + 2 pi, ``_along``), contact angles c2, c3 (P,),
     centre distances a*_in (P,) or solved (``solve1``/``solve2``: for turns turn1 and
@@ -236,7 +249,6 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
     samples ``psi`` (S,) (their cos and sin) with their meshing targets and dwell mask;
     per-design L1, L2, carrier0, arm0, play (P,). Writes tip, rate (P, S, 2), arm, ratio,
     gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
-    P = R2.shape[0]
     N2, N3 = x2.shape[0] - 1, x3.shape[0] - 1
     S = psi.shape[0]
     h = TWO_PI / D
@@ -251,7 +263,7 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
     slopes = np.empty(D + 1)
     slopes_b = np.empty(D + 1)
     span = TWO_PI - theta1
-    for p in range(P):
+    for p in range(lo, hi):
         _along(x2, R2[p], S2[p], N2, c2[p], h, D, r2, dr2)
         _along(x3, R3[p], S3[p], N3, c3[p], h, D, r3, dr3)
         a1 = _closing_centre_distance(r2, D, turn1) if solve1 else a1_in[p]
@@ -283,12 +295,10 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
             y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
             d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
             s = (tg - y0) / max(y1 - y0, 1e-300)
-            for _ in range(3):  # Newton on the cubic (3 steps at most, as before)
+            for _ in range(2):  # Newton on the cubic (from the chord's guess, two steps)
                 val = _hermite(y0, y1, d0, d1, h, s) - tg
                 ds = val / _hermite_slope(y0, y1, d0, d1, h, s)
                 s = min(max(s - ds, 0.0), 1.0)
-                if abs(ds) < 1e-15:
-                    break
             gear2[p, i] = turns * TWO_PI + kk * h + s * h
             rel = turns * planet[D] + _hermite(planet[kk], planet[kk + 1], f_pl[kk],
                                                f_pl[kk + 1], h, s)
@@ -340,7 +350,7 @@ def _curvature(rho, drho, ddrho, dphi, ddphi):
 
 
 @njit(cache=True, error_model="numpy")
-def pitch_extremes_rows(x, R, Sl, c, a, M, out):
+def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
     """Per design p: the shape extremes of gear and mate of one external pair (a gear's
     radii R (P, N) with node slopes Sl at knots x (N + 1), its body angle c (P,) at the
     start, centre distance a (P,), M samples over a turn of the gear, as
@@ -362,7 +372,7 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
     for k in range(N):
         inv_width[k] = 1.0 / (x[k + 1] - x[k])
     acc = np.empty(12)
-    for p in range(P):
+    for p in range(lo, hi):
         for col in (0, 6):
             acc[col] = acc[col + 1] = 0.0  # largest convex / concave curvature
             acc[col + 2] = acc[col + 4] = np.inf
@@ -459,16 +469,16 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy")
-def locate_rows(tip, psi, points, near, out):
+def _locate_rows_span(lo, hi, tip, psi, points, near, out):
     """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
     section point (K, 2) among the samples ``near`` (K, S) of its reference angle, refined
     by the parabola through the squared distances at the closest sample and its two
     neighbours (``objectives.seeder_population.locate_sections`` / ``refine_minimum``):
     out (P, K). The first smallest sample wins; a NaN distance is taken as numpy's argmin
     takes it (the first NaN)."""
-    P, S = tip.shape[0], tip.shape[1]
+    S = tip.shape[1]
     step = psi[1] - psi[0]
-    for p in range(P):
+    for p in range(lo, hi):
         for j in range(points.shape[0]):
             px, py = points[j, 0], points[j, 1]
             best = np.inf
@@ -528,8 +538,8 @@ def _offset(psi_i, start0):
 
 
 @njit(cache=True, error_model="numpy")
-def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
-                            out):
+def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_scale, sec, travel,
+                                  given, out):
     """Section-4.1 values of every design (what ``section_swing``, ``_at`` and
     ``section_extreme`` of ``objectives.seeder_population`` gave, fused): the attitude
     rel = (angle - angle[:, 0]) * angle_scale (deg) of angles (P, S), the tip velocity
@@ -546,7 +556,7 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
     vx = np.empty(S)
     vy = np.empty(S)
     static = np.empty(S)
-    for p in range(P):
+    for p in range(lo, hi):
         for i in range(S):
             rel[i] = (angle[p, i] - angle[p, 0]) * angle_scale
             vx[i] = rate[p, i, 0] * rate_scale
@@ -590,3 +600,47 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
             low_s = _nan_min(low_s, _speed_at(psi, vx, vy, w, 0.0))
             low_d = _nan_min(low_d, _speed_at(psi, vx, vy, w, tr))
         out[p, 5], out[p, 6], out[p, 7] = peak, low_s, low_d
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def simulate_rows(chunks, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
+                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0, play,
+                  has_play, rescale, cp, piv, tip, arm, ratio, rate, gear2, closure, a1_out,
+                  a2_out):
+    """``_simulate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run
+    on numba's threads (``prange``); one chunk: one thread."""
+    P = R2.shape[0]
+    for ch in prange(chunks):
+        _simulate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, x2, R2, S2, x3, R3, S3, c2,
+            c3, a1_in, a2_in, solve1, solve2, turn1, D, psi, cos_psi, sin_psi, target,
+            in_dwell, theta1, L1, L2, carrier0, arm0, play, has_play, rescale, cp, piv,
+            tip, arm, ratio, rate, gear2, closure, a1_out, a2_out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def pitch_extremes_rows(chunks, x, R, Sl, c, a, M, out):
+    """``_pitch_extremes_rows_span`` over all P designs in ``chunks`` contiguous spans of designs,
+    run on numba's threads (``prange``); one chunk: one thread."""
+    P = R.shape[0]
+    for ch in prange(chunks):
+        _pitch_extremes_rows_span(ch * P // chunks, (ch + 1) * P // chunks, x, R, Sl, c, a, M, out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def locate_rows(chunks, tip, psi, points, near, out):
+    """``_locate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run on
+    numba's threads (``prange``); one chunk: one thread."""
+    P = tip.shape[0]
+    for ch in prange(chunks):
+        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, near, out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def section_objectives_rows(chunks, psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
+                            out):
+    """``_section_objectives_rows_span`` over all P designs in ``chunks`` contiguous spans of
+    designs, run on numba's threads (``prange``); one chunk: one thread."""
+    P = angle.shape[0]
+    for ch in prange(chunks):
+        _section_objectives_rows_span(ch * P // chunks, (ch + 1) * P // chunks, psi, angle,
+            angle_scale, rate, rate_scale, sec, travel, given, out)
