@@ -303,6 +303,10 @@ def _simulate_rows_span(lo, hi, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, so
     slopes = np.empty(D + 1)
     slopes_b = np.empty(D + 1)
     work_b = np.empty(S)
+    at = np.empty(S, dtype=np.int64)
+    goal = np.empty(S)
+    turn_of = np.empty(S)
+    g = np.empty((16, S))
     cos_b = np.empty(S)
     sin_b = np.empty(S)
     span = TWO_PI - theta1
@@ -323,6 +327,7 @@ def _simulate_rows_span(lo, hi, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, so
         turns = 0
         base = 0.0
         ca = carrier0[p]
+        # the merge walk: each sample's interval of the rolling integral and its turns
         for i in range(S):
             tg = target[i] - base
             # an unclosed pair (not rescaled): gear 2 turns on past its turn, the rolling
@@ -335,20 +340,32 @@ def _simulate_rows_span(lo, hi, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, so
             while k < D and sun[k + 1] * scale <= tg:
                 k += 1
             kk = k if k < D else D - 1
-            y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
-            d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            at[i] = kk
+            goal[i] = tg
+            turn_of[i] = turns
+            # the interval's ends gathered into rows (the next loop reads them in order)
+            g[0, i], g[1, i] = sun[kk] * scale, sun[kk + 1] * scale
+            g[2, i], g[3, i] = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            g[4, i], g[5, i], g[6, i], g[7, i] = planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1]
+            g[8, i], g[9, i], g[10, i], g[11, i] = r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1]
+            g[12, i], g[13, i], g[14, i], g[15, i] = r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1]
+        # then per sample without branches: Newton on the interval's cubic and the
+        # Hermite values at the root
+        pD, arm_shift = planet[D], arm0[p] - ca
+        for i in range(S):
+            tg = goal[i]
+            y0, y1, d0, d1 = g[0, i], g[1, i], g[2, i], g[3, i]
             s = (tg - y0) / max(y1 - y0, 1e-300)
             for _ in range(2):  # Newton on the cubic (from the chord's guess, two steps)
                 val = _hermite(y0, y1, d0, d1, h, s) - tg
                 ds = val / _hermite_slope(y0, y1, d0, d1, h, s)
                 s = min(max(s - ds, 0.0), 1.0)
-            gear2[p, i] = turns * TWO_PI + kk * h + s * h
-            rel = turns * planet[D] + _hermite(planet[kk], planet[kk + 1], f_pl[kk],
-                                               f_pl[kk + 1], h, s)
-            r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
-            r3s = _hermite(r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1], h, s)
+            gear2[p, i] = turn_of[i] * TWO_PI + at[i] * h + s * h
+            rel = turn_of[i] * pD + _hermite(g[4, i], g[5, i], g[6, i], g[7, i], h, s)
+            r2s = _hermite(g[8, i], g[9, i], g[10, i], g[11, i], h, s)
+            r3s = _hermite(g[12, i], g[13, i], g[14, i], g[15, i], h, s)
             ratio[p, i] = 0.0 if in_dwell[i] else (a1 - r2s) / r2s * r3s / (a2 - r3s)
-            arm[p, i] = (ca - psi[i]) + rel + (arm0[p] - ca)
+            arm[p, i] = (ca - psi[i]) + rel + arm_shift
         cc0, sc0 = np.cos(ca), np.sin(ca)
         if has_play:
             for i in range(S):
