@@ -435,6 +435,9 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
     for k in range(N):
         inv_width[k] = 1.0 / (x[k + 1] - x[k])
     acc = np.empty(12)
+    g = np.empty((6, M))  # per sample: t, 1 / width, y0, y1, d0, d1 of its interval
+    q = np.empty((5, M))  # per sample: r, mate curvature, gear curvature, speeds
+    qm = np.empty((2, M))  # per sample: mate speed, |r'| / r
     for p in range(lo, hi):
         for col in (0, 6):
             acc[col] = acc[col + 1] = 0.0  # largest convex / concave curvature
@@ -447,7 +450,7 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
         ap = a[p]
         w0 = (c[p] - x[0]) % TWO_PI
         k = 0
-        for j in range(M):
+        for j in range(M):  # the march: each sample's interval, gathered into rows
             # the angle wrapped into the turn from x[0] (a knot on a sample takes the span
             # that starts there, where the second derivative of a C1 curve jumps)
             w = w0 + j * step
@@ -459,11 +462,13 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
             while k < N - 1 and x[k + 1] <= u:
                 k += 1
             hk = x[k + 1] - x[k]
-            ih = inv_width[k]
-            t = (u - x[k]) * ih
             k1 = k + 1 if k + 1 < N else 0
-            y0, y1 = R[p, k], R[p, k1]
-            d0, d1 = Sl[p, k] * hk, Sl[p, k1] * hk
+            g[0, j] = (u - x[k]) * inv_width[k]
+            g[1, j] = inv_width[k]
+            g[2, j], g[3, j] = R[p, k], R[p, k1]
+            g[4, j], g[5, j] = Sl[p, k] * hk, Sl[p, k1] * hk
+        for j in range(M):  # the curves' values, no branches (SIMD)
+            t, ih, y0, y1, d0, d1 = g[0, j], g[1, j], g[2, j], g[3, j], g[4, j], g[5, j]
             t2 = t * t
             t3 = t2 * t
             dy = y0 - y1
@@ -477,21 +482,28 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
             num = r * r + 2 * r1r1 - r * r2
             sp2 = r1r1 + r * r
             sp = np.sqrt(sp2)
-            kap_g = num / (sp2 * sp)
             # the mate: rho = m, rho' = -r', rho'' = -r'', phi' = r / m, phi'' = a r' / m^2
             im = 1.0 / m
             dphi = r * im
             ddphi = ap * r1 * im * im
-            num = m * m * (dphi * dphi * dphi) + 2 * r1r1 * dphi + m * r2 * dphi \
+            num_m = m * m * (dphi * dphi * dphi) + 2 * r1r1 * dphi + m * r2 * dphi \
                 - m * r1 * ddphi
             sp2m = r1r1 + (m * dphi) * (m * dphi)
             spm = np.sqrt(sp2m)
-            kap_m = num / (sp2m * spm)
+            q[0, j] = r
+            q[1, j] = num_m / (sp2m * spm)
+            q[2, j] = num / (sp2 * sp)
+            q[3, j] = sp
+            qm[0, j] = spm
+            qm[1, j] = np.abs(r1) / r
+        for j in range(M):  # the extremes and the concave spans
+            r = q[0, j]
+            kap_g, kap_m = q[2, j], q[1, j]
             for curve in range(2):
                 if curve == 0:
-                    rho, kappa, speed, col = r, kap_g, sp, 0
+                    rho, kappa, speed, col = r, kap_g, q[3, j], 0
                 else:
-                    rho, kappa, speed, col = m, kap_m, spm, 6
+                    rho, kappa, speed, col = ap - r, kap_m, qm[0, j], 6
                 if kappa > acc[col]:
                     acc[col] = kappa
                 if -kappa > acc[col + 1]:
@@ -514,7 +526,7 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
             every0 = every0 and concave0
             every1 = every1 and concave1
             # atan is monotonic: the largest angle is the angle of the largest |r'| / r
-            ratio = np.abs(r1) / r
+            ratio = qm[1, j]
             ratio_max = _nan_max(ratio_max, ratio)
             ratio_abs = _nan_max(ratio_abs, abs(ratio))
         for col, first, prev, every in ((0, first0, prev0, every0), (6, first1, prev1, every1)):
