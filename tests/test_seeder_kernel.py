@@ -125,6 +125,7 @@ def test_spans_of_designs_on_threads_give_the_one_thread_result():
     nodes = np.radians(np.arange(8) * 45.0)
     R2, R3 = 60 + rng.uniform(-5, 5, (P, 8)), 60 + rng.uniform(-5, 5, (P, 8))
     assert K.chunks_for(P) >= 1 and K.chunks_for(1) == 1
+    assert K.kernel_threads() >= 1
     runs = []
     for chunks in (1, 3, 7):
         orig = K.chunks_for

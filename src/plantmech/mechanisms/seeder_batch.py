@@ -106,7 +106,7 @@ def simulate_curves(gear2, gear3, L1, L2, a1, a2, carrier0, arm0, contact2_0, co
     (stage 1 closed exactly, the population's convention); False: as integrated, an
     unclosed pair rolling on periodically (the single design's forward model, which
     shows a closure error as it is). Other arguments as ``simulate_population``."""
-    from plantmech.mechanisms.seeder_kernel import chunks_for, simulate_rows
+    from plantmech.mechanisms.seeder_kernel import simulate_rows
 
     psi = np.asarray(psi, dtype=float)
     samples = psi.shape[0]
@@ -127,7 +127,7 @@ def simulate_curves(gear2, gear3, L1, L2, a1, a2, carrier0, arm0, contact2_0, co
     closure, a1_out, a2_out = np.empty((P, 2)), np.empty(P), np.empty(P)
     cp, piv = _spline_factors(int(dense))
     simulate_rows(
-        chunks_for(P), x2, R2, S2, x3, R3, S3, row(contact2_0), row(contact3_0),
+        x2, R2, S2, x3, R3, S3, row(contact2_0), row(contact3_0),
         row(0.0 if a1 is None else a1), row(0.0 if a2 is None else a2), a1 is None,
         a2 is None, TWO_PI - theta1, int(dense), psi, np.cos(psi), np.sin(psi),
         np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(in_dwell), theta1,

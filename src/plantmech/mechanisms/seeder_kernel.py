@@ -187,15 +187,41 @@ def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
         outb[i] += hh * (s0b - sb[i])
 
 
-def chunks_for(P: int) -> int:
-    """Spans of designs the ``*_rows`` kernels split P designs into: one (a single thread)
-    below ``PARALLEL_MIN_DESIGNS`` designs or with one numba thread (``NUMBA_NUM_THREADS=1``,
-    e.g. inside a process pool that already fills the cores), else four per thread (spans
-    of unequal cost balance out)."""
+def kernel_threads() -> int:
+    """Threads the ``*_rows`` kernels may use: ``PLANTMECH_KERNEL_THREADS`` (a whole number
+    >= 1, at most numba's ``NUMBA_NUM_THREADS``), 1 when unset. One by default: on this
+    shared 2-core machine two threads measured slower in wall time than one (a thread that
+    loses its core holds the others at the join; docs/architecture.md), and the optimizer's
+    and Dask's worker processes already fill the cores."""
+    import os
+
+    raw = os.environ.get("PLANTMECH_KERNEL_THREADS", "1").strip() or "1"
+    try:
+        n = int(raw)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise ValueError(f"environment variable PLANTMECH_KERNEL_THREADS: {raw!r} is not a "
+                         "whole number >= 1")
+    if n == 1:
+        return 1
     import numba
 
-    threads = numba.get_num_threads()
-    return 1 if P < PARALLEL_MIN_DESIGNS or threads == 1 else min(P, 4 * threads)
+    return min(n, numba.config.NUMBA_NUM_THREADS)
+
+
+def chunks_for(P: int) -> int:
+    """Spans of designs the ``*_rows`` kernels split P designs into: one (a single thread)
+    below ``PARALLEL_MIN_DESIGNS`` designs or with one kernel thread (``kernel_threads``),
+    else four per thread (spans of unequal cost balance out), numba's thread count set to
+    ``kernel_threads()``."""
+    threads = kernel_threads()
+    if P < PARALLEL_MIN_DESIGNS or threads == 1:
+        return 1
+    import numba
+
+    numba.set_num_threads(threads)
+    return min(P, 4 * threads)
 
 
 def spline_factors(D: int):
@@ -678,10 +704,10 @@ def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_sc
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def simulate_rows(chunks, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
-                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0, play,
-                  has_play, rescale, cp, piv, tip, arm, ratio, rate, gear2, closure, a1_out,
-                  a2_out):
+def _simulate_rows_threads(chunks, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1,
+                           solve2, turn1, D, psi, cos_psi, sin_psi, target, in_dwell, theta1,
+                           L1, L2, carrier0, arm0, play, has_play, rescale, cp, piv, tip, arm,
+                           ratio, rate, gear2, closure, a1_out, a2_out):
     """``_simulate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run
     on numba's threads (``prange``); one chunk: one thread."""
     P = R2.shape[0]
@@ -693,7 +719,7 @@ def simulate_rows(chunks, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, 
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def pitch_extremes_rows(chunks, x, R, Sl, c, a, M, out):
+def _pitch_extremes_rows_threads(chunks, x, R, Sl, c, a, M, out):
     """``_pitch_extremes_rows_span`` over all P designs in ``chunks`` contiguous spans of designs,
     run on numba's threads (``prange``); one chunk: one thread."""
     P = R.shape[0]
@@ -702,7 +728,7 @@ def pitch_extremes_rows(chunks, x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def locate_rows(chunks, tip, psi, points, near, out):
+def _locate_rows_threads(chunks, tip, psi, points, near, out):
     """``_locate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run on
     numba's threads (``prange``); one chunk: one thread."""
     P = tip.shape[0]
@@ -711,11 +737,45 @@ def locate_rows(chunks, tip, psi, points, near, out):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def section_objectives_rows(chunks, psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
-                            out):
+def _section_objectives_rows_threads(chunks, psi, angle, angle_scale, rate, rate_scale, sec,
+                                     travel, given, out):
     """``_section_objectives_rows_span`` over all P designs in ``chunks`` contiguous spans of
     designs, run on numba's threads (``prange``); one chunk: one thread."""
     P = angle.shape[0]
     for ch in prange(chunks):
         _section_objectives_rows_span(ch * P // chunks, (ch + 1) * P // chunks, psi, angle,
             angle_scale, rate, rate_scale, sec, travel, given, out)
+
+
+def _run(span, threaded, P, args):
+    """``span(0, P, *args)``, or ``threaded(chunks, *args)`` when ``chunks_for(P)`` splits
+    the designs (a one-span call stays out of numba's thread pool)."""
+    chunks = chunks_for(P)
+    if chunks == 1:
+        span(0, P, *args)
+    else:
+        threaded(chunks, *args)
+
+
+def simulate_rows(*args):
+    """``_simulate_rows_span`` over every design (R2.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_simulate_rows_threads``)."""
+    _run(_simulate_rows_span, _simulate_rows_threads, args[1].shape[0], args)
+
+
+def pitch_extremes_rows(*args):
+    """``_pitch_extremes_rows_span`` over every design (R.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_pitch_extremes_rows_threads``)."""
+    _run(_pitch_extremes_rows_span, _pitch_extremes_rows_threads, args[1].shape[0], args)
+
+
+def locate_rows(*args):
+    """``_locate_rows_span`` over every design (tip.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_locate_rows_threads``)."""
+    _run(_locate_rows_span, _locate_rows_threads, args[0].shape[0], args)
+
+
+def section_objectives_rows(*args):
+    """``_section_objectives_rows_span`` over every design (angle.shape[0] of them): on one
+    thread, or on ``kernel_threads()`` threads in spans (``_section_objectives_rows_threads``)."""
+    _run(_section_objectives_rows_span, _section_objectives_rows_threads, args[1].shape[0], args)

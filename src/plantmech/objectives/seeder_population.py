@@ -39,14 +39,14 @@ def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
     section point (6, 2), searched within +-window of the reference angles (6,), refined
     between samples (the parabola of ``refine_minimum``), one pass per design
     (``seeder_kernel.locate_rows``)."""
-    from plantmech.mechanisms.seeder_kernel import chunks_for, locate_rows
+    from plantmech.mechanisms.seeder_kernel import locate_rows
 
     psi = np.asarray(psi, dtype=float)
     points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
     reference = np.asarray(reference, dtype=float).reshape(-1)
     near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
     out = np.empty((tip.shape[0], len(points)))
-    locate_rows(chunks_for(len(out)), np.ascontiguousarray(tip, dtype=float), psi, points, near,
+    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points, near,
                 out)
     return out
 
@@ -64,7 +64,7 @@ def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
     (m/s); section ends interpolated and included. One pass per design
     (``seeder_kernel.section_objectives_rows``): the forward population and the inverse
     population (layer 1) both evaluate their sections here."""
-    from plantmech.mechanisms.seeder_kernel import chunks_for, section_objectives_rows
+    from plantmech.mechanisms.seeder_kernel import section_objectives_rows
 
     angle = np.ascontiguousarray(np.asarray(angle, dtype=float))
     P = angle.shape[0]
@@ -73,7 +73,7 @@ def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
     travel = np.ascontiguousarray(np.broadcast_to(
         np.asarray(travel_m_s if given else 0.0, dtype=float), (P,)))
     out = np.empty((P, 8))
-    section_objectives_rows(chunks_for(P), np.asarray(psi, dtype=float), angle,
+    section_objectives_rows(np.asarray(psi, dtype=float), angle,
                             float(angle_scale),
                             np.ascontiguousarray(np.asarray(rate, dtype=float)),
                             float(rate_scale), sec, travel, given, out)
@@ -98,7 +98,7 @@ def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
     (P, dense) arrays.
     """
     from plantmech.gears.manufacturability import module_bounds, module_high
-    from plantmech.mechanisms.seeder_kernel import chunks_for, pitch_extremes_rows
+    from plantmech.mechanisms.seeder_kernel import pitch_extremes_rows
 
     R = np.ascontiguousarray(np.atleast_2d(np.asarray(radii, dtype=float)))
     P = R.shape[0]
@@ -107,7 +107,7 @@ def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
     row = lambda v: np.ascontiguousarray(  # noqa: E731
         np.broadcast_to(np.asarray(v, dtype=float), (P,)))
     ext = np.empty((P, 14))
-    pitch_extremes_rows(chunks_for(P), np.r_[nodes, nodes[0] + TWO_PI], R, slopes,
+    pitch_extremes_rows(np.r_[nodes, nodes[0] + TWO_PI], R, slopes,
                         row(contact0), row(a), int(dense), ext)
     out = {}
     for key, col in (("gear", 0), ("mate", 6)):
