@@ -157,3 +157,21 @@ def test_sincos_rows_is_numpys_cos_and_sin():
     sincos_rows(x, c, s, len(x))
     assert np.abs(c - np.cos(x)).max() < 3e-16
     assert np.abs(s - np.sin(x)).max() < 3e-16
+
+
+def test_kernel_threads_from_the_environment(monkeypatch):
+    """PLANTMECH_KERNEL_THREADS: unset -> one thread (one span whatever P); a bad value is
+    refused naming the variable."""
+    import pytest
+
+    from plantmech.mechanisms import seeder_kernel as K
+
+    monkeypatch.delenv("PLANTMECH_KERNEL_THREADS", raising=False)
+    assert K.kernel_threads() == 1 and K.chunks_for(10_000) == 1
+    monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", "2")
+    assert 1 <= K.kernel_threads() <= 2
+    assert K.chunks_for(10) == 1  # below PARALLEL_MIN_DESIGNS: one span
+    for bad in ("0", "two", "-1"):
+        monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", bad)
+        with pytest.raises(ValueError, match="PLANTMECH_KERNEL_THREADS"):
+            K.kernel_threads()
