@@ -161,24 +161,90 @@ def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
         sa[i] = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h * piv[i]
         sb[i] = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h * piv[i]
     outa[0] = outb[0] = 0.0
-    ta = 0.0
-    tb = 0.0
-    for i in range(1, n - 1):  # forward sweep: one multiply-add per step and row
-        sa[i] = sa[i] - sa[i - 1] * piv[i]
-        sb[i] = sb[i] - sb[i - 1] * piv[i]
+    # forward sweep s[i] -= piv[i] s[i-1] over 1..n-2 in two halves at once (four chains
+    # of multiply-adds): the second half starts from zero and then takes the first half's
+    # last slope, propagated by the product of -piv, until that product is below 1e-20
+    # (piv -> 2 - sqrt 3: about 35 steps); the trapezoid sums likewise, the second half's
+    # shifted by the first half's total
+    half_n = (n - 2) // 2
+    m = 1 + half_n  # the second half: m..n-2
+    ta = tb = ua = ub = 0.0
+    sa_prev = sa[0]
+    sb_prev = sb[0]
+    ua_prev = ub_prev = 0.0
+    for k in range(half_n):
+        i = 1 + k
+        j = m + k
+        sa_prev = sa[i] - sa_prev * piv[i]
+        sb_prev = sb[i] - sb_prev * piv[i]
+        ua_prev = sa[j] - ua_prev * piv[j]
+        ub_prev = sb[j] - ub_prev * piv[j]
+        sa[i] = sa_prev
+        sb[i] = sb_prev
+        sa[j] = ua_prev
+        sb[j] = ub_prev
         ta += half * (ya[i - 1] + ya[i])
         tb += half * (yb[i - 1] + yb[i])
+        ua += half * (ya[j - 1] + ya[j])
+        ub += half * (yb[j - 1] + yb[j])
         outa[i] = ta
         outb[i] = tb
-    outa[n - 1] = ta + half * (ya[n - 2] + ya[n - 1])
-    outb[n - 1] = tb + half * (yb[n - 2] + yb[n - 1])
+        outa[j] = ua
+        outb[j] = ub
+    for j in range(m + half_n, n - 1):  # the second half's extra sample (n - 2 odd)
+        ua_prev = sa[j] - ua_prev * piv[j]
+        ub_prev = sb[j] - ub_prev * piv[j]
+        sa[j] = ua_prev
+        sb[j] = ub_prev
+        ua += half * (ya[j - 1] + ya[j])
+        ub += half * (yb[j - 1] + yb[j])
+        outa[j] = ua
+        outb[j] = ub
+    prod = 1.0
+    for j in range(m, n - 1):
+        prod = -prod * piv[j]
+        sa[j] += prod * sa[m - 1]
+        sb[j] += prod * sb[m - 1]
+        if abs(prod) < 1e-20:
+            break
+    for j in range(m, n - 1):
+        outa[j] += ta
+        outb[j] += tb
+    outa[n - 1] = outa[n - 2] + half * (ya[n - 2] + ya[n - 1])
+    outb[n - 1] = outb[n - 2] + half * (yb[n - 2] + yb[n - 1])
     for y, s_ in ((ya, sa), (yb, sb)):
         qa = (y[n - 2] - y[n - 3]) / h
         qb = (y[n - 1] - y[n - 2]) / h
         s_[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s_[n - 2]) * piv[n - 1]
-    for i in range(n - 2, -1, -1):
-        sa[i] = sa[i] - cp[i] * sa[i + 1]
-        sb[i] = sb[i] - cp[i] * sb[i + 1]
+    # backward sweep s[i] -= cp[i] s[i+1] over n-2..0 in two halves the same way: the
+    # lower half (m-1..0) starts as if s[m] were zero, then takes s[m]'s propagation
+    va = sa[n - 1]
+    vb = sb[n - 1]
+    wa = wb = 0.0
+    for k in range(n - 1 - m):  # upper: n-2..m; lower: m-1..
+        i = n - 2 - k
+        va = sa[i] - cp[i] * va
+        vb = sb[i] - cp[i] * vb
+        sa[i] = va
+        sb[i] = vb
+        j = m - 1 - k
+        if j >= 0:
+            wa = sa[j] - cp[j] * wa
+            wb = sb[j] - cp[j] * wb
+            sa[j] = wa
+            sb[j] = wb
+    for j in range(m - 1 - (n - 1 - m), -1, -1):  # the lower half's rest (if longer)
+        wa = sa[j] - cp[j] * wa
+        wb = sb[j] - cp[j] * wb
+        sa[j] = wa
+        sb[j] = wb
+    prod = 1.0
+    for j in range(m - 1, -1, -1):
+        prod = -prod * cp[j]
+        sa[j] += prod * sa[m]
+        sb[j] += prod * sb[m]
+        if abs(prod) < 1e-20:
+            break
     hh = h * h / 12.0
     s0a = sa[0]
     s0b = sb[0]
