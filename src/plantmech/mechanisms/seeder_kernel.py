@@ -636,13 +636,14 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _locate_rows_span(lo, hi, tip, psi, points, near, out):
+def _locate_rows_span(lo, hi, tip, psi, points, near, count, out):
     """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
-    section point (K, 2) among the samples ``near`` (K, S) of its reference angle, refined
-    by the parabola through the squared distances at the closest sample and its two
-    neighbours (``objectives.seeder_population.locate_sections`` / ``refine_minimum``):
-    out (P, K). The first smallest sample wins; a NaN distance is taken as numpy's argmin
-    takes it (the first NaN)."""
+    section point (K, 2) among the samples near[j, :count[j]] (ascending sample indices
+    within the window about point j's reference angle), refined by the parabola through
+    the squared distances at the closest sample and its two neighbours
+    (``objectives.seeder_population.locate_sections`` / ``refine_minimum``): out (P, K).
+    The first smallest sample wins; a NaN distance is taken as numpy's argmin takes it (the
+    first NaN); no sample in the window: sample 0."""
     S = tip.shape[1]
     step = psi[1] - psi[0]
     for p in range(lo, hi):
@@ -651,9 +652,8 @@ def _locate_rows_span(lo, hi, tip, psi, points, near, out):
             best = np.inf
             k = 0
             found = False
-            for i in range(S):
-                if not near[j, i]:
-                    continue
+            for n in range(count[j]):
+                i = near[j, n]
                 d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
                 if d2 != d2:
                     k = i
@@ -794,12 +794,13 @@ def _pitch_extremes_rows_threads(chunks, x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _locate_rows_threads(chunks, tip, psi, points, near, out):
+def _locate_rows_threads(chunks, tip, psi, points, near, count, out):
     """``_locate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run on
     numba's threads (``prange``); one chunk: one thread."""
     P = tip.shape[0]
     for ch in prange(chunks):
-        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, near, out)
+        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, near, count,
+                          out)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)

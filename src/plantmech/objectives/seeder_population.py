@@ -45,9 +45,13 @@ def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
     points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
     reference = np.asarray(reference, dtype=float).reshape(-1)
     near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
+    count = near.sum(axis=1)
+    # each point's window as its ascending sample indices (padded rows): the kernel scans
+    # those only, in the order the full mask would
+    order = np.argsort(~near, axis=1, kind="stable")
     out = np.empty((tip.shape[0], len(points)))
-    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points, near,
-                out)
+    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points,
+                np.ascontiguousarray(order, dtype=np.int64), count.astype(np.int64), out)
     return out
 
 
