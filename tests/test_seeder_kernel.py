@@ -112,3 +112,81 @@ def test_section_values_against_direct_numpy():
     low = np.minimum(dynamic[:, ef].min(axis=1),
                      np.minimum(at(dynamic, sec[4]), at(dynamic, sec[5])))
     assert np.allclose(got[:, 7], low, atol=1e-12)
+
+
+def test_spans_of_designs_on_threads_give_the_one_thread_result():
+    """The kernels split P designs into spans run on numba's threads (``chunks_for``):
+    every design is computed once, whatever the split (1, 3 or 7 spans, bit for bit)."""
+    from plantmech.mechanisms import seeder_kernel as K
+    from plantmech.mechanisms.seeder_batch import simulate_population
+
+    rng = np.random.default_rng(5)
+    P = 70
+    nodes = np.radians(np.arange(8) * 45.0)
+    R2, R3 = 60 + rng.uniform(-5, 5, (P, 8)), 60 + rng.uniform(-5, 5, (P, 8))
+    assert K.chunks_for(P) >= 1 and K.chunks_for(1) == 1
+    assert K.kernel_threads() >= 1
+    runs = []
+    for chunks in (1, 3, 7):
+        orig = K.chunks_for
+        K.chunks_for = lambda P, c=chunks: c
+        try:
+            m = simulate_population(nodes, R2, R3, 240.0, 450.0, None, None, 0.3, 0.3,
+                                    samples=90, dense=256, kind="hermite")
+            ext = pitch_curve_metrics(nodes, R2, m.a1, 0.1, "hermite", 90)
+            sec = section_values(m.carrier_angle, m.arm_angle, np.radians(
+                [10, 60, 120, 200, 250, 300]), m.tip_rate)
+        finally:
+            K.chunks_for = orig
+        runs.append((m.tip, m.arm_angle, m.a1, m.a2, ext["gear"]["min_kappa_r"], sec))
+    for other in runs[1:]:
+        for a, b in zip(runs[0], other, strict=True):
+            assert np.array_equal(a, b)
+
+
+def test_sincos_rows_is_numpys_cos_and_sin():
+    """The branch-free cos/sin of the simulation against numpy, at random angles, at the
+    quadrant boundaries (multiples of pi / 4 and just beside pi / 2 multiples) and at
+    several turns."""
+    from plantmech.mechanisms.seeder_kernel import sincos_rows
+
+    rng = np.random.default_rng(6)
+    x = np.r_[rng.uniform(-40, 40, 20000), np.arange(-40, 41) * np.pi / 4,
+              np.arange(-40, 41) * np.pi / 2 + 1e-9, 0.0, -0.0, 1e-300]
+    c, s = np.empty_like(x), np.empty_like(x)
+    sincos_rows(x, c, s, len(x))
+    assert np.abs(c - np.cos(x)).max() < 3e-16
+    assert np.abs(s - np.sin(x)).max() < 3e-16
+
+
+def test_kernel_threads_from_the_environment(monkeypatch):
+    """PLANTMECH_KERNEL_THREADS: unset -> one thread (one span whatever P); a bad value is
+    refused naming the variable."""
+    import pytest
+
+    from plantmech.mechanisms import seeder_kernel as K
+
+    monkeypatch.delenv("PLANTMECH_KERNEL_THREADS", raising=False)
+    assert K.kernel_threads() == 1 and K.chunks_for(10_000) == 1
+    monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", "2")
+    assert 1 <= K.kernel_threads() <= 2
+    assert K.chunks_for(10) == 1  # below PARALLEL_MIN_DESIGNS: one span
+    for bad in ("0", "two", "-1"):
+        monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", bad)
+        with pytest.raises(ValueError, match="PLANTMECH_KERNEL_THREADS"):
+            K.kernel_threads()
+
+
+def test_running_integral_split_sweeps_at_every_length():
+    """The sweeps run in two halves at once (the second corrected by the first's last
+    slope): odd and even lengths, tiny to large, against SciPy's not-a-knot antiderivative."""
+    for D in (4, 5, 6, 7, 16, 33, 2047, 2048):
+        t = np.linspace(0.0, TWO_PI, D + 1)
+        y = 1.0 + 0.3 * np.sin(3 * t) + 0.05 * np.abs(np.sin(t))
+        y2 = np.exp(np.cos(t)) + t / 10
+        cp, piv = spline_factors(D)
+        out, out2 = np.empty(D + 1), np.empty(D + 1)
+        _running_integrals(y, y2, D, t[1] - t[0], cp, piv, np.empty(D + 1), np.empty(D + 1),
+                           out, out2)
+        assert np.abs(out - CubicSpline(t, y).antiderivative()(t)).max() < 1e-12
+        assert np.abs(out2 - CubicSpline(t, y2).antiderivative()(t)).max() < 1e-12

@@ -16,9 +16,26 @@ start-up; its compilation is cached on disk (``cache=True``).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 TWO_PI = 2.0 * np.pi
+# below this many designs the kernels run on one thread (starting the others costs more)
+PARALLEL_MIN_DESIGNS = 64
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite_span(y0, y1, d0, d1, inv, xk, u0, h, j0, j1, value, slope):
+    """``_along``'s cubic of one knot interval (x[k], values y0, y1, slopes times the width
+    d0, d1, 1 / width ``inv``) at the body angles u0 + j h, j0 <= j < j1: a loop without
+    branches (SIMD)."""
+    dy = y0 - y1
+    for j in range(j0, j1):
+        t = (u0 + j * h - xk) * inv
+        t2 = t * t
+        t3 = t2 * t
+        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
+        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
+                    + (3 * t2 - 2 * t) * d1) * inv
 
 
 @njit(cache=True, error_model="numpy")
@@ -27,32 +44,44 @@ def _along(x, radii, slopes, n, c, h, D, value, slope):
     (x, radii) with node ``slopes`` (x, radii, slopes: n + 1 knots, the last x[0] + 2 pi;
     radii[n], slopes[n] the left limits there: radii[0], slopes[0] for a periodic curve,
     others at a break) at the body angles c + j h, j = 0..D (rad): one march through the
-    knots, no search per angle."""
+    knots, each interval's samples in one branch-free loop (a sample on a knot belongs to
+    the interval it starts; the last angle, a turn after the first, takes the left limit
+    at the end knot)."""
     u0 = c - x[0]
     u0 = x[0] + (u0 - TWO_PI * np.floor(u0 / TWO_PI))
     k = 0
     while k < n - 1 and x[k + 1] <= u0:
         k += 1
-    for j in range(D + 1):
-        u = u0 + j * h if j < D else u0 + TWO_PI
-        # the last angle closes the turn: at the end knot it takes the left limit there
-        while u > x[k + 1] or (u == x[k + 1] and (j < D or k + 1 < n)):
+    j0 = 0
+    while j0 < D:
+        xk1 = x[k + 1]
+        # j1: the first sample at or beyond the interval's end (at most D)
+        j1 = int(np.ceil((xk1 - u0) / h))
+        j1 = min(max(j1, j0), D)
+        while j1 > j0 and u0 + (j1 - 1) * h >= xk1:
+            j1 -= 1
+        while j1 < D and u0 + j1 * h < xk1:
+            j1 += 1
+        hk = xk1 - x[k]
+        _hermite_span(radii[k], radii[k + 1], slopes[k] * hk, slopes[k + 1] * hk, 1.0 / hk,
+                      x[k], u0, h, j0, j1, value, slope)
+        j0 = j1
+        if j0 < D:
             k += 1
             if k == n:
                 k = 0
                 u0 -= TWO_PI
-                u -= TWO_PI
-        hk = x[k + 1] - x[k]
-        inv = 1.0 / hk  # per sample: LLVM keeps it while k stays
-        t = (u - x[k]) * inv
-        y0, y1 = radii[k], radii[k + 1]
-        d0, d1 = slopes[k] * hk, slopes[k + 1] * hk
-        t2 = t * t
-        t3 = t2 * t
-        dy = y0 - y1
-        value[j] = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
-        slope[j] = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
-                    + (3 * t2 - 2 * t) * d1) * inv
+    # the closing angle: a turn after the first, the left limit at the end knot
+    u = u0 + TWO_PI
+    while u > x[k + 1] or (u == x[k + 1] and k + 1 < n):
+        k += 1
+        if k == n:
+            k = 0
+            u0 -= TWO_PI
+            u -= TWO_PI
+    hk = x[k + 1] - x[k]
+    _hermite_span(radii[k], radii[k + 1], slopes[k] * hk, slopes[k + 1] * hk, 1.0 / hk,
+                  x[k], u - D * h, h, D, D + 1, value, slope)
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
@@ -110,7 +139,7 @@ def _closing_centre_distance(r, D, turn):
     return a
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
     """Running integrals outa, outb [0..D] (from 0) of the not-a-knot cubic splines through
     the D + 1 samples ya, yb at uniform step h (the splines SciPy's ``CubicSpline(t, y)``
@@ -118,35 +147,147 @@ def _running_integrals(ya, yb, D, h, cp, piv, sa, sb, outa, outb):
     tridiagonal system s[i-1] + 4 s[i] + s[i+1] = 3 (q[i-1] + q[i]) (q the chord slopes),
     s[0] + 2 s[1] = (5 q[0] + q[1]) / 2 and 2 s[D-1] + s[D] = (q[D-2] + 5 q[D-1]) / 2 at
     the ends, by the Thomas sweep with the shared factors ``cp``, ``piv``
-    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12.
-    Two rows at once: each sweep is a chain of dependent operations, two independent
-    chains side by side keep the core busy. sa, sb: scratch rows (D + 1)."""
+    (``spline_factors``); per interval h (y[i] + y[i+1]) / 2 + h^2 (s[i] - s[i+1]) / 12,
+    whose running sum is the trapezoid's plus h^2 (s[0] - s[k]) / 12 (the slope terms
+    telescope). Two rows at once: each sweep is a chain of dependent multiply-adds, two
+    independent chains (and the trapezoid sums) side by side keep the core busy. sa, sb:
+    scratch rows (D + 1)."""
     n = D + 1
     three_over_h = 3.0 / h
+    half = 0.5 * h
     sa[0] = (0.5 * (5.0 * ((ya[1] - ya[0]) / h) + (ya[2] - ya[1]) / h)) * piv[0]
     sb[0] = (0.5 * (5.0 * ((yb[1] - yb[0]) / h) + (yb[2] - yb[1]) / h)) * piv[0]
-    for i in range(1, n - 1):
-        da = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h
-        db = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h
-        sa[i] = (da - sa[i - 1]) * piv[i]
-        sb[i] = (db - sb[i - 1]) * piv[i]
+    for i in range(1, n - 1):  # right-hand sides times the pivots (SIMD)
+        sa[i] = ((ya[i] - ya[i - 1]) + (ya[i + 1] - ya[i])) * three_over_h * piv[i]
+        sb[i] = ((yb[i] - yb[i - 1]) + (yb[i + 1] - yb[i])) * three_over_h * piv[i]
+    outa[0] = outb[0] = 0.0
+    # forward sweep s[i] -= piv[i] s[i-1] over 1..n-2 in two halves at once (four chains
+    # of multiply-adds): the second half starts from zero and then takes the first half's
+    # last slope, propagated by the product of -piv, until that product is below 1e-20
+    # (piv -> 2 - sqrt 3: about 35 steps); the trapezoid sums likewise, the second half's
+    # shifted by the first half's total
+    half_n = (n - 2) // 2
+    m = 1 + half_n  # the second half: m..n-2
+    ta = tb = ua = ub = 0.0
+    sa_prev = sa[0]
+    sb_prev = sb[0]
+    ua_prev = ub_prev = 0.0
+    for k in range(half_n):
+        i = 1 + k
+        j = m + k
+        sa_prev = sa[i] - sa_prev * piv[i]
+        sb_prev = sb[i] - sb_prev * piv[i]
+        ua_prev = sa[j] - ua_prev * piv[j]
+        ub_prev = sb[j] - ub_prev * piv[j]
+        sa[i] = sa_prev
+        sb[i] = sb_prev
+        sa[j] = ua_prev
+        sb[j] = ub_prev
+        ta += half * (ya[i - 1] + ya[i])
+        tb += half * (yb[i - 1] + yb[i])
+        ua += half * (ya[j - 1] + ya[j])
+        ub += half * (yb[j - 1] + yb[j])
+        outa[i] = ta
+        outb[i] = tb
+        outa[j] = ua
+        outb[j] = ub
+    for j in range(m + half_n, n - 1):  # the second half's extra sample (n - 2 odd)
+        ua_prev = sa[j] - ua_prev * piv[j]
+        ub_prev = sb[j] - ub_prev * piv[j]
+        sa[j] = ua_prev
+        sb[j] = ub_prev
+        ua += half * (ya[j - 1] + ya[j])
+        ub += half * (yb[j - 1] + yb[j])
+        outa[j] = ua
+        outb[j] = ub
+    prod = 1.0
+    for j in range(m, n - 1):
+        prod = -prod * piv[j]
+        sa[j] += prod * sa[m - 1]
+        sb[j] += prod * sb[m - 1]
+        if abs(prod) < 1e-20:
+            break
+    for j in range(m, n - 1):
+        outa[j] += ta
+        outb[j] += tb
+    outa[n - 1] = outa[n - 2] + half * (ya[n - 2] + ya[n - 1])
+    outb[n - 1] = outb[n - 2] + half * (yb[n - 2] + yb[n - 1])
     for y, s_ in ((ya, sa), (yb, sb)):
         qa = (y[n - 2] - y[n - 3]) / h
         qb = (y[n - 1] - y[n - 2]) / h
         s_[n - 1] = (0.5 * (qa + 5.0 * qb) - 2.0 * s_[n - 2]) * piv[n - 1]
-    for i in range(n - 2, -1, -1):
-        sa[i] -= cp[i] * sa[i + 1]
-        sb[i] -= cp[i] * sb[i + 1]
-    outa[0] = outb[0] = 0.0
-    acca = 0.0
-    accb = 0.0
+    # backward sweep s[i] -= cp[i] s[i+1] over n-2..0 in two halves the same way: the
+    # lower half (m-1..0) starts as if s[m] were zero, then takes s[m]'s propagation
+    va = sa[n - 1]
+    vb = sb[n - 1]
+    wa = wb = 0.0
+    for k in range(n - 1 - m):  # upper: n-2..m; lower: m-1..
+        i = n - 2 - k
+        va = sa[i] - cp[i] * va
+        vb = sb[i] - cp[i] * vb
+        sa[i] = va
+        sb[i] = vb
+        j = m - 1 - k
+        if j >= 0:
+            wa = sa[j] - cp[j] * wa
+            wb = sb[j] - cp[j] * wb
+            sa[j] = wa
+            sb[j] = wb
+    for j in range(m - 1 - (n - 1 - m), -1, -1):  # the lower half's rest (if longer)
+        wa = sa[j] - cp[j] * wa
+        wb = sb[j] - cp[j] * wb
+        sa[j] = wa
+        sb[j] = wb
+    prod = 1.0
+    for j in range(m - 1, -1, -1):
+        prod = -prod * cp[j]
+        sa[j] += prod * sa[m]
+        sb[j] += prod * sb[m]
+        if abs(prod) < 1e-20:
+            break
     hh = h * h / 12.0
-    half = 0.5 * h
-    for i in range(D):
-        acca += half * (ya[i] + ya[i + 1]) + hh * (sa[i] - sa[i + 1])
-        accb += half * (yb[i] + yb[i + 1]) + hh * (sb[i] - sb[i + 1])
-        outa[i + 1] = acca
-        outb[i + 1] = accb
+    s0a = sa[0]
+    s0b = sb[0]
+    for i in range(1, n):
+        outa[i] += hh * (s0a - sa[i])
+        outb[i] += hh * (s0b - sb[i])
+
+
+def kernel_threads() -> int:
+    """Threads the ``*_rows`` kernels may use: ``PLANTMECH_KERNEL_THREADS`` (a whole number
+    >= 1, at most numba's ``NUMBA_NUM_THREADS``), 1 when unset. One by default: on this
+    shared 2-core machine two threads measured slower in wall time than one (a thread that
+    loses its core holds the others at the join; docs/architecture.md), and the optimizer's
+    and Dask's worker processes already fill the cores."""
+    import os
+
+    raw = os.environ.get("PLANTMECH_KERNEL_THREADS", "1").strip() or "1"
+    try:
+        n = int(raw)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise ValueError(f"environment variable PLANTMECH_KERNEL_THREADS: {raw!r} is not a "
+                         "whole number >= 1")
+    if n == 1:
+        return 1
+    import numba
+
+    return min(n, numba.config.NUMBA_NUM_THREADS)
+
+
+def chunks_for(P: int) -> int:
+    """Spans of designs the ``*_rows`` kernels split P designs into: one (a single thread)
+    below ``PARALLEL_MIN_DESIGNS`` designs or with one kernel thread (``kernel_threads``),
+    else four per thread (spans of unequal cost balance out), numba's thread count set to
+    ``kernel_threads()``."""
+    threads = kernel_threads()
+    if P < PARALLEL_MIN_DESIGNS or threads == 1:
+        return 1
+    import numba
+
+    numba.set_num_threads(threads)
+    return min(P, 4 * threads)
 
 
 def spline_factors(D: int):
@@ -168,6 +309,46 @@ def spline_factors(D: int):
     return cp, piv
 
 
+# pi / 2 in three parts of 33 significant bits (fdlibm's split: q times each is exact for
+# |q| < 2^20) and the minimax polynomials of sin and cos on [-pi / 4, pi / 4] (fdlibm's
+# __kernel_sin / __kernel_cos coefficients)
+_PIO2_1 = 1.57079632673412561417e+00
+_PIO2_2 = 6.07710050630396597660e-11
+_PIO2_3 = 2.02226624871116645580e-21
+_INV_PIO2 = 6.36619772367581382433e-01
+_S1, _S2, _S3 = -1.66666666666666324348e-01, 8.33333333332248946124e-03, \
+    -1.98412698298579493134e-04
+_S4, _S5, _S6 = 2.75573137070700676789e-06, -2.50507602534068634195e-08, \
+    1.58969099521155010221e-10
+_C1, _C2, _C3 = 4.16666666666666019037e-02, -1.38888888888741095749e-03, \
+    2.48015872894767294178e-05
+_C4, _C5, _C6 = -2.75573143513906633035e-07, 2.08757232129817482790e-09, \
+    -1.13596475577881948265e-11
+
+
+@njit(cache=True, error_model="numpy")
+def sincos_rows(x, cos_out, sin_out, n):
+    """cos and sin of the angles x[:n] (rad) in one branch-free loop (SIMD; libm's scalar
+    calls were a quarter of the simulation): x = q pi / 2 + r with |r| <= pi / 4 (the
+    three-part reduction, exact to 1e-16 rad for |x| < 1e5), the polynomials of sin r and
+    cos r, and the quadrant q mod 4 swapping and negating them. Within 2.3e-16 of numpy's
+    cos and sin (tests/test_seeder_kernel.py)."""
+    for i in range(n):
+        v = x[i]
+        q = np.floor(v * _INV_PIO2 + 0.5)
+        r = ((v - q * _PIO2_1) - q * _PIO2_2) - q * _PIO2_3
+        z = r * r
+        sn = r + r * z * (_S1 + z * (_S2 + z * (_S3 + z * (_S4 + z * (_S5 + z * _S6)))))
+        cs = 1.0 - 0.5 * z + z * z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (
+            _C5 + z * _C6)))))
+        m = q - 4.0 * np.floor(q * 0.25)
+        odd = (m == 1.0) or (m == 3.0)
+        a = cs if odd else sn
+        b = sn if odd else cs
+        sin_out[i] = -a if m >= 2.0 else a
+        cos_out[i] = -b if (m == 1.0 or m == 2.0) else b
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def _hermite(y0, y1, d0, d1, h, s):
     """Cubic Hermite value at fraction s of an interval of width h."""
@@ -186,12 +367,12 @@ def _hermite_slope(y0, y1, d0, d1, h, s):
 
 
 @njit(cache=True, error_model="numpy")
-def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, turn1, D,
-                  psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2, carrier0, arm0,
-                  play, has_play, rescale, cp, piv, tip, arm, ratio, rate, gear2, closure,
-                  a1_out, a2_out):
-    """Every design p of the population, one after the other with one set of scratch
-    rows (parallelism is the callers' processes: optimizer workers, Dask): node radii R2,
+def _simulate_rows_span(lo, hi, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2,
+                        turn1, D, psi, cos_psi, sin_psi, target, in_dwell, theta1, L1, L2,
+                        carrier0, arm0, play, has_play, rescale, cp, piv, tip, arm, ratio,
+                        rate, gear2, closure, a1_out, a2_out):
+    """Designs lo..hi - 1 of the population, one after the other with one set of scratch
+    rows (``simulate_rows`` runs spans of designs on numba's threads): node radii R2,
     R3 (P, N2 + 1), (P, N3 + 1) with node slopes S2, S3 at knots x2 (N2 + 1), x3 (N3 + 1)
     (the last column the left limit at x[0] + 2 pi, ``_along``), contact angles c2, c3 (P,),
     centre distances a*_in (P,) or solved (``solve1``/``solve2``: for turns turn1 and
@@ -200,7 +381,6 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
     samples ``psi`` (S,) (their cos and sin) with their meshing targets and dwell mask;
     per-design L1, L2, carrier0, arm0, play (P,). Writes tip, rate (P, S, 2), arm, ratio,
     gear2 (P, S), closure (P, 2), a1_out, a2_out (P,)."""
-    P = R2.shape[0]
     N2, N3 = x2.shape[0] - 1, x3.shape[0] - 1
     S = psi.shape[0]
     h = TWO_PI / D
@@ -214,8 +394,15 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
     planet = np.empty(D + 1)
     slopes = np.empty(D + 1)
     slopes_b = np.empty(D + 1)
+    work_b = np.empty(S)
+    at = np.empty(S, dtype=np.int64)
+    goal = np.empty(S)
+    turn_of = np.empty(S)
+    g = np.empty((16, S))
+    cos_b = np.empty(S)
+    sin_b = np.empty(S)
     span = TWO_PI - theta1
-    for p in range(P):
+    for p in range(lo, hi):
         _along(x2, R2[p], S2[p], N2, c2[p], h, D, r2, dr2)
         _along(x3, R3[p], S3[p], N3, c3[p], h, D, r3, dr3)
         a1 = _closing_centre_distance(r2, D, turn1) if solve1 else a1_in[p]
@@ -232,6 +419,7 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
         turns = 0
         base = 0.0
         ca = carrier0[p]
+        # the merge walk: each sample's interval of the rolling integral and its turns
         for i in range(S):
             tg = target[i] - base
             # an unclosed pair (not rescaled): gear 2 turns on past its turn, the rolling
@@ -244,40 +432,53 @@ def simulate_rows(x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1, solve2, 
             while k < D and sun[k + 1] * scale <= tg:
                 k += 1
             kk = k if k < D else D - 1
-            y0, y1 = sun[kk] * scale, sun[kk + 1] * scale
-            d0, d1 = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            at[i] = kk
+            goal[i] = tg
+            turn_of[i] = turns
+            # the interval's ends gathered into rows (the next loop reads them in order)
+            g[0, i], g[1, i] = sun[kk] * scale, sun[kk + 1] * scale
+            g[2, i], g[3, i] = f_sun[kk] * scale, f_sun[kk + 1] * scale
+            g[4, i], g[5, i], g[6, i], g[7, i] = planet[kk], planet[kk + 1], f_pl[kk], f_pl[kk + 1]
+            g[8, i], g[9, i], g[10, i], g[11, i] = r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1]
+            g[12, i], g[13, i], g[14, i], g[15, i] = r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1]
+        # then per sample without branches: Newton on the interval's cubic and the
+        # Hermite values at the root
+        pD, arm_shift = planet[D], arm0[p] - ca
+        for i in range(S):
+            tg = goal[i]
+            y0, y1, d0, d1 = g[0, i], g[1, i], g[2, i], g[3, i]
             s = (tg - y0) / max(y1 - y0, 1e-300)
-            for _ in range(3):  # Newton on the cubic (3 steps at most, as before)
+            for _ in range(2):  # Newton on the cubic (from the chord's guess, two steps)
                 val = _hermite(y0, y1, d0, d1, h, s) - tg
                 ds = val / _hermite_slope(y0, y1, d0, d1, h, s)
                 s = min(max(s - ds, 0.0), 1.0)
-                if abs(ds) < 1e-15:
-                    break
-            gear2[p, i] = turns * TWO_PI + kk * h + s * h
-            rel = turns * planet[D] + _hermite(planet[kk], planet[kk + 1], f_pl[kk],
-                                               f_pl[kk + 1], h, s)
-            r2s = _hermite(r2[kk], r2[kk + 1], dr2[kk], dr2[kk + 1], h, s)
-            r3s = _hermite(r3[kk], r3[kk + 1], dr3[kk], dr3[kk + 1], h, s)
+            gear2[p, i] = turn_of[i] * TWO_PI + at[i] * h + s * h
+            rel = turn_of[i] * pD + _hermite(g[4, i], g[5, i], g[6, i], g[7, i], h, s)
+            r2s = _hermite(g[8, i], g[9, i], g[10, i], g[11, i], h, s)
+            r3s = _hermite(g[12, i], g[13, i], g[14, i], g[15, i], h, s)
             ratio[p, i] = 0.0 if in_dwell[i] else (a1 - r2s) / r2s * r3s / (a2 - r3s)
-            arm[p, i] = (ca - psi[i]) + rel + (arm0[p] - ca)
+            arm[p, i] = (ca - psi[i]) + rel + arm_shift
         cc0, sc0 = np.cos(ca), np.sin(ca)
-        for i in range(S):
-            b = arm[p, i]
-            if has_play:
+        if has_play:
+            for i in range(S):
                 ip = i + 1 if i + 1 < S else 0
                 slope = ratio[p, ip] - ratio[p, i - 1]
                 sg = 1.0 if slope > 0 else (-1.0 if slope < 0 else 0.0)
-                b = b - 0.5 * play[p] * sg
-                arm[p, i] = b
+                work_b[i] = arm[p, i] - 0.5 * play[p] * sg
+            for i in range(S):
+                arm[p, i] = work_b[i]
+        sincos_rows(arm[p], cos_b, sin_b, S)
+        l1, l2 = L1[p], L2[p]
+        for i in range(S):
             # cos, sin of the carrier direction carrier0 - psi by the difference formulae
             cc = cc0 * cos_psi[i] + sc0 * sin_psi[i]
             sc = sc0 * cos_psi[i] - cc0 * sin_psi[i]
-            cb, sb = np.cos(b), np.sin(b)
+            cb, sb = cos_b[i], sin_b[i]
             turn = ratio[p, i] - 1.0
-            tip[p, i, 0] = L1[p] * cc + L2[p] * cb
-            tip[p, i, 1] = L1[p] * sc + L2[p] * sb
-            rate[p, i, 0] = L1[p] * sc - L2[p] * turn * sb
-            rate[p, i, 1] = -L1[p] * cc + L2[p] * turn * cb
+            tip[p, i, 0] = l1 * cc + l2 * cb
+            tip[p, i, 1] = l1 * sc + l2 * sb
+            rate[p, i, 0] = l1 * sc - l2 * turn * sb
+            rate[p, i, 1] = -l1 * cc + l2 * turn * cb
 
 
 
@@ -304,7 +505,7 @@ def _curvature(rho, drho, ddrho, dphi, ddphi):
 
 
 @njit(cache=True, error_model="numpy")
-def pitch_extremes_rows(x, R, Sl, c, a, M, out):
+def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
     """Per design p: the shape extremes of gear and mate of one external pair (a gear's
     radii R (P, N) with node slopes Sl at knots x (N + 1), its body angle c (P,) at the
     start, centre distance a (P,), M samples over a turn of the gear, as
@@ -315,75 +516,119 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
     smallest curvature x radius and the number of concave spans (cyclic; one when all is
     concave); then the largest angle mu = atan(|r'| / r) (rad) between the pitch tangent
     and the normal to the radius vector, and the largest |mu| (NaN kept as numpy's min and
-    max keep it)."""
+    max keep it).
+
+    Per sample the curvature kappa = num / speed^3 (``_curvature``'s terms) is the one
+    division per curve: the smallest convex (concave) radius of curvature is 1 / the
+    largest (most negative) curvature."""
     P, N = R.shape
     step = TWO_PI / M
+    inv_width = np.empty(N)
+    for k in range(N):
+        inv_width[k] = 1.0 / (x[k + 1] - x[k])
     acc = np.empty(12)
-    for p in range(P):
+    g = np.empty((6, M))  # per sample: t, 1 / width, y0, y1, d0, d1 of its interval
+    q = np.empty((5, M))  # per sample: r, mate curvature, gear curvature, speeds
+    qm = np.empty((2, M))  # per sample: mate speed, |r'| / r
+    for p in range(lo, hi):
         for col in (0, 6):
-            acc[col] = acc[col + 1] = acc[col + 2] = acc[col + 4] = np.inf
+            acc[col] = acc[col + 1] = 0.0  # largest convex / concave curvature
+            acc[col + 2] = acc[col + 4] = np.inf
             acc[col + 3] = acc[col + 5] = 0.0
         ratio_max = ratio_abs = -np.inf
-        prev = np.zeros(2, dtype=np.bool_)
-        first = np.zeros(2, dtype=np.bool_)
-        every = np.ones(2, dtype=np.bool_)
+        prev0 = prev1 = False
+        first0 = first1 = False
+        every0 = every1 = True
         ap = a[p]
+        w0 = (c[p] - x[0]) % TWO_PI
         k = 0
-        for j in range(M):
-            # the angle as the matrix path wrapped it (a knot on a sample takes the span
+        for j in range(M):  # the march: each sample's interval, gathered into rows
+            # the angle wrapped into the turn from x[0] (a knot on a sample takes the span
             # that starts there, where the second derivative of a C1 curve jumps)
-            u = x[0] + ((j * step + c[p]) - x[0]) % TWO_PI
+            w = w0 + j * step
+            if w >= TWO_PI:
+                w -= TWO_PI
+            u = x[0] + w
             if u < x[k]:
                 k = 0
             while k < N - 1 and x[k + 1] <= u:
                 k += 1
             hk = x[k + 1] - x[k]
-            t = (u - x[k]) / hk
             k1 = k + 1 if k + 1 < N else 0
-            y0, y1 = R[p, k], R[p, k1]
-            d0, d1 = Sl[p, k] * hk, Sl[p, k1] * hk
+            g[0, j] = (u - x[k]) * inv_width[k]
+            g[1, j] = inv_width[k]
+            g[2, j], g[3, j] = R[p, k], R[p, k1]
+            g[4, j], g[5, j] = Sl[p, k] * hk, Sl[p, k1] * hk
+        for j in range(M):  # the curves' values, no branches (SIMD)
+            t, ih, y0, y1, d0, d1 = g[0, j], g[1, j], g[2, j], g[3, j], g[4, j], g[5, j]
             t2 = t * t
             t3 = t2 * t
             dy = y0 - y1
             r = y0 + (2 * t3 - 3 * t2) * dy + (t3 - 2 * t2 + t) * d0 + (t3 - t2) * d1
             r1 = ((6 * t2 - 6 * t) * dy + (3 * t2 - 4 * t + 1) * d0
-                  + (3 * t2 - 2 * t) * d1) / hk
-            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) / (hk * hk)
+                  + (3 * t2 - 2 * t) * d1) * ih
+            r2 = ((12 * t - 6) * dy + (6 * t - 4) * d0 + (6 * t - 2) * d1) * (ih * ih)
             m = ap - r
+            r1r1 = r1 * r1
+            # the gear: rho = r, phi = t
+            num = r * r + 2 * r1r1 - r * r2
+            sp2 = r1r1 + r * r
+            sp = np.sqrt(sp2)
+            # the mate: rho = m, rho' = -r', rho'' = -r'', phi' = r / m, phi'' = a r' / m^2
+            im = 1.0 / m
+            dphi = r * im
+            ddphi = ap * r1 * im * im
+            num_m = m * m * (dphi * dphi * dphi) + 2 * r1r1 * dphi + m * r2 * dphi \
+                - m * r1 * ddphi
+            sp2m = r1r1 + (m * dphi) * (m * dphi)
+            spm = np.sqrt(sp2m)
+            q[0, j] = r
+            q[1, j] = num_m / (sp2m * spm)
+            q[2, j] = num / (sp2 * sp)
+            q[3, j] = sp
+            qm[0, j] = spm
+            qm[1, j] = np.abs(r1) / r
+        for j in range(M):  # the extremes and the concave spans
+            r = q[0, j]
+            kap_g, kap_m = q[2, j], q[1, j]
             for curve in range(2):
                 if curve == 0:
-                    rho = r
-                    rc, speed = _curvature(r, r1, r2, 1.0, 0.0)
+                    rho, kappa, speed, col = r, kap_g, q[3, j], 0
                 else:
-                    rho = m
-                    rc, speed = _curvature(m, -r1, -r2, r / m, ap * r1 / (m * m))
-                col = 6 * curve
-                if rc > 0 and rc < acc[col]:
-                    acc[col] = rc
-                if rc < 0 and -rc < acc[col + 1]:
-                    acc[col + 1] = -rc
+                    rho, kappa, speed, col = ap - r, kap_m, qm[0, j], 6
+                if kappa > acc[col]:
+                    acc[col] = kappa
+                if -kappa > acc[col + 1]:
+                    acc[col + 1] = -kappa
                 acc[col + 2] = _nan_min(acc[col + 2], rho)
                 acc[col + 3] += speed
-                kappa = 1.0 / rc
                 acc[col + 4] = _nan_min(acc[col + 4], kappa * rho)
-                concave = kappa < 0
-                if j == 0:
-                    first[curve] = concave
-                elif concave and not prev[curve]:
-                    acc[col + 5] += 1.0
-                prev[curve] = concave
-                every[curve] = every[curve] and concave
+            concave0 = kap_g < 0
+            concave1 = kap_m < 0
+            if j == 0:
+                first0 = concave0
+                first1 = concave1
+            else:
+                if concave0 and not prev0:
+                    acc[5] += 1.0
+                if concave1 and not prev1:
+                    acc[11] += 1.0
+            prev0 = concave0
+            prev1 = concave1
+            every0 = every0 and concave0
+            every1 = every1 and concave1
             # atan is monotonic: the largest angle is the angle of the largest |r'| / r
-            ratio = np.abs(r1) / r
+            ratio = qm[1, j]
             ratio_max = _nan_max(ratio_max, ratio)
             ratio_abs = _nan_max(ratio_abs, abs(ratio))
-        for curve in range(2):
-            col = 6 * curve
-            if first[curve] and not prev[curve]:  # a span starting at sample 0 (cyclic)
+        for col, first, prev, every in ((0, first0, prev0, every0), (6, first1, prev1, every1)):
+            if first and not prev:  # a span starting at sample 0 (cyclic)
                 acc[col + 5] += 1.0
-            if every[curve]:
+            if every:
                 acc[col + 5] += 1.0
             acc[col + 3] *= step
+            acc[col] = np.inf if acc[col] == 0.0 else 1.0 / acc[col]
+            acc[col + 1] = np.inf if acc[col + 1] == 0.0 else 1.0 / acc[col + 1]
         for i in range(12):
             out[p, i] = acc[i]
         out[p, 12] = np.arctan(ratio_max)
@@ -391,24 +636,24 @@ def pitch_extremes_rows(x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy")
-def locate_rows(tip, psi, points, near, out):
+def _locate_rows_span(lo, hi, tip, psi, points, near, count, out):
     """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
-    section point (K, 2) among the samples ``near`` (K, S) of its reference angle, refined
-    by the parabola through the squared distances at the closest sample and its two
-    neighbours (``objectives.seeder_population.locate_sections`` / ``refine_minimum``):
-    out (P, K). The first smallest sample wins; a NaN distance is taken as numpy's argmin
-    takes it (the first NaN)."""
-    P, S = tip.shape[0], tip.shape[1]
+    section point (K, 2) among the samples near[j, :count[j]] (ascending sample indices
+    within the window about point j's reference angle), refined by the parabola through
+    the squared distances at the closest sample and its two neighbours
+    (``objectives.seeder_population.locate_sections`` / ``refine_minimum``): out (P, K).
+    The first smallest sample wins; a NaN distance is taken as numpy's argmin takes it (the
+    first NaN); no sample in the window: sample 0."""
+    S = tip.shape[1]
     step = psi[1] - psi[0]
-    for p in range(P):
+    for p in range(lo, hi):
         for j in range(points.shape[0]):
             px, py = points[j, 0], points[j, 1]
             best = np.inf
             k = 0
             found = False
-            for i in range(S):
-                if not near[j, i]:
-                    continue
+            for n in range(count[j]):
+                i = near[j, n]
                 d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
                 if d2 != d2:
                     k = i
@@ -452,13 +697,16 @@ def _speed_at(psi, vx, vy, where, travel):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _in_section(psi_i, start, span):
-    return (psi_i - start) % TWO_PI <= span
+def _offset(psi_i, start0):
+    """(psi_i - start0) mod 2 pi for psi_i and start0 in [0, 2 pi): one subtraction and,
+    behind the start, one turn added."""
+    d = psi_i - start0
+    return d + TWO_PI if d < 0 else d
 
 
 @njit(cache=True, error_model="numpy")
-def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, travel, given,
-                            out):
+def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_scale, sec, travel,
+                                  given, out):
     """Section-4.1 values of every design (what ``section_swing``, ``_at`` and
     ``section_extreme`` of ``objectives.seeder_population`` gave, fused): the attitude
     rel = (angle - angle[:, 0]) * angle_scale (deg) of angles (P, S), the tip velocity
@@ -468,23 +716,28 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
     attitude at e (signed), the horizontal speed at e, the travel speed, the seeding
     section's peak static speed (de), the return section's least static and least dynamic
     speed (ef). Section ends are interpolated and included; NaN is kept as numpy's max and
-    min keep it."""
+    min keep it. A sample psi[i] is in the section [start, start + span] when
+    (psi[i] - start) mod 2 pi <= span (``_offset``: one subtraction, psi in [0, 2 pi))."""
     P, S = angle.shape
     rel = np.empty(S)
     vx = np.empty(S)
     vy = np.empty(S)
-    for p in range(P):
+    static = np.empty(S)
+    for p in range(lo, hi):
         for i in range(S):
             rel[i] = (angle[p, i] - angle[p, 0]) * angle_scale
             vx[i] = rate[p, i, 0] * rate_scale
             vy[i] = rate[p, i, 1] * rate_scale
+        for i in range(S):
+            static[i] = np.sqrt(vx[i] * vx[i] + vy[i] * vy[i])
         for col, s0, s1 in ((0, 0, 1), (1, 3, 4)):  # attitude swings over ab and de
             start, end = sec[p, s0], sec[p, s1]
             ref = _at_row(psi, rel, start)
             span = (end - start) % TWO_PI
+            start0 = start % TWO_PI
             dev = -np.inf
             for i in range(S):
-                d = abs(rel[i] - ref) if _in_section(psi[i], start, span) else 0.0
+                d = abs(rel[i] - ref) if _offset(psi[i], start0) <= span else 0.0
                 dev = _nan_max(dev, d)
             out[p, col] = _nan_max(dev, abs(_at_row(psi, rel, end) - ref))
         d_, e, f = sec[p, 3], sec[p, 4], sec[p, 5]
@@ -495,16 +748,18 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
         out[p, 4] = tr
         span_de = (e - d_) % TWO_PI
         span_ef = (f - e) % TWO_PI
+        d0 = d_ % TWO_PI
+        e0 = e % TWO_PI
         peak = -np.inf
         low_s = np.inf
         low_d = np.inf
         for i in range(S):
-            st = np.hypot(vx[i], vy[i])
-            if _in_section(psi[i], d_, span_de):
-                peak = _nan_max(peak, st)
-            if _in_section(psi[i], e, span_ef):
-                low_s = _nan_min(low_s, st)
-                low_d = _nan_min(low_d, np.hypot(vx[i] - tr, vy[i]))
+            if _offset(psi[i], d0) <= span_de:
+                peak = _nan_max(peak, static[i])
+            if _offset(psi[i], e0) <= span_ef:
+                low_s = _nan_min(low_s, static[i])
+                wx = vx[i] - tr
+                low_d = _nan_min(low_d, np.sqrt(wx * wx + vy[i] * vy[i]))
         # the section ends: the speed samples interpolated
         for w in (d_, e):
             peak = _nan_max(peak, _speed_at(psi, vx, vy, w, 0.0))
@@ -512,3 +767,82 @@ def section_objectives_rows(psi, angle, angle_scale, rate, rate_scale, sec, trav
             low_s = _nan_min(low_s, _speed_at(psi, vx, vy, w, 0.0))
             low_d = _nan_min(low_d, _speed_at(psi, vx, vy, w, tr))
         out[p, 5], out[p, 6], out[p, 7] = peak, low_s, low_d
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _simulate_rows_threads(chunks, x2, R2, S2, x3, R3, S3, c2, c3, a1_in, a2_in, solve1,
+                           solve2, turn1, D, psi, cos_psi, sin_psi, target, in_dwell, theta1,
+                           L1, L2, carrier0, arm0, play, has_play, rescale, cp, piv, tip, arm,
+                           ratio, rate, gear2, closure, a1_out, a2_out):
+    """``_simulate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run
+    on numba's threads (``prange``); one chunk: one thread."""
+    P = R2.shape[0]
+    for ch in prange(chunks):
+        _simulate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, x2, R2, S2, x3, R3, S3, c2,
+            c3, a1_in, a2_in, solve1, solve2, turn1, D, psi, cos_psi, sin_psi, target,
+            in_dwell, theta1, L1, L2, carrier0, arm0, play, has_play, rescale, cp, piv,
+            tip, arm, ratio, rate, gear2, closure, a1_out, a2_out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _pitch_extremes_rows_threads(chunks, x, R, Sl, c, a, M, out):
+    """``_pitch_extremes_rows_span`` over all P designs in ``chunks`` contiguous spans of designs,
+    run on numba's threads (``prange``); one chunk: one thread."""
+    P = R.shape[0]
+    for ch in prange(chunks):
+        _pitch_extremes_rows_span(ch * P // chunks, (ch + 1) * P // chunks, x, R, Sl, c, a, M, out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _locate_rows_threads(chunks, tip, psi, points, near, count, out):
+    """``_locate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run on
+    numba's threads (``prange``); one chunk: one thread."""
+    P = tip.shape[0]
+    for ch in prange(chunks):
+        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, near, count,
+                          out)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _section_objectives_rows_threads(chunks, psi, angle, angle_scale, rate, rate_scale, sec,
+                                     travel, given, out):
+    """``_section_objectives_rows_span`` over all P designs in ``chunks`` contiguous spans of
+    designs, run on numba's threads (``prange``); one chunk: one thread."""
+    P = angle.shape[0]
+    for ch in prange(chunks):
+        _section_objectives_rows_span(ch * P // chunks, (ch + 1) * P // chunks, psi, angle,
+            angle_scale, rate, rate_scale, sec, travel, given, out)
+
+
+def _run(span, threaded, P, args):
+    """``span(0, P, *args)``, or ``threaded(chunks, *args)`` when ``chunks_for(P)`` splits
+    the designs (a one-span call stays out of numba's thread pool)."""
+    chunks = chunks_for(P)
+    if chunks == 1:
+        span(0, P, *args)
+    else:
+        threaded(chunks, *args)
+
+
+def simulate_rows(*args):
+    """``_simulate_rows_span`` over every design (R2.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_simulate_rows_threads``)."""
+    _run(_simulate_rows_span, _simulate_rows_threads, args[1].shape[0], args)
+
+
+def pitch_extremes_rows(*args):
+    """``_pitch_extremes_rows_span`` over every design (R.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_pitch_extremes_rows_threads``)."""
+    _run(_pitch_extremes_rows_span, _pitch_extremes_rows_threads, args[1].shape[0], args)
+
+
+def locate_rows(*args):
+    """``_locate_rows_span`` over every design (tip.shape[0] of them): on one thread, or
+    on ``kernel_threads()`` threads in spans (``_locate_rows_threads``)."""
+    _run(_locate_rows_span, _locate_rows_threads, args[0].shape[0], args)
+
+
+def section_objectives_rows(*args):
+    """``_section_objectives_rows_span`` over every design (angle.shape[0] of them): on one
+    thread, or on ``kernel_threads()`` threads in spans (``_section_objectives_rows_threads``)."""
+    _run(_section_objectives_rows_span, _section_objectives_rows_threads, args[1].shape[0], args)

@@ -45,8 +45,13 @@ def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
     points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
     reference = np.asarray(reference, dtype=float).reshape(-1)
     near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
+    count = near.sum(axis=1)
+    # each point's window as its ascending sample indices (padded rows): the kernel scans
+    # those only, in the order the full mask would
+    order = np.argsort(~near, axis=1, kind="stable")
     out = np.empty((tip.shape[0], len(points)))
-    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points, near, out)
+    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points,
+                np.ascontiguousarray(order, dtype=np.int64), count.astype(np.int64), out)
     return out
 
 
@@ -72,7 +77,8 @@ def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
     travel = np.ascontiguousarray(np.broadcast_to(
         np.asarray(travel_m_s if given else 0.0, dtype=float), (P,)))
     out = np.empty((P, 8))
-    section_objectives_rows(np.asarray(psi, dtype=float), angle, float(angle_scale),
+    section_objectives_rows(np.asarray(psi, dtype=float), angle,
+                            float(angle_scale),
                             np.ascontiguousarray(np.asarray(rate, dtype=float)),
                             float(rate_scale), sec, travel, given, out)
     return out
@@ -105,8 +111,8 @@ def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
     row = lambda v: np.ascontiguousarray(  # noqa: E731
         np.broadcast_to(np.asarray(v, dtype=float), (P,)))
     ext = np.empty((P, 14))
-    pitch_extremes_rows(np.r_[nodes, nodes[0] + TWO_PI], R, slopes, row(contact0), row(a),
-                        int(dense), ext)
+    pitch_extremes_rows(np.r_[nodes, nodes[0] + TWO_PI], R, slopes,
+                        row(contact0), row(a), int(dense), ext)
     out = {}
     for key, col in (("gear", 0), ("mate", 6)):
         out[key] = {"min_kappa_r": ext[:, col + 4], "concave_spans": ext[:, col + 5],
