@@ -471,7 +471,31 @@ def _json_path() -> Path | None:
     return out
 
 
+USAGE = """usage: bench.py [--json PATH] [--verify-only | --transplanter-only |
+                            --seeder-population-only | --study-only]
+                [--study-samples N] [--study-repeat N] [--layered] [--design]
+
+Without an --*-only flag every benchmark runs (minutes), then the app's (app_bench.py);
+--layered and --design add the long end-to-end jobs to that run. --json PATH also writes
+the named figures (value, unit, target, met, load, commit)."""
+KNOWN = {"--json", "--verify-only", "--transplanter-only", "--seeder-population-only",
+         "--study-only", "--study-samples", "--study-repeat", "--layered", "--design"}
+
+
+def _check_arguments() -> None:
+    """``--help`` prints the usage; an unknown option exits 2 naming it (each run takes
+    minutes: a typo must not start them all)."""
+    if {"-h", "--help"} & set(sys.argv):
+        print(USAGE)
+        sys.exit(0)
+    for a in sys.argv[1:]:
+        if a.startswith("-") and a not in KNOWN:
+            print(f"error: unknown option {a}\n{USAGE}", file=sys.stderr)
+            sys.exit(2)
+
+
 if __name__ == "__main__":
+    _check_arguments()
     json_out = _json_path()
     main()
     if not {"--study-only", "--transplanter-only", "--seeder-population-only"} & set(sys.argv):

@@ -26,3 +26,20 @@ def test_figures_are_written_by_name_with_their_verdict(tmp_path, monkeypatch):
     assert f["optimize_first_feasible_s"]["value"] is None  # never reached: no Infinity
     assert f["optimize_first_feasible_s"]["met"] is False
     assert doc["machine"]["cores"] >= 1
+
+
+def test_bench_help_and_unknown_options_run_nothing():
+    """`bench.py --help` prints its usage and a mistyped option exits 2 naming it, both
+    at once (each benchmark run takes minutes)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    bench = Path(__file__).resolve().parents[1] / "benchmarks" / "bench.py"
+    r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0 and "usage: bench.py" in r.stdout and "--seeder-population-only" \
+        in r.stdout
+    r = subprocess.run([sys.executable, str(bench), "--verfy-only"], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 2 and "unknown option --verfy-only" in r.stderr
