@@ -54,7 +54,8 @@ def _cut():
     for method, steps in (("envelope", 24), ("simulated", 24), ("simulated", 96)):
         out[method, steps] = envelope_cut_made(pa, pb, th, r, phib, a,
                                                replace(spec, method=method), 0.0,
-                                               internal=False, steps_per_pitch=steps)
+                                               internal=False, steps_per_pitch=steps,
+                                               mate_envelope=True)
     return out
 
 
