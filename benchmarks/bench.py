@@ -241,19 +241,21 @@ def main() -> None:
         d.trajectory.samples = samples
         run_seeder_inverse(d)  # first call: imports, numba kernels loaded from their cache
         wall, cpu = [], []
-        for _ in range(15 if samples <= 3600 else 5):
+        for _ in range(25 if samples <= 3600 else 5):
             c0, t0 = time.process_time(), time.perf_counter()
             run_seeder_inverse(d)
             wall.append(time.perf_counter() - t0)
             cpu.append(time.process_time() - c0)
-        ok = "met" if min(wall) < 0.010 else "NOT met"
-        print(f"inverse design (checks included), {samples} samples: {min(wall) * 1e3:.1f} ms "
-              f"(best of {len(wall)}; median {np.median(wall) * 1e3:.1f} ms wall, "
-              f"{np.median(cpu) * 1e3:.1f} ms CPU"
+        # judged by the median (a best-of-N says what the machine can do, not what it does)
+        med = float(np.median(wall))
+        ok = "met" if med < 0.010 else "NOT met"
+        print(f"inverse design (checks included), {samples} samples: median {med * 1e3:.1f} "
+              f"ms wall, {np.median(cpu) * 1e3:.1f} ms CPU (best {min(wall) * 1e3:.1f} ms of "
+              f"{len(wall)}"
               + (f"; target < 10 ms: {ok}" if samples == 3600 else "")
               + f"; load average {os.getloadavg()[0]:.1f})")
-        figure(f"inverse_design_{samples}_ms", min(wall) * 1e3, "ms",
-               10.0 if samples == 3600 else None, median_wall_ms=float(np.median(wall)) * 1e3,
+        figure(f"inverse_design_{samples}_ms", med * 1e3, "ms",
+               10.0 if samples == 3600 else None, best_wall_ms=min(wall) * 1e3,
                median_cpu_ms=float(np.median(cpu)) * 1e3, runs=len(wall))
     from plantmech.mechanisms.seeder_forward import simulate
     from plantmech.verification import train_from_inverse
