@@ -10,11 +10,12 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install -q -e '.[dev]'
 	touch $(STAMP)
 
-# The main job on the bundled examples. Exit 4 is a design verdict ("not met", printed last
-# with what fails), not a failure of the run: make reports it and goes on.
+# The main job on the bundled examples. The seeder's exit 4 is its design verdict ("not met",
+# printed last with what fails: its gears cannot be cut, docs/manufacturability.md), not a
+# failure of the run: make reports it and goes on. The published transplanter must end ok.
 run: $(STAMP)
 	$(VENV)/bin/plantmech design examples/sugarcane_seeder.toml --out out/sugarcane_seeder --force --quiet || test $$? -eq 4
-	$(VENV)/bin/plantmech design examples/rice_transplanter_manufacturable.toml --out out/rice_transplanter --force --quiet || test $$? -eq 4
+	$(VENV)/bin/plantmech design examples/rice_transplanter.toml --out out/rice_transplanter --force --quiet
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
