@@ -13,7 +13,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import app_bench  # noqa: E402
 import figures  # noqa: E402
 
-BURN = "import time\nt = time.process_time()\nwhile time.process_time() - t < {s}: pass\n"
+# the child sleeps first (so the parent's first reading falls before its burn, however fast
+# the machine), burns, then stays alive (its seconds are read from the live process)
+BURN = ("import time\ntime.sleep(1.0)\nt = time.process_time()\n"
+        "while time.process_time() - t < {s}: pass\ntime.sleep(30)\n")
 
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc")
@@ -25,9 +28,9 @@ def test_cpu_is_split_between_a_process_and_its_children():
             "time.sleep(30)\n")
     parent = subprocess.Popen([sys.executable, "-c", code])
     try:
-        time.sleep(0.3)  # the child has started
+        time.sleep(0.5)  # the child has started and sleeps
         own0, kids0 = app_bench.process_cpu_split_s(parent.pid)
-        time.sleep(1.5)  # the child burns its 0.4 s meanwhile (2 s of wall on a busy box)
+        time.sleep(1.5)  # the child burns its 0.4 s meanwhile (longer on a busy box)
         deadline = time.time() + 20
         while time.time() < deadline:
             own1, kids1 = app_bench.process_cpu_split_s(parent.pid)
