@@ -232,10 +232,13 @@ TOOTH_FIT_STAGES = (
 
 
 def staged(design, build, stages, algorithm: str, seed: int, generations: int, pop: int,
-           progress: bool = True, hook=None):
+           progress: bool = True, hook=None, final=None):
     """Run ``build(current_design, stage)`` problems one after the other, each starting
     from the previous stage's best (stage[-1] is its share of ``generations``); stop at the
-    first design meeting every objective. Returns (last problem, its result with
+    first design meeting every objective. ``final(k)``: whether stage k's problem holds the
+    objectives the job is judged by (default: every stage's does); a stage that does not
+    (relaxed limits) hands its best on even when it meets them, and its designs do not
+    count as the first meeting every objective. Returns (last problem, its result with
     evaluations, wall time and time to the first feasible design summed over the stages,
     per-stage records)."""
     from plantmech.optimize.runner import _out_of_time as out_of_time
@@ -243,16 +246,18 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
 
     current, records, tally = design, [], _Tally()
     for k, stage in enumerate(stages):
+        judged = final is None or final(k)
         p = build(current, stage)
         r = run(p, algorithm, seed + k, max(1, int(round(generations * stage[-1]))), pop,
                 progress, stop_when_feasible=True, hook=hook)
-        tally.add(r)
+        tally.add(r, judged)
         current = p.decode(r.best_x)
         records.append({"stage": list(stage), "generations": r.generations,
                         "evaluations": r.evaluations, "wall_s": round(r.wall_s, 3),
                         "best_violation": float(r.best.violation[0]),
                         "feasible": bool(r.feasible)})
-        if r.feasible or getattr(hook, "found", None) is not None or out_of_time():
+        if ((r.feasible and judged) or getattr(hook, "found", None) is not None
+                or out_of_time()):
             break
     return p, tally.onto(r), records
 
@@ -263,8 +268,10 @@ class _Tally:
     def __init__(self):
         self.evals, self.wall, self.first = 0, 0.0, None
 
-    def add(self, r) -> None:
-        if r.first_feasible_s is not None and self.first is None:
+    def add(self, r, judged: bool = True) -> None:
+        """Count run ``r``; its first feasible design only if ``judged`` (its problem
+        holds the job's own objectives, not a stage's relaxed ones)."""
+        if judged and r.first_feasible_s is not None and self.first is None:
             self.first = (self.wall + r.first_feasible_s,
                           self.evals + r.first_feasible_evaluations)
         self.evals += r.evaluations
@@ -317,53 +324,47 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
 
 def transplanter_tooth_fit_staged(design, algorithm: str, seed: int, generations: int,
                                   pop: int, progress: bool = True, stages=TOOTH_FIT_STAGES):
-    """The transplanter with the tooth fit required, as staged runs (``TOOTH_FIT_STAGES``):
-    the lobe must change shape far more than the paper's objectives need, so the first
-    stages search wide boxes under relaxed tooth-fit limits and each next stage starts from
-    the previous best with tighter ones. A relaxed stage that finds a design meeting its
-    limits hands it on; the last stage (the file's limits) stops at the first design
-    meeting every objective, as does the time budget (``runner.time_budget``). Returns
-    (problem, result, per-stage records); the problem holds the file's limits, so its best
-    design is judged against them (a run cut short before the last stage is re-evaluated
-    under them)."""
+    """The transplanter with the tooth fit required, as staged runs (``staged`` over
+    ``TOOTH_FIT_STAGES``): the lobe must change shape far more than the paper's objectives
+    need, so the first stages search wide boxes under relaxed tooth-fit limits and each next
+    stage starts from the previous best with tighter ones. A relaxed stage that finds a
+    design meeting its limits hands it on; only the last stage (the file's limits) stops at
+    the first design meeting every objective, as does the time budget
+    (``runner.time_budget``). Returns (problem, result, per-stage records); the problem
+    holds the file's limits, so its best design is judged against them (a run cut short
+    before the last stage is re-evaluated under them)."""
     from plantmech.optimize.problems import Transplanter
-    from plantmech.optimize.runner import _out_of_time as out_of_time
-    from plantmech.optimize.runner import run
+    from plantmech.optimize.runner import _row
 
     own = design.limits.model_copy()
-    current, records, tally = design, [], _Tally()
-    p = r = None
-    for k, (box, scale, dz_margin, angle_slack, share) in enumerate(stages):
-        d = current.model_copy(deep=True)
+
+    def build(d, stage):
+        box, scale, dz_margin, angle_slack, _ = stage
+        d = d.model_copy(deep=True)
         d.limits = stage_limits(own, dz_margin, angle_slack)
-        p = Transplanter(d, radius_bound_mm=box, tooth_fit=True, ring_scale_bound=scale)
-        r = run(p, algorithm, seed + k, max(1, int(round(generations * share))), pop,
-                progress, stop_when_feasible=True)
-        tally.add(r)
-        current = p.decode(r.best_x)
-        current.limits = own.model_copy()
-        records.append({
-            "stage": {"radius_bound_mm": box, "ring_scale_bound": scale,
-                      "min_internal_teeth_difference": d.limits.min_internal_teeth_difference,
-                      "max_working_pressure_angle_deg": d.limits.max_working_pressure_angle_deg,
-                      "share": share},
-            "generations": r.generations, "evaluations": r.evaluations,
-            "wall_s": round(r.wall_s, 3), "best_violation": float(r.best.violation[0]),
-            "feasible_at_stage_limits": bool(r.feasible)})
-        if out_of_time() or (k == len(stages) - 1 and r.feasible):
-            break
+        return Transplanter(d, radius_bound_mm=box, tooth_fit=True, ring_scale_bound=scale)
+
+    last = len(stages) - 1
+    p, r, records = staged(design, build, stages, algorithm, seed, generations, pop, progress,
+                           final=lambda k: k == last)
+    for rec in records:
+        box, scale, dz_margin, angle_slack, share = rec["stage"]
+        lim = stage_limits(own, dz_margin, angle_slack)
+        rec["stage"] = {"radius_bound_mm": box, "ring_scale_bound": scale,
+                        "min_internal_teeth_difference": lim.min_internal_teeth_difference,
+                        "max_working_pressure_angle_deg": lim.max_working_pressure_angle_deg,
+                        "share": share}
+        rec["feasible_at_stage_limits"] = rec.pop("feasible")
     if p.design.limits != own:  # cut short at a relaxed stage: judge its best by the file
-        d = current.model_copy(deep=True)
+        d = p.decode(r.best_x)
         d.limits = own.model_copy()
         p = Transplanter(d, radius_bound_mm=stages[-1][0], tooth_fit=True,
                          ring_scale_bound=stages[-1][1])
-        from plantmech.optimize.runner import _row
-
         b = p.evaluate_batch(p.x0[None, :])
         r.best_x, r.best = p.x0, _row(b, 0)
         r.pareto_x, r.pareto_f = p.x0[None, :], b.F
         r.tradeoff = None
-    return p, tally.onto(r), records
+    return p, r, records
 
 
 def stage_limits(own, dz_margin: float, angle_slack: float):
