@@ -341,7 +341,8 @@ def binding(v: PairVerdict, k: int = 0) -> tuple[str, str, float]:
 
 def findings(v: PairVerdict, rules: CuttingRules, k: int = 0) -> list[dict]:
     """What cannot be cut in design k of this pair: [{gear, check, value, limit, unit, where,
-    why}] (empty when the pair can be cut)."""
+    body_angle_deg, why}] (empty when the pair can be cut); ``where`` says the place in
+    words, ``body_angle_deg`` (deg, to 0.1; None where there is no one place) in a number."""
     out = []
     lo, hi = float(v.module_low[k]), float(v.module_high[k])
     if not hi >= lo:
@@ -349,6 +350,7 @@ def findings(v: PairVerdict, rules: CuttingRules, k: int = 0) -> list[dict]:
         where = f"body angle {ang:.1f} deg" if np.isfinite(ang) else ""
         out.append({"gear": gear, "pair": v.name, "check": "module window",
                     "value": round(hi, 4), "limit": round(lo, 4), "unit": "mm", "where": where,
+                    "body_angle_deg": round(float(ang), 1) if np.isfinite(ang) else None,
                     "why": f"{reason} allows a module of at most {hi:.3f} mm, the pair needs "
                            f"at least {lo:.3f} mm (strength or tooth count)"})
     w = float(v.working_pressure_angle_deg[k])
@@ -357,6 +359,7 @@ def findings(v: PairVerdict, rules: CuttingRules, k: int = 0) -> list[dict]:
         out.append({"gear": gear, "pair": v.name, "check": "working pressure angle",
                     "value": round(w, 2), "limit": rules.max_working_pressure_angle_deg,
                     "unit": "deg", "where": f"body angle {float(ang[k]):.1f} deg",
+                    "body_angle_deg": round(float(ang[k]), 1),
                     "why": f"tool {rules.pressure_angle_deg:g} deg + pitch tangent "
                            f"{w - rules.pressure_angle_deg:.1f} deg off the normal to the "
                            "radius: the teeth push almost along the radius"})

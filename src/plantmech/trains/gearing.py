@@ -288,8 +288,6 @@ def pitch_curve_findings(design, modules: list | None = None) -> list[dict]:
     train by the rules it applies to the seeder and the transplanters. ``modules``: the
     module of each pair (mm; None: the window chooses one); default: the modules the teeth
     are cut with (``pair_modules`` from the design's teeth, else the default module)."""
-    import re
-
     from plantmech.gears import manufacturability as mf
     from plantmech.gears.findings import finding
 
@@ -300,10 +298,7 @@ def pitch_curve_findings(design, modules: list | None = None) -> list[dict]:
     out = []
     for v in verdicts:
         for f in mf.findings(v, rules):
-            where = {}
-            hit = re.search(r"body angle ([-0-9.]+) deg", f.get("where", ""))
-            if hit:
-                where["body_angle_deg"] = float(hit.group(1))
+            where = {} if f["body_angle_deg"] is None else {"body_angle_deg": f["body_angle_deg"]}
             check = ("cuttable_module" if f["check"] == "module window"
                      else "working_pressure_angle")
             out.append(finding(f["gear"], check, f["value"], f["limit"], f["unit"], where,
