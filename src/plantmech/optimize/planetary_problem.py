@@ -64,7 +64,9 @@ class PlanetaryProblem(DesignProblem):
             except ValueError as exc:  # a candidate the file's checks refuse
                 rows.append([{"name": n, "value": None, "unit": "", "limit": "", "ok": False,
                               "violation": np.inf, "note": str(exc)} for n in self.row_names])
-        first = rows[0]
+        # units and limits from a candidate the file's checks accepted (a refused one
+        # carries none)
+        first = next((row for row in rows if any(r["limit"] for r in row)), rows[0])
         names = [r["name"] for r in first]
         if any([r["name"] for r in row] != names for row in rows):
             raise RuntimeError("planetary problem: candidates gave different checks")
