@@ -494,16 +494,6 @@ def _nan_max(m, v):
     return v if (v > m or v != v) and m == m else m
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _curvature(rho, drho, ddrho, dphi, ddphi):
-    """(signed radius of curvature, arc speed) of a polar curve (rho(t), phi(t)) from its
-    t-derivatives: ``geometry.periodic.polar_curvature_radius`` for one sample."""
-    num = rho * rho * (dphi * dphi * dphi) + 2 * (drho * drho) * dphi - rho * ddrho * dphi \
-        + rho * drho * ddphi
-    speed = np.sqrt(drho * drho + (rho * dphi) * (rho * dphi))
-    return (np.inf if num == 0 else speed * speed * speed / num), speed
-
-
 @njit(cache=True, error_model="numpy")
 def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
     """Per design p: the shape extremes of gear and mate of one external pair (a gear's
@@ -518,8 +508,10 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
     and the normal to the radius vector, and the largest |mu| (NaN kept as numpy's min and
     max keep it).
 
-    Per sample the curvature kappa = num / speed^3 (``_curvature``'s terms) is the one
-    division per curve: the smallest convex (concave) radius of curvature is 1 / the
+    Per sample the curvature kappa = num / speed^3 (num = rho^2 phi'^3 + 2 rho'^2 phi' -
+    rho rho'' phi' + rho rho' phi'', speed^2 = rho'^2 + (rho phi')^2:
+    ``geometry.periodic.polar_curvature_radius``'s terms) is the one division per
+    curve: the smallest convex (concave) radius of curvature is 1 / the
     largest (most negative) curvature."""
     P, N = R.shape
     step = TWO_PI / M
