@@ -7,6 +7,21 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
 
+def design_one_generation(tmp_path, example: str):
+    """``plantmech design`` on a copy of a bundled example with one generation per
+    optimizer stage, quiet: (exit status, output folder). The copy must be left as it was
+    (nothing the user gave is overwritten)."""
+    from plantmech.interfaces.cli import main
+
+    src = tmp_path / example
+    text = (EXAMPLES / example).read_text()
+    src.write_text(text)
+    out = tmp_path / "o"
+    rc = main(["design", str(src), "--out", str(out), "--generations", "1", "--quiet"])
+    assert src.read_text() == text
+    return rc, out
+
+
 class AnalyticCurve:
     """Exact closed curve with the ClosedTrajectory interface (parameter u in rad)."""
 

@@ -515,14 +515,9 @@ def test_a_staged_run_cut_short_at_a_relaxed_stage_is_judged_by_the_files_limits
 
 
 def test_design_records_its_choices_in_run_json_the_headers_and_the_summary(tmp_path, capsys):
-    from plantmech.interfaces.cli import main
+    from tests.conftest import design_one_generation
 
-    src = tmp_path / "rice.toml"
-    text = (EXAMPLES / "rice_transplanter.toml").read_text()
-    src.write_text(text)
-    out = tmp_path / "o"
-    rc = main(["design", str(src), "--out", str(out), "--generations", "1", "--quiet"])
-    assert src.read_text() == text
+    rc, out = design_one_generation(tmp_path, "rice_transplanter.toml")
     s = json.loads((out / "summary.json").read_text())
     assert rc == s["verdict"]["exit_code"]
     rec = json.loads((out / "optimize" / "run.json").read_text())

@@ -4,16 +4,11 @@ import json
 
 from plantmech.design import load_design
 from plantmech.interfaces.cli import main
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, design_one_generation
 
 
 def test_design_of_an_uncuttable_seeder_says_so_and_cuts_nothing(tmp_path, capsys):
-    src = tmp_path / "seeder.toml"
-    text = (EXAMPLES / "sugarcane_seeder.toml").read_text()
-    src.write_text(text)
-    out = tmp_path / "o"
-    rc = main(["design", str(src), "--out", str(out), "--generations", "1", "--quiet"])
-    assert src.read_text() == text
+    rc, out = design_one_generation(tmp_path, "sugarcane_seeder.toml")
     assert rc == 4
     s = json.loads((out / "summary.json").read_text())
     assert s["verdict"]["status"] == "not met" and s["verdict"]["exit_code"] == 4
