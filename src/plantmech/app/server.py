@@ -640,17 +640,15 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
     @app.get("/api/problems")
     async def problems(mechanism: str = "sugarcane_seeder"):
-        from plantmech.optimize.jobs import DEFAULTS, PROBLEMS, TOOTH_FIT_STAGES
+        from plantmech.optimize.jobs import PROBLEMS, job_defaults
 
         names = [p for p in PROBLEMS if p != "planetary"  # the general train: CLI only
                  and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
         out = []
-        for p in names:
-            # the app requires manufacturability: the transplanter runs the staged job
-            staged = p == "transplanter"
-            algo, gen, pop = DEFAULTS["transplanter-tooth-fit" if staged else p]
+        for p in names:  # the app requires manufacturability (the job's defaults with it)
+            algo, gen, pop, stages = job_defaults(p)
             out.append({"name": p, "algorithm": algo, "generations": gen, "pop": pop,
-                        "stages": len(TOOTH_FIT_STAGES) if staged else 1})
+                        "stages": stages})
         return {"problems": out}
 
     @app.post("/api/optimize")

@@ -28,6 +28,17 @@ DEFAULTS = {  # algorithm, generations, population
 }
 
 
+def job_defaults(name: str, manufacturability: bool = True) -> tuple[str, int, int, int]:
+    """(algorithm, generations, population, tooth-fit stages) ``optimize`` runs for
+    problem ``name`` when none are given: the transplanter with manufacturability required
+    is the staged tooth-fit job (``TOOTH_FIT_STAGES``, the generations per stage); every
+    other problem counts as one stage here."""
+    staged = name == "transplanter" and manufacturability
+    algorithm, generations, pop = DEFAULTS.get("transplanter-tooth-fit" if staged else name,
+                                               ("nsga2", 30, 40))
+    return algorithm, generations, pop, len(TOOTH_FIT_STAGES) if staged else 1
+
+
 @dataclass
 class JobOutcome:
     feasible: bool
@@ -124,8 +135,7 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
                  "ok": False, "note": str(exc).replace("\n", " ")}]}
         return verify(design_, manufacturability)
 
-    key = "transplanter-tooth-fit" if name == "transplanter" and manufacturability else name
-    algo0, gen0, pop0 = DEFAULTS.get(key, ("nsga2", 30, 40))
+    algo0, gen0, pop0, _ = job_defaults(name, manufacturability)
     user_gen, user_pop = generations, pop
     algorithm, generations, pop = algorithm or algo0, generations or gen0, pop or pop0
     extra = {"manufacturability_required": manufacturability}
