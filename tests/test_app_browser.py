@@ -124,6 +124,27 @@ def test_both_mechanisms_load_and_animate(page):
                            " && window.__plantmech.design.arm.S_mm === 150", timeout=20000)
 
 
+def test_stage_labels_do_not_overlap(page):
+    """The transplanter's stages lie close together ("planting" beside "return", "picking"
+    beside "carry"): their labels are placed in rows, every label drawn, no two boxes
+    overlapping, all inside the plot."""
+    load(page, "rice_transplanter")
+    stages = page.evaluate("Object.entries(window.__plantmech.result.stages_deg.arm_I)"
+                           ".filter(([k, v]) => v).map(([k]) => k)")
+    assert len(stages) >= 4
+    for plot in ("plot1", "plot2", "plot3"):
+        boxes = page.evaluate(f"document.getElementById('{plot}').spanLabels")
+        assert sorted(b["text"] for b in boxes) == sorted(stages)
+        width = page.evaluate(f"document.getElementById('{plot}').width")
+        legend = page.evaluate(f"document.getElementById('{plot}').legendBox")
+        for i, a in enumerate(boxes):
+            assert 0 <= a["x"] and a["x"] + a["w"] <= width + 1, a
+            for b in boxes[i + 1:] + ([legend] if legend else []):
+                apart = (a["x"] + a["w"] <= b["x"] or b["x"] + b["w"] <= a["x"]
+                         or a["y"] + a["h"] <= b["y"] or b["y"] + b["h"] <= a["y"])
+                assert apart, (plot, a, b)
+
+
 def test_drag_changes_objectives_and_undo(page):
     load(page, "sugarcane_seeder")
     before = check_value(page, "large_ring_width")

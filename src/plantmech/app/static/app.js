@@ -470,10 +470,17 @@ function sectionSpans(secDeg) {
   for (const [p, q, label, kind] of parts) {
     const a = secDeg[p], b = secDeg[q];
     if (a === undefined || b === undefined) continue;
-    if (b >= a) out.push({ from: a, to: b, label, color: SECTION_COLOURS[kind] });
-    else { out.push({ from: a, to: 360, label, color: SECTION_COLOURS[kind] }); out.push({ from: 0, to: b, color: SECTION_COLOURS[kind] }); }
+    out.push(...wrapped(a, b, label, SECTION_COLOURS[kind]));
   }
   return out;
+}
+
+// a span from a to b deg; one that wraps through 360 is two pieces, labelled on the longer
+function wrapped(a, b, label, color) {
+  if (b >= a) return [{ from: a, to: b, label, color }];
+  const tailLonger = 360 - a >= b;
+  return [{ from: a, to: 360, label: tailLonger ? label : undefined, color },
+    { from: 0, to: b, label: tailLonger ? undefined : label, color }];
 }
 
 function stageSpans(stages) {
@@ -482,8 +489,7 @@ function stageSpans(stages) {
     if (!span) continue;
     const [a, b] = span;
     const color = SECTION_COLOURS[name] || "rgba(0,0,0,0.05)";
-    if (b >= a) out.push({ from: a, to: b, label: name, color });
-    else { out.push({ from: a, to: 360, label: name, color }); out.push({ from: 0, to: b, color }); }
+    out.push(...wrapped(a, b, name, color));
   }
   return out;
 }

@@ -41,12 +41,27 @@ export function linePlot(canvas, opt) {
   const ty = (v) => (logy ? Math.log10(Math.max(v, 1e-9)) : v);
   const [tlo, thi] = logy ? [ty(Math.max(ylo, 1e-9)), ty(yhi)] : [ylo, yhi];
   const Y = (y) => H - m.b - (ty(y) - tlo) / ((thi - tlo) || 1) * (H - m.t - m.b);
+  const labels = [];
   for (const sp of opt.spans || []) {
     ctx.fillStyle = sp.color;
     const a = X(Math.max(sp.from, xlo)), b = X(Math.min(sp.to, xhi));
     ctx.fillRect(a, m.t, b - a, H - m.t - m.b);
-    if (sp.label) { ctx.fillStyle = "#444"; ctx.fillText(sp.label, a + 2, m.t + 10); }
+    if (sp.label) {
+      const w = ctx.measureText(sp.label).width;  // inside the frame, even for a span at its right edge
+      labels.push({ text: sp.label, x: Math.max(m.l + 2, Math.min(a + 2, W - m.r - w - 2)), w });
+    }
   }
+  // span labels in rows: a label that would overlap one already placed goes a row lower
+  const rowEnds = [];
+  for (const lb of labels.sort((p, q) => p.x - q.x)) {
+    let row = rowEnds.findIndex((end) => lb.x >= end + 4);
+    if (row < 0) { row = rowEnds.length; rowEnds.push(0); }
+    rowEnds[row] = lb.x + lb.w;
+    lb.y = m.t + 11 + 12 * row;
+    ctx.fillStyle = "rgba(255,255,255,0.75)"; ctx.fillRect(lb.x - 1, lb.y - 9, lb.w + 2, 11);
+    ctx.fillStyle = "#444"; ctx.fillText(lb.text, lb.x, lb.y);
+  }
+  canvas.spanLabels = labels.map((lb) => ({ text: lb.text, x: lb.x, y: lb.y, w: lb.w, h: 11 }));
   ctx.strokeStyle = "#ddd"; ctx.fillStyle = "#333"; ctx.lineWidth = 1;
   for (const t of niceTicks(xlo, xhi, 8)) {
     ctx.beginPath(); ctx.moveTo(X(t), m.t); ctx.lineTo(X(t), H - m.b); ctx.stroke();
@@ -95,11 +110,18 @@ export function linePlot(canvas, opt) {
     ctx.moveTo(X(opt.marker), m.t); ctx.lineTo(X(opt.marker), H - m.b); ctx.stroke();
   }
   ctx.restore();
-  let lx = m.l + 6;
-  for (const s of series) {
-    if (!s.label) continue;
-    ctx.fillStyle = s.color || "#111"; ctx.fillRect(lx, m.t + 16, 12, 3);
-    ctx.fillStyle = "#222"; ctx.fillText(s.label, lx + 15, m.t + 21);
+  // the legend: in the top margin right of the title where it fits, else inside the frame
+  // below the span labels' rows (never over them)
+  const named = series.filter((s) => s.label);
+  const legendW = named.reduce((w, s) => w + 22 + ctx.measureText(s.label).width, 0);
+  const titleEnd = m.l + (opt.title ? ctx.measureText(opt.title).width : 0) + 16;
+  const inMargin = titleEnd + legendW <= W - m.r;
+  let lx = inMargin ? W - m.r - legendW + 6 : m.l + 6;
+  const ly = inMargin ? 12 : m.t + 21 + 12 * rowEnds.length;
+  canvas.legendBox = named.length ? { x: lx, y: ly - 9, w: legendW - 6, h: 11 } : null;
+  for (const s of named) {
+    ctx.fillStyle = s.color || "#111"; ctx.fillRect(lx, ly - 5, 12, 3);
+    ctx.fillStyle = "#222"; ctx.fillText(s.label, lx + 15, ly);
     lx += 22 + ctx.measureText(s.label).width;
   }
 }
