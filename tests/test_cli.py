@@ -80,3 +80,24 @@ def test_bad_command_line_numbers_are_refused_by_name(tmp_path, capsys):
             main(argv)
         assert exc.value.code == 2
         assert expected in capsys.readouterr().err
+
+
+def test_a_reader_that_leaves_does_not_stop_the_job(tmp_path):
+    """`plantmech ... | head -1`: the pipe is closed before the job prints. The job still runs
+    to its end (files, the exit status it has unpiped), with no traceback."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # every write the job makes meets a closed pipe
+    out = tmp_path / "o"
+    proc = subprocess.run(
+        [sys.executable, "-m", "plantmech.interfaces.cli", "inverse",
+         str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out)],
+        stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=300)
+    os.close(write_end)
+    assert proc.stderr == ""
+    assert proc.returncode == 4  # as unpiped: Table 4's pitch curves cannot be cut
+    assert json.loads((out / "summary.json").read_text())["verdict"]["exit_code"] == 4
+    assert (out / "motion.csv").stat().st_size > 100_000

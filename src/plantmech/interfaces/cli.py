@@ -620,7 +620,45 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+class _ReaderMayLeave:
+    """Standard output that outlives its reader: when the pipe closes (``plantmech ... |
+    head``), what is still to print goes to /dev/null and the job runs to its end, files
+    and exit status included, instead of dying on BrokenPipeError half-way."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def _leave(self):
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, self._stream.fileno())  # also for the interpreter's final flush
+        os.close(devnull)
+
+    def write(self, text):
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            self._leave()
+            return len(text)
+
+    def flush(self):
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._leave()
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 def main(argv: list[str] | None = None) -> int:
+    if not isinstance(sys.stdout, _ReaderMayLeave) and hasattr(sys.stdout, "fileno"):
+        try:
+            sys.stdout.fileno()
+            sys.stdout = _ReaderMayLeave(sys.stdout)
+        except (OSError, ValueError):  # no file behind it (captured by a test): nothing to do
+            pass
     args = build_parser().parse_args(argv)
     if args.command != "init":
         import matplotlib
