@@ -21,7 +21,7 @@ def register(subparsers) -> None:
 
     p = subparsers.add_parser("verify", help="tooth-contact check of the written gear files "
                               "through the whole train (seeder, differential and K-H-V "
-                              "transplanters)")
+                              "transplanters, general planetary trains)")
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
     p.add_argument("--out", required=True, help="output directory")
@@ -64,16 +64,31 @@ def run(args) -> int:
         return EXIT_INPUT
     names = {"sugarcane_seeder": SEEDER_GEARS, "rice_transplanter": TRANSPLANTER_GEARS,
              "rice_transplanter_khv": KHV_GEARS}.get(design.mechanism)
+    if design.mechanism == "planetary":
+        from plantmech.contact.planetary import gear_file_names
+
+        try:
+            names = tuple(gear_file_names(design))
+        except ValueError as exc:
+            print(f"error: {args.design}: {exc}", file=sys.stderr)
+            return EXIT_INPUT
     if names is None:
         print(f"error: {args.design}: field 'mechanism' = {design.mechanism!r}: 'plantmech "
-              "verify' drives the sugarcane seeder's and the rice transplanters' trains",
-              file=sys.stderr)
+              "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
+              "planetary trains", file=sys.stderr)
         return EXIT_INPUT
     try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
     except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    if design.mechanism == "planetary":
+        try:
+            rec = _run_planetary(args, design, gears, out)
+        except ValueError as exc:  # the train cannot be built from the file
+            print(f"error: {args.design}: {exc}", file=sys.stderr)
+            return EXIT_INPUT
+        return _report(args, design, gears, gears_dir, out, rec, None)
     if design.mechanism.startswith("rice_transplanter"):
         try:
             rec = _run_transplanter(args, design, gears, out)
@@ -154,6 +169,29 @@ def _run_transplanter(args, design, gears, out) -> dict:
             files.append("loads.png")
     rec["files"] = files
     rec["_loads"] = loads
+    return rec
+
+
+def _run_planetary(args, design, gears, out) -> dict:
+    """A general planetary train (``mechanism = "planetary"``): every pair of every arm
+    tooth on tooth, chained to the arm (``contact/planetary.py``). Its loads are not
+    modelled: the record says so."""
+    from plantmech.contact.planetary import analyse_planetary, planetary_record
+
+    t0 = time.perf_counter()
+    contact = analyse_planetary(design, gears, steps=args.steps)
+    rec = planetary_record(contact, _limits(args))
+    rec["loads"] = {"skipped": "the multibody loads of a general planetary train are not "
+                    "modelled yet (the seeder's and the transplanters' are)"}
+    rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    files = []
+    if not args.no_plots:
+        from plantmech.outputs import verify_plots as vp
+
+        vp.plot_train_transmission_error(out / "transmission_error.png", contact)
+        vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
+        files += ["transmission_error.png", "tip_band.png"]
+    rec["files"] = files
     return rec
 
 

@@ -191,6 +191,33 @@ def plot_khv_transmission_error(path: Path, c) -> None:
     _save(plt, fig, path)
 
 
+def plot_train_transmission_error(path: Path, c) -> None:
+    """A general planetary train (``contact.planetary.PlanetaryContact``): arm 1's pairs,
+    each follower against its driver at the driver's nominal angle (the follower's turn
+    off the pitch-curve law on both flanks, deg), and every arm's attitude band through
+    the whole train (deg)."""
+    plt = _plt()
+    psi = np.degrees(c.psi)
+    n = len(c.names)
+    fig, axes = plt.subplots(n + 1, 1, figsize=(9, 2.6 * (n + 1)), sharex=True)
+    for ax, fp, (driver, driven) in zip(axes[:-1], c.pairs[0], c.names, strict=True):
+        _flank_lines(ax, psi, fp)
+        ax.set_ylabel("error / deg")
+        ax.set_title(f"{driver} -> {driven}, arm 1 ({driven}'s turn, {driver} at its nominal "
+                     "angle)", fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    ax = axes[-1]
+    for j in range(len(c.pairs)):
+        ax.fill_between(psi, np.degrees(c.planet_lo[j]), np.degrees(c.planet_hi[j]),
+                        alpha=0.4, label=f"arm {j + 1} attitude band (whole train)")
+    ax.set_ylabel("arm attitude error / deg")
+    ax.set_xlabel("carrier angle (from the start, in the carrier's sense) / deg")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    _save(plt, fig, path)
+
+
 def plot_transplanter_loads(path: Path, loads: dict) -> None:
     """A transplanter's input torque(s) and tangential tooth forces over the carrier turn
     (exudyn), and the energy balance (drives' work vs change of kinetic + potential

@@ -1,0 +1,107 @@
+"""A general planetary train's gear files driven tooth on tooth (``contact/planetary.py``,
+``plantmech verify`` on ``mechanism = "planetary"``): the rotary transplanter with three
+identical ellipses. Independent expectations: the backlash the gears were cut with comes
+back as the free play (circumferential backlash = band x the driven gear's contact
+radius), the second arm repeats the first half a carrier turn later (fixed sun, planets at
+180 deg), and a planet file turned by half a tooth jams and fails the verdict."""
+
+import json
+
+import numpy as np
+import pytest
+
+from plantmech.contact.outlines import read_gear_dxf
+from plantmech.contact.planetary import analyse_planetary, gear_file_names, planetary_record
+from plantmech.design import load_design
+from plantmech.interfaces.cli import main
+from tests.conftest import EXAMPLES
+
+ELLIPTIC = EXAMPLES / "rotary_transplanter_elliptic.toml"
+LIMITS = {"transmission_error_deg": 0.5, "attitude_error_deg": 1.0, "tip_band_mm": 5.0}
+STEPS = 120
+
+
+@pytest.fixture(scope="module")
+def gear_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gears")
+    assert main(["gears", str(ELLIPTIC), "--out", str(out), "--backlash", "0.1"]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def design():
+    return load_design(ELLIPTIC)
+
+
+def _gears(design, gear_dir):
+    return {n: read_gear_dxf(gear_dir / f"{n}.dxf", n) for n in gear_file_names(design)}
+
+
+def test_the_cut_backlash_comes_back_as_free_play(design, gear_dir):
+    from plantmech.trains.gearing import built_train
+    from plantmech.trains.model import simulate
+
+    assert gear_file_names(design) == ["sun", "idler1", "planet"]
+    c = analyse_planetary(design, _gears(design, gear_dir), steps=STEPS)
+    motion = simulate(built_train(design), samples=STEPS)
+    for j in range(2):
+        for k, fp in enumerate(c.pairs[j]):
+            assert not fp.jammed.any() and np.isfinite(fp.lo).all() and np.isfinite(fp.hi).all()
+            r_driven = motion.contact_radii[k][1][0, j]
+            backlash = (fp.hi - fp.lo) * r_driven  # mm along the pitch curve
+            assert 0.09 < np.median(backlash) < 0.115, np.median(backlash)
+            # the law is met to a small fraction of the backlash: mid band within 0.02 deg
+            assert np.abs(np.degrees(0.5 * (fp.lo + fp.hi))).max() < 0.02
+    # the arm's play through the train holds the play of both meshes
+    band = c.planet_hi - c.planet_lo
+    assert (band >= (c.pairs[0][1].hi - c.pairs[0][1].lo)[None] - 1e-12).all()
+    # arm 2 is arm 1 half a carrier turn later
+    half = STEPS // 2
+    assert np.allclose(np.roll(c.planet_lo[0], -half), c.planet_lo[1], atol=1e-6)
+    assert np.allclose(np.roll(c.planet_hi[0], -half), c.planet_hi[1], atol=1e-6)
+    rec = planetary_record(c, LIMITS)
+    assert rec["ok"] and len(rec["pairs"]) == 4 and len(rec["arms"]) == 2
+    # the tip band is the arm's chord over its play: 2 L sin(play / 2), the play's ends
+    # symmetric about the law to within the small mid-band error
+    L = float(design.arm.length_mm)
+    ends = np.stack([c.planet_lo[0], c.planet_hi[0]])
+    chord = 2 * L * np.sin(0.5 * (ends[1] - ends[0]))
+    assert rec["arms"][0]["tip_band_mm"]["max"] == pytest.approx(chord.max(), rel=1e-9)
+    assert rec["arms"][0]["tip_band_mm"]["max"] == pytest.approx(
+        L * np.radians(2 * rec["arms"][0]["arm_attitude_error_deg"]["max_abs"]), rel=0.05)
+
+
+def test_a_planet_turned_half_a_tooth_is_caught(design, gear_dir):
+    gears = _gears(design, gear_dir)
+    planet = gears["planet"]
+    half_tooth = np.pi / planet.teeth  # 7.2 deg on 25 teeth
+    gears["planet"] = planet.rotated(half_tooth)
+    c = analyse_planetary(design, gears, steps=STEPS)
+    rec = planetary_record(c, LIMITS)
+    sun_idler, idler_planet = rec["pairs"][0], rec["pairs"][1]
+    assert sun_idler["transmission_error_deg"]["max_abs_mid"] < 0.02  # untouched
+    # the planet sits half a tooth off the law: its error is that half tooth
+    te = idler_planet["transmission_error_deg"]["max_abs_mid"]
+    assert te == pytest.approx(np.degrees(half_tooth), abs=0.5)
+    assert not rec["ok"]
+    failed = {ch["name"] for ch in rec["checks"] if not ch["ok"]}
+    assert "transmission error, max |mid band|" in failed and "arm attitude error, max" in failed
+
+
+def test_verify_command_on_a_planetary_train(gear_dir, tmp_path, capsys):
+    out = tmp_path / "v"
+    rc = main(["verify", str(ELLIPTIC), "--gears", str(gear_dir), "--out", str(out),
+               "--steps", str(STEPS)])
+    printed = capsys.readouterr().out
+    assert rc == 0, printed
+    rec = json.loads((out / "verification.json").read_text())
+    assert rec["ok"] and rec["teeth_found_on_outlines"] == {"sun": 25, "idler1": 25,
+                                                             "planet": 25}
+    assert "not modelled" in rec["loads"]["skipped"]
+    assert "idler1 -> planet (arm 2)" in printed
+    for png in ("transmission_error.png", "tip_band.png"):
+        assert (out / png).stat().st_size > 10_000
+    (tmp_path / "empty").mkdir()
+    rc = main(["verify", str(ELLIPTIC), "--gears", str(tmp_path / "empty"), "--out",
+               str(tmp_path / "o2")])
+    assert rc == 2 and "sun.dxf: gear file not found" in capsys.readouterr().err
