@@ -262,3 +262,24 @@ def test_optimize_and_make(page):
     drawn = page.evaluate("Object.entries(window.__plantmech.teeth.gears)"
                           ".filter(([, e]) => e.drawn).map(([k]) => k).sort()")
     assert drawn == ["gear2", "gear3", "planet", "sun"], note
+
+
+def test_a_general_planetary_train(page):
+    """The three-ellipse train: drawn and checked, a number edited, its teeth cut and
+    drawn on the animated gears (each gear file by its name: sun, idler, planet)."""
+    load(page, "rotary_transplanter_elliptic")
+    assert page.locator("#checks tbody tr").count() == 6
+    assert "centre distances 50.00, 50.00 mm" in page.locator("#mech-info").inner_text()
+    inp = page.locator("#edit input[data-field='arm.length_mm']")
+    inp.fill("190")
+    inp.press("Enter")
+    page.wait_for_function("!window.__plantmech.inflight && window.__plantmech.result"
+                           " && window.__plantmech.design.arm.length_mm === 190"
+                           " && window.__plantmech.result.quality === 'full'", timeout=20000)
+    assert float(check_value(page, "path_height_mm").split()[0]) > 239.1  # a longer arm
+    page.click("#g-start")
+    page.wait_for_function("window.__plantmech.teeth && window.__plantmech.teeth.gears"
+                           " && 'idler1' in window.__plantmech.teeth.gears", timeout=120000)
+    drawn = page.evaluate("Object.entries(window.__plantmech.teeth.gears)"
+                          ".filter(([, e]) => e.drawn).map(([k]) => k).sort()")
+    assert drawn == ["idler1", "planet", "sun"], page.locator("#teeth-note").inner_text()

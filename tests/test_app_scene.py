@@ -142,3 +142,48 @@ def test_align_pitch_curve_ignores_a_differing_sector():
     delta, residual = scene.align_pitch_curve(drawn, cut)
     assert np.degrees(np.angle(np.exp(1j * (delta - d)))) == pytest.approx(0.0, abs=0.02)
     assert residual < 0.01
+
+
+def _planetary_scene(name, frames=36):
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    design = load_design(EXAMPLES / name)
+    motion = simulate(build_from_design(design), 720)
+    return design, motion, scene.planetary_scene(design, motion, frames=frames, detail=720)
+
+
+@pytest.mark.parametrize("name", ["rotary_transplanter_elliptic.toml",
+                                  "planetary/sugarcane_seeder_optimized.toml",
+                                  "planetary/rice_transplanter.toml"])
+def test_planetary_pitch_curves_touch_without_crossing(name):
+    """A general train's gears as the page draws them: every pair of every arm touches in
+    every frame, external pairs without crossing, an internal pair's planet inside its
+    ring; the arm leaves the last gear's centre (the engine's planet axis)."""
+    from plantmech.trains.gearing import gear_names
+
+    design, motion, sc = _planetary_scene(name)
+    J = design.carrier.arms
+    pairs = design.train.pairs
+    label = {n: (n if n == "sun" or J == 1 else None) for p in gear_names(design) for n in p}
+    gears = {g["name"]: g for g in sc["gears"]}
+    assert len(sc["tip_paths"]) == J
+    for j in range(J):
+        def g(n, j=j):
+            return gears[label[n] or f"{n} {j + 1}"]
+        for k, (driver, follower) in enumerate(gear_names(design)):
+            ring = pairs[k].kind in ("internal", "internal_ring_follower")
+            for f in range(0, 36, 4):
+                a, b = Polygon(placed(g(driver), f)), Polygon(placed(g(follower), f))
+                assert a.is_valid and b.is_valid
+                assert a.exterior.distance(b.exterior) < 0.01, (name, driver, follower, f)
+                if ring:  # the smaller gear inside the ring
+                    inner, outer = (b, a) if a.area > b.area else (a, b)
+                    assert inner.difference(outer).area < 1e-4 * inner.area
+                else:
+                    assert a.intersection(b).area < 1e-4 * min(a.area, b.area)
+        k = scene.frame_index(len(motion.carrier_angle), 36)
+        arm = next(li for li in sc["frames"]["links"] if li["name"] == f"arm {j + 1}")
+        axis = np.asarray([p[0] for p in arm["points"]])
+        assert np.allclose(axis[:, 0] + 1j * axis[:, 1], motion.centre[0, j, k], atol=2e-3)
+        assert np.allclose(g("planet")["centre"], axis, atol=2e-3)

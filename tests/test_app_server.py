@@ -38,10 +38,9 @@ def evaluate(client, design, quality="full"):
 def test_examples_by_name_only(client):
     names = client.get("/api/examples").json()["examples"]
     assert {"sugarcane_seeder", "rice_transplanter", "sugarcane_table4"} <= set(names)
-    # every example the page can draw; the general train (CLI only) is not offered
-    drawn = [p.stem for p in EXAMPLES.glob("*.toml")
-             if 'mechanism = "planetary"' not in p.read_text()]
-    assert sorted(names) == sorted(drawn) and "rotary_transplanter_elliptic" not in names
+    # every example at the top of the examples folder, the general train's too
+    drawn = [p.stem for p in EXAMPLES.glob("*.toml")]
+    assert sorted(names) == sorted(drawn) and "rotary_transplanter_elliptic" in names
     for bad in ("../pyproject", "..%2Fpyproject", "/etc/passwd", "sugarcane_seeder.toml"):
         r = client.get(f"/api/examples/{bad}")
         assert r.status_code == 404
@@ -427,3 +426,33 @@ def test_problem_list_states_what_each_problem_runs(client):
     seeder = client.get("/api/problems").json()["problems"]
     assert {p["name"] for p in seeder} >= {"seeder-layer1", "seeder-layered"}
     assert all(p["stages"] == 1 and "transplanter" not in p["name"] for p in seeder)
+
+
+def test_a_general_planetary_train(client):
+    """The three-ellipse train: drawn (sun once, an idler and a planet per arm), its
+    [limits] checks while dragging, the pitch curves' manufacturability rules as well at
+    full quality, the centre distances (2 x the semi-major axis: ellipses about their
+    foci roll at 2A), its numbers editable, a curve that cannot close named by field."""
+    d = example(client, "rotary_transplanter_elliptic")
+    full = evaluate(client, d).json()
+    assert full["mechanism"] == "planetary" and full["quality"] == "full"
+    assert [g["name"] for g in full["gears"]] == ["sun", "idler1 1", "planet 1", "idler1 2",
+                                                  "planet 2"]
+    A = d["train"]["pairs"][0]["driver"]["semi_major_mm"]
+    assert full["centre_distance_mm"] == pytest.approx([2 * A, 2 * A], abs=1e-6)
+    names = [c["name"] for c in full["checks"]]
+    assert names[:2] == ["path_height_mm", "loops"]
+    assert "working_pressure_angle_sun_idler1" in names and all(c["ok"] for c in full["checks"])
+    fields = {p["field"] for p in full["parameters"]}
+    assert {"arm.length_mm", "train.pairs.0.driver.eccentricity"} <= fields
+    drag = evaluate(client, d, "drag").json()
+    assert [c["name"] for c in drag["checks"]] == ["path_height_mm", "loops"]
+    assert "manufacturability" in drag["pending"]
+    d["limits"]["path_height_mm"]["min"] = 300.0  # a limit the design misses
+    higher = evaluate(client, d).json()
+    height = next(c for c in higher["checks"] if c["name"] == "path_height_mm")
+    assert height["ok"] is False and height["value"] == pytest.approx(
+        next(c["value"] for c in full["checks"] if c["name"] == "path_height_mm"))
+    d["train"]["pairs"][0]["driver"]["eccentricity"] = 1.2
+    r = evaluate(client, d)
+    assert r.status_code == 422 and "eccentricity" in r.json()["error"]

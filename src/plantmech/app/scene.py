@@ -344,6 +344,76 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     }
 
 
+def planetary_scene(design, motion, frames: int = 360, detail: int = 720) -> dict:
+    """Drawing data of a general planetary train (``mechanism = "planetary"``) from its
+    forward motion (``trains.model.TrainMotion``, P = 1): every gear's pitch curve in its
+    body frame (the built train's curves; ``trains.gearing.gear_names`` as roles, so the
+    cut teeth of ``plantmech gears`` land on them) at its shaft (the carrier frame turned
+    by the carrier) with its absolute rotation carrier + body angle alpha per frame; the
+    carrier's line of shafts and the arm per arm; the tip paths. The sun is drawn once
+    (every arm sees the same sun); an idler is the follower of the pair before."""
+    from plantmech.trains.curves import TWO_PI
+    from plantmech.trains.gearing import gear_names
+
+    built = motion.built
+    names = gear_names(design)
+    pairs = built.train.pairs
+    psi = motion.carrier_angle
+    n = len(psi)
+    k = frame_index(n, frames)
+    ks = frame_index(n, detail)
+    J = motion.tip.shape[1]
+    th = TWO_PI * np.arange(detail) / detail
+
+    def body(curve):
+        return curve(th[None, :])[0][0] * _cis(th)
+
+    def style(name: str, ring: bool) -> str:
+        if ring:
+            return "internal"
+        return "sun" if name == "sun" else ("planet" if name == "planet" else "middle")
+
+    shafts = built.shafts[0]
+    followers = built.followers
+    gears, links = [], []
+    for j in range(J):
+        carrier = motion.carrier[0, j, k]
+        turn = _cis(carrier)
+        for i, spec in enumerate(pairs):
+            kind = spec.kind
+            drawn = []
+            first = i == 0 or spec.driver is not None or spec.follower is not None
+            if first and not (i == 0 and j > 0):  # the sun once; a compound / derived driver
+                drawn.append((names[i][0], built.drivers[i], shafts[i],
+                              motion.driver_angles[i][0, j, k], kind == "internal"))
+            drawn.append((names[i][1], followers[i], shafts[i + 1],
+                          motion.gear_angles[i + 1][0, j, k], kind == "internal_ring_follower"))
+            for name, curve, shaft, alpha, ring in drawn:
+                label = name if name == "sun" or J == 1 else f"{name} {j + 1}"
+                g = _gear(label, body(curve), shaft * turn, carrier + alpha, name, detail)
+                g["style"] = style(name, ring)
+                gears.append(g)
+        chain = shafts[None, :] * turn[:, None]  # (frames, K + 1): O and every shaft
+        links.append({"name": f"carrier {j + 1}", "points": _xy(chain)})
+        links.append({"name": f"arm {j + 1}",
+                      "points": _xy(np.c_[motion.centre[0, j, k], motion.tip[0, j, k]])})
+    speed = np.abs(motion.velocity(design.carrier.speed_deg_s)[0])
+    return {
+        "mechanism": "planetary", "feasible": True, "diagnostics": [],
+        "frames": {"carrier_angle_deg": _r(psi[k] * DEG, 3), "links": links,
+                   "tip": _xy(motion.tip[0, 0, k])},
+        "gears": gears,
+        "tip_paths": [_xy(motion.tip[0, j, ks]) for j in range(J)],
+        "plots": {
+            "carrier_angle_deg": _r(psi[ks] * DEG, 3),
+            "arm_angle_deg": [_r(motion.arm_angle[0, j, ks] * DEG, 3) for j in range(J)],
+            "tip_speed_m_s": [_r(speed[j, ks], 4) for j in range(J)],
+            "planet_ratio": _r(motion.gear_rates[-1][0, 0, ks], 5),
+        },
+        "samples": int(n),
+    }
+
+
 # --- teeth --------------------------------------------------------------------------------
 
 

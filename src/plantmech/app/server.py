@@ -60,13 +60,12 @@ def examples_dir() -> Path:
 
 
 def example_names() -> list[str]:
-    """The packaged examples the app can draw (the general "planetary" train is CLI-only
-    so far: listing it would offer a design the page can only refuse)."""
+    """The packaged examples (the seeders, the transplanters, the general planetary
+    trains at the top of the examples folder)."""
     d = examples_dir()
     if not d.is_dir():
         return []
-    return sorted(p.stem for p in d.glob("*.toml")
-                  if 'mechanism = "planetary"' not in p.read_text(encoding="utf-8"))
+    return sorted(p.stem for p in d.glob("*.toml"))
 
 
 _FIELD = re.compile(r"field '([^']+)': (.*)")
@@ -102,10 +101,6 @@ def validate_design(raw: Any, label: str = "design", may_hold_null: bool = True)
     except DesignError as exc:
         msg = str(exc)
         raise AppError(422, msg, field_errors(msg)) from None
-    if design.mechanism == "planetary":  # the general train: CLI only so far
-        msg = (f"{label}: field 'mechanism': the app does not draw a \"planetary\" train yet; "
-               "run it with 'plantmech forward'")
-        raise AppError(422, msg, field_errors(msg))
     return design
 
 
@@ -166,6 +161,8 @@ def evaluate(design, quality: str = "full") -> dict:
         if design.train is None:
             return _seeder_trajectory(design, drag)
         return _seeder_train(design, drag)
+    if design.mechanism == "planetary":
+        return _planetary(design, drag)
     return _transplanter(design, drag)
 
 
@@ -277,12 +274,92 @@ def _transplanter(design, drag: bool) -> dict:
     return out
 
 
+def _planetary(design, drag: bool) -> dict:
+    """A general planetary train: its forward motion (``trains``), the [limits] checks
+    and, at full quality, every pair's pitch-curve manufacturability rules
+    (``objectives.planetary.design_evaluation``, as ``plantmech optimize --problem
+    planetary`` judges it)."""
+    from plantmech.objectives.planetary import checks, design_evaluation, motion_objectives
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import TrainSpecError, build_from_design
+
+    d = design.model_copy(deep=True)
+    if drag:
+        d.samples = DRAG_SAMPLES
+    try:
+        built = build_from_design(d)
+    except TrainSpecError as exc:
+        field = str(exc).split("'")[0] or "train.pairs"
+        msg = f"design: field '{exc}"
+        raise AppError(422, msg, field_errors(msg) or [{"field": field, "message": str(exc)}]
+                       ) from None
+    motion = simulate(built, d.samples)
+    out = scene.planetary_scene(d, motion, *_resolution(drag))
+    if drag:
+        values = motion_objectives(motion, d.carrier.speed_deg_s)
+        found = [c.as_dict() for c in checks(values, d.limits)]
+        out["pending"] = "the pitch curves' manufacturability follows on release"
+    else:
+        found = design_evaluation(d)
+    out["checks"] = scene.checks_list(found)
+    out["quality"] = "drag" if drag else "full"
+    out["centre_distance_mm"] = [float(a) for a in built.centre_distances[0]]
+    return out
+
+
+def _planetary_parameters(design) -> list[dict]:
+    """The numeric fields a planetary file frees in ``[optimize.variables]`` (with their
+    bounds), else every number of its arm, carrier and pairs' curves with a box of
+    +-25 % (angles +-45 deg) around the current value."""
+    from plantmech.design_planetary import get_path
+
+    opt = getattr(design, "optimize", None)
+    variables = dict(getattr(opt, "variables", None) or {})
+    out = []
+    if variables:
+        for path, (lo, hi) in variables.items():
+            value = float(get_path(design, path))
+            unit = "deg" if path.endswith("_deg") else ("mm" if path.endswith("_mm") else "")
+            out.append({"field": path, "label": path, "unit": unit, "value": value,
+                        "min": float(lo), "max": float(hi)})
+        return out
+    data = design_json(design)
+    candidates = [("arm", "arm", data.get("arm", {})),
+                  ("carrier", "carrier", data.get("carrier", {}))]
+    for k, pair in enumerate(data.get("train", {}).get("pairs", [])):
+        for part in ("driver", "follower"):
+            if isinstance(pair.get(part), dict):
+                candidates.append((f"train.pairs.{k}.{part}", f"pair {k + 1} {part}",
+                                   pair[part]))
+    for prefix, label, table in candidates:
+        for key, value in table.items():
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                continue
+            if key in ("arms", "lobes", "speed_deg_s"):
+                continue
+            path = f"{prefix}.{key}"
+            if key.endswith("_deg"):
+                lo, hi, unit = value - 45.0, value + 45.0, "deg"
+            else:
+                span = 0.25 * abs(value) or 1.0
+                lo, hi = value - span, value + span
+                unit = "mm" if key.endswith("_mm") else ""
+            if key == "eccentricity":
+                lo, hi = max(lo, 0.0), min(hi, 0.95)
+            out.append({"field": path, "label": f"{label} {key}",
+                        "unit": unit, "value": float(value), "min": float(lo),
+                        "max": float(hi)})
+    return out
+
+
 def editable_parameters(design) -> list[dict]:
     """The transplanter's published parameters the page edits: design field, unit and
     the optimizer's bounds around the current value (``optimize.problems.Transplanter``)
     as the input's limits."""
     if design.mechanism == "sugarcane_seeder":
         return []
+    if design.mechanism == "planetary":
+        return _planetary_parameters(design)
     from plantmech.optimize.problems import Transplanter
 
     gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
@@ -642,8 +719,11 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     async def problems(mechanism: str = "sugarcane_seeder"):
         from plantmech.optimize.jobs import PROBLEMS, job_defaults
 
-        names = [p for p in PROBLEMS if p != "planetary"  # the general train: CLI only
-                 and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
+        if mechanism == "planetary":  # the fields its [optimize.variables] frees
+            names = ["planetary"]
+        else:
+            names = [p for p in PROBLEMS if p != "planetary"
+                     and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
         out = []
         for p in names:  # the app requires manufacturability (the job's defaults with it)
             algo, gen, pop, stages = job_defaults(p)

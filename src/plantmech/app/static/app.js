@@ -292,7 +292,7 @@ function drawMechanism() {
       const c = Math.cos(a), s = Math.sin(a);
       const place = ([x, y]) => [cx + c * x - s * y, cy + s * x + c * y];
       const pts = g.body.map(place);
-      const [stroke, fill] = GEAR_STYLE[g.role] || ["#111", "rgba(0,0,0,0.05)"];
+      const [stroke, fill] = GEAR_STYLE[g.style || g.role] || ["#111", "rgba(0,0,0,0.05)"];
       ctx.fillStyle = fill; ctx.strokeStyle = stroke; ctx.lineWidth = 1.3;
       const cut = teeth && teeth[g.role] && teeth[g.role].drawn ? teeth[g.role] : null;
       if (cut) {
@@ -345,7 +345,8 @@ function drawMechanism() {
   (res.diagnostics || []).filter((d) => d.severity === "error").slice(0, 3).forEach((d, i) => {
     ctx.fillText(`✖ ${d.message.slice(0, 95)}`, 10, 16 + 15 * i);
   });
-  if (n) $("angle").textContent = `carrier ${res.frames.carrier_angle_deg[f].toFixed(1)}° (clockwise from start)`;
+  const sense = res.mechanism === "planetary" && state.design && state.design.carrier && state.design.carrier.direction === "counterclockwise" ? "counter-clockwise" : "clockwise";
+  if (n) $("angle").textContent = `carrier ${res.frames.carrier_angle_deg[f].toFixed(1)}° (${sense} from start)`;
 }
 
 // teeth of the last cut, drawn while the design is the one that was cut
@@ -517,6 +518,15 @@ function renderPlots() {
     linePlot($("plot3"), { title: "transmission ratios", xlabel: xl, ylabel: "ratio (driven/driver turn)", xmin: 0, xmax: 360, spans, marker,
       series: [{ x, y: p.total_ratio, color: "#111", label: "planet / carrier" }, { x, y: p.stage1_ratio, color: "#b45309", label: "gear 2 / carrier" }, { x, y: p.stage2_ratio, color: "#0f766e", label: "planet / gear 3" }] });
     $("plots-note").textContent = "sections shaded: picking ab, transport bcd, seeding de, return efca";
+  } else if (res.mechanism === "planetary") {
+    const x = p.carrier_angle_deg;
+    linePlot($("plot1"), { title: "arm angle (absolute, CCW from +x)", xlabel: `carrier angle (${state.design.carrier.direction === "counterclockwise" ? "counter-clockwise" : "clockwise"} from start) / deg`, ylabel: "angle / deg", xmin: 0, xmax: 360, marker,
+      series: p.arm_angle_deg.map((y, j) => ({ x, y, color: ARM_COLOURS[j], label: `arm ${j + 1}` })) });
+    linePlot($("plot2"), { title: `tip speed at ${state.design.carrier.speed_deg_s} deg/s carrier speed`, xlabel: `carrier angle (${state.design.carrier.direction === "counterclockwise" ? "counter-clockwise" : "clockwise"} from start) / deg`, ylabel: "speed / (m/s)", xmin: 0, xmax: 360, marker,
+      series: p.tip_speed_m_s.map((y, j) => ({ x, y, color: ARM_COLOURS[j], label: `arm ${j + 1}` })) });
+    linePlot($("plot3"), { title: "planet turn per carrier turn (relative to the carrier), arm 1", xlabel: `carrier angle (${state.design.carrier.direction === "counterclockwise" ? "counter-clockwise" : "clockwise"} from start) / deg`, ylabel: "ratio", xmin: 0, xmax: 360, marker,
+      series: [{ x, y: p.planet_ratio, color: "#111" }] });
+    $("plots-note").textContent = "general planetary train: every arm";
   } else {
     const spans = stageSpans(res.stages_deg && res.stages_deg.arm_I);
     const x = p.carrier_angle_deg;
@@ -598,13 +608,17 @@ function renderEdit() {
       row.innerHTML = `<span>${p.split(".").pop()}</span>`; row.appendChild(inputFor(p)); row.insertAdjacentHTML("beforeend", `<span>${u}</span><span></span>`); box.appendChild(row);
     }
   } else {
-    hint.textContent = "Edit the published parameters (limits: the optimizer's search box around the current value).";
+    hint.textContent = d.mechanism === "planetary"
+      ? (d.optimize ? "Edit the fields the file frees in [optimize.variables] (limits: their bounds)." : "Edit the train's numbers (limits: a box of ±25 %, angles ±45 deg, around the file's value; free fields for the optimizer in [optimize.variables]).")
+      : "Edit the published parameters (limits: the optimizer's search box around the current value).";
     const params = state.parameters || [];
+    const lim = (v) => (Math.abs(v) >= 10 ? v.toFixed(1) : `${+v.toPrecision(3)}`);
+    const what = d.mechanism === "planetary" && !d.optimize ? "box" : "search box";
     for (const p of params) {
       const row = document.createElement("div"); row.className = "param";
       row.innerHTML = `<span>${p.label}</span>`;
-      row.appendChild(inputFor(p.field, p.unit, `${p.min.toFixed(1)}–${p.max.toFixed(1)} ${p.unit}`));
-      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">search box ${p.min.toFixed(1)} … ${p.max.toFixed(1)}</span>`);
+      row.appendChild(inputFor(p.field, p.unit, `${lim(p.min)}–${lim(p.max)} ${p.unit}`));
+      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${what} ${lim(p.min)} … ${lim(p.max)}</span>`);
       box.appendChild(row);
     }
     const other = state.fieldErrors.filter((e) => !params.some((p) => e.field === p.field));
@@ -667,6 +681,7 @@ function render() {
   const res = state.result;
   if (res && res.mechanism) {
     const t = res.train ? `L1 ${res.train.L1_mm.toFixed(1)} mm, L2 ${res.train.L2_mm.toFixed(1)} mm, a1 ${res.train.a1_mm.toFixed(1)} mm, a2 ${res.train.a2_mm.toFixed(1)} mm`
+      : Array.isArray(res.centre_distance_mm) ? `centre distances ${res.centre_distance_mm.map((a) => a.toFixed(2)).join(", ")} mm`
       : (res.centre_distance_mm ? `centre distance ${res.centre_distance_mm.toFixed(2)} mm` : "");
     $("mech-info").textContent = t;
     const n = frameCount(res);
