@@ -155,3 +155,133 @@ def planetary_record(c: PlanetaryContact, limits: dict) -> dict:
 
 
 __all__ = ["PlanetaryContact", "analyse_planetary", "gear_file_names", "planetary_record"]
+
+
+def _combined(parts: list[tuple[float, np.ndarray, float]]) -> tuple[float, np.ndarray, float]:
+    """(mass kg, centroid m, inertia about it kg m^2) of rigidly joined plates, each given
+    in the common frame."""
+    m = sum(p[0] for p in parts)
+    c = sum(p[0] * p[1] for p in parts) / m
+    j = sum(p[2] + p[0] * (p[1] - c) @ (p[1] - c) for p in parts)
+    return float(m), c, float(j)
+
+
+def _mesh_law_samples(law, spec, u0: float, n: int = 2048):
+    """The follower's body angle alpha_f (rad) as a function of its driver's alpha_d = u
+    over one driver turn from ``u0`` (the pitch-curve law of ``trains.model.simulate``,
+    sampled: u (n,), alpha_f (n,), slope = the follower's turns per driver turn with
+    their sense)."""
+    from plantmech.trains.model import _KIND_OFFSETS
+
+    delta = float(np.ravel(spec.direction)[0])
+    eps_d, eps_f = _KIND_OFFSETS[spec.kind]
+    u = u0 + TWO_PI * np.arange(n + 1) / n
+    theta_d = (delta + eps_d - u)[None, :]
+    if spec.follower is None:
+        F, _ = law.F(theta_d)
+        theta_f = law.sense * F
+    else:  # the law rolls on the given follower
+        theta_f = law.invert(law.sense * theta_d)
+    alpha_f = delta + eps_f - np.ravel(theta_f)
+    return u[:-1], alpha_f[:-1], float((alpha_f[-1] - alpha_f[0]) / TWO_PI)
+
+
+def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 3600,
+                    steps: int = 1440) -> dict:
+    """Input torque(s) (N m), mesh torques and tangential tooth forces (N) of a general
+    planetary train over one carrier turn (exudyn through ``contact.loads.solve_loads``,
+    the transplanters' and the seeder's engine), and the energy balance. Bodies: the
+    carrier (driven at ``spec.carrier_speed_deg_s`` in its sense), a driven sun when the
+    file turns it (its speed ratio), and per arm one body per shaft (its follower gear,
+    a compound driver fixed to it, the planet with the arm and the payload); masses from
+    the gear files' outlines (``gears``, mm) at the face width and density. Each mesh is
+    the pitch-curve law of ``trains`` between its driver's and follower's body angles
+    relative to the carrier."""
+    from plantmech.contact.loads import (
+        Body,
+        MeshLaw,
+        PeriodicLaw,
+        _rot,
+        polygon_mass_properties,
+        solve_loads,
+    )
+    from plantmech.contact.transplanter_loads import _arm_body, _record
+    from plantmech.trains.gearing import built_train, gear_names
+    from plantmech.trains.model import simulate
+
+    built = built_train(design)
+    motion = simulate(built, samples=samples)
+    tr = built.train
+    names = gear_names(design)
+    s = float(tr.carrier_sense)
+    omega = np.radians(spec.carrier_speed_deg_s)
+    thick = spec.face_width_mm * 1e-3
+    props = {n: polygon_mass_properties(g.rings, thick, spec.density_kg_m3)
+             for n, g in gears.items()}
+    shafts = built.shafts[0] * 1e-3  # m, carrier frame
+    J = motion.tip.shape[1]
+    K = len(tr.pairs)
+    L = float(np.ravel(tr.arm_length)[0]) * 1e-3
+    c0 = float(motion.carrier[0, 0, 0])
+    bodies = [Body("carrier", 1.0, 0.1, c0, s * omega, np.zeros(2), np.zeros(2), False)]
+    drives, drive_names = [0], ["carrier"]
+    k_sun = float(tr.sun_speed_ratio)
+    sun_abs = c0 + float(motion.gear_angles[0][0, 0, 0])  # the sun's absolute angle at 0
+    sun_body = None
+    if k_sun != 0.0:  # a driven sun: a body on the ground turning k times the carrier
+        m, c, jz = props["sun"]
+        sun_body = len(bodies)
+        bodies.append(Body("sun", m, jz, sun_abs, k_sun * s * omega, c, np.zeros(2), False))
+        drives.append(sun_body)
+        drive_names.append("sun")
+    laws = []
+    for j in range(J):
+        line = s * TWO_PI * j / J  # arm j's carrier line in the carrier's frame at 0
+        shaft_body = {0: sun_body}  # shaft index -> body index (None: the fixed sun)
+        angle_offset = {}  # shaft -> body angle minus the shaft's gear frame angle
+        for i in range(1, K + 1):
+            follower = names[i - 1][1]
+            frame0 = float(motion.carrier[0, j, 0] + motion.gear_angles[i][0, j, 0])
+            rate = float(motion.gear_rates[i][0, j, 0])
+            pivot = _rot(line) @ np.array([shafts[i].real, shafts[i].imag])
+            parts = [props[follower]]
+            if i < K and tr.pairs[i].driver is not None:  # a compound gear on this shaft
+                phase = float(motion.driver_angles[i][0, j, 0]
+                              - motion.gear_angles[i][0, j, 0])
+                m2, c2, j2 = props[names[i][0]]
+                parts.append((m2, _rot(phase) @ c2, j2))
+            index = len(bodies)
+            shaft_body[i] = index
+            label = follower if J == 1 else f"{follower}_{j + 1}"
+            if i == K:  # the planet carries the arm: the body's angle is the arm's
+                beta0 = float(motion.arm_angle[0, j, 0])
+                bodies.append(_arm_body(label + "_arm", _combined(parts), spec, L, beta0,
+                                        (s + rate) * omega, pivot, frame0 - beta0))
+                angle_offset[i] = beta0 - frame0
+            else:
+                m, c, jz = _combined(parts)
+                bodies.append(Body(label, m, jz, frame0, (s + rate) * omega, c, pivot, True))
+                angle_offset[i] = 0.0
+        for k, (law, pspec) in enumerate(zip(built.laws, tr.pairs, strict=True)):
+            d_alpha0 = float(motion.driver_angles[k][0, j, 0])
+            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0)
+            V = PeriodicLaw(u, alpha_f, slope)
+            # the driver's alpha from its shaft's body angle: theta_body - offset + phase
+            # - theta_carrier (the sun: its absolute angle when fixed)
+            phase = d_alpha0 - float(motion.gear_angles[k][0, j, 0])
+            # (alpha is relative to arm j's carrier line: the carrier body's angle + line)
+            if k == 0 and sun_body is None:
+                w, x0 = {0: -1.0}, sun_abs + phase - line
+            else:
+                w = {shaft_body[k]: 1.0, 0: -1.0}
+                x0 = phase - angle_offset.get(k, 0.0) - line
+            radius = motion.contact_radii[k][1][0, j] * 1e-3
+            label = f"{names[k][0]}_{names[k][1]}" + ("" if J == 1 else f"_{j + 1}")
+            laws.append(MeshLaw(label, {shaft_body[k + 1]: 1.0, 0: -1.0},
+                                -angle_offset[k + 1] - line, w, x0, V, radius))
+    res = solve_loads(bodies, drives, laws, spec, steps)
+    return _record(res, drive_names, laws, bodies, spec,
+                   f"{len(bodies)} planar rigid bodies ({J} arm(s) x {K} shaft(s), the last "
+                   f"with the arm and the payload), {len(bodies)} revolute joints, driven "
+                   f"carrier{' and sun' if sun_body is not None else ''}, {len(laws)} mesh "
+                   "constraints (pitch-curve laws)", steps)

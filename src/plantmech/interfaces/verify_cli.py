@@ -88,7 +88,7 @@ def run(args) -> int:
         except ValueError as exc:  # the train cannot be built from the file
             print(f"error: {args.design}: {exc}", file=sys.stderr)
             return EXIT_INPUT
-        return _report(args, design, gears, gears_dir, out, rec, None)
+        return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
     if design.mechanism.startswith("rice_transplanter"):
         try:
             rec = _run_transplanter(args, design, gears, out)
@@ -174,15 +174,20 @@ def _run_transplanter(args, design, gears, out) -> dict:
 
 def _run_planetary(args, design, gears, out) -> dict:
     """A general planetary train (``mechanism = "planetary"``): every pair of every arm
-    tooth on tooth, chained to the arm (``contact/planetary.py``). Its loads are not
-    modelled: the record says so."""
-    from plantmech.contact.planetary import analyse_planetary, planetary_record
+    tooth on tooth, chained to the arm, and its loads (``contact/planetary.py``)."""
+    from plantmech.contact.planetary import (
+        analyse_planetary,
+        planetary_loads,
+        planetary_record,
+    )
 
     t0 = time.perf_counter()
     contact = analyse_planetary(design, gears, steps=args.steps)
     rec = planetary_record(contact, _limits(args))
-    rec["loads"] = {"skipped": "the multibody loads of a general planetary train are not "
-                    "modelled yet (the seeder's and the transplanters' are)"}
+    loads = None
+    if not args.no_loads:
+        loads = _record_loads(rec, lambda: planetary_loads(
+            design, gears, _load_spec(args, Path(args.gears))))
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -191,7 +196,11 @@ def _run_planetary(args, design, gears, out) -> dict:
         vp.plot_train_transmission_error(out / "transmission_error.png", contact)
         vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
         files += ["transmission_error.png", "tip_band.png"]
+        if loads is not None:
+            vp.plot_transplanter_loads(out / "loads.png", loads)
+            files.append("loads.png")
     rec["files"] = files
+    rec["_loads"] = loads
     return rec
 
 
