@@ -147,7 +147,9 @@ def test_other_commands_refuse_a_planetary_design_by_name(command, field, tmp_pa
 
 
 def test_report_option_is_refused_not_ignored(tmp_path, capsys):
-    assert main(["forward", str(EXAMPLE), "--out", str(tmp_path / "o"), "--report"]) == 2
+    """`forward --report` writes the report (tests/test_report.py); `gears --report` has
+    none for a planetary train yet and says so instead of ignoring the option."""
+    assert main(["gears", str(EXAMPLE), "--out", str(tmp_path / "o"), "--report"]) == 2
     assert "--report" in capsys.readouterr().err
 
 

@@ -197,3 +197,35 @@ def test_cli_report_of_an_optimization(tmp_path):
     data = json.loads(re.search(r'id="animation-data">(.*?)</script>', text, re.S).group(1))
     assert len(data["links"]) == 3  # the best design's three arms
     assert (out / "mechanism.gif").stat().st_size > 1000
+
+
+def test_planetary_animation_and_report(tmp_path):
+    """A general planetary train's report (``forward --report``): the arm from the planet
+    axis to the tip is the arm's length in every frame, the planet axis stays at the
+    chain's distance from O, every gear's pitch curve drawn with no legend entry; the
+    page holds every [limits] check."""
+    from plantmech.interfaces.cli import main
+
+    ex = EXAMPLES / "rotary_transplanter_elliptic.toml"
+    out = tmp_path / "o"
+    assert main(["forward", str(ex), "--out", str(out), "--report"]) == 0
+    html_text = (out / "report.html").read_text()
+    assert "path_height_mm" in html_text and "loops" in html_text
+    assert (out / "mechanism.gif").stat().st_size > 10_000
+    from plantmech.design import load_design
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    design = load_design(ex)
+    built = build_from_design(design)
+    a = rp.planetary_animation(design, simulate(built, 720))
+    arms = [lk for lk in a.links if lk["label"].startswith("carrier and arm")]
+    gears = [lk for lk in a.links if not lk["label"]]
+    assert len(arms) == design.carrier.arms and len(gears) == 5  # sun, 2 x (idler, planet)
+    for lk in arms:
+        p = np.asarray(lk["points"])  # O, idler axis, planet axis, tip
+        np.testing.assert_allclose(np.linalg.norm(p[:, 3] - p[:, 2], axis=1),
+                                   design.arm.length_mm, rtol=1e-9)
+        np.testing.assert_allclose(np.linalg.norm(p[:, 2], axis=1),
+                                   abs(built.shafts[0, -1]), rtol=1e-9)
+    assert "<i style" in rp._legend(a) and rp._legend(a).count("<span>") == 4

@@ -21,11 +21,6 @@ def forward_planetary(args, design, run) -> int:
     from plantmech.trains.model import simulate
     from plantmech.trains.spec import TrainSpecError, build_from_design
 
-    if getattr(args, "report", False):
-        print(f"error: {args.design}: option --report: the HTML report is not available for "
-              "mechanism \"planetary\" yet (the plots and tables are written without it)",
-              file=sys.stderr)
-        return EXIT_INPUT
     out = run.path
     t0 = time.perf_counter()
     try:
@@ -49,6 +44,11 @@ def forward_planetary(args, design, run) -> int:
                                                                  design.carrier.speed_deg_s)),
                    ("ratios.png", pp.plot_ratios(motion))]
         written += [save(fig, out / name, dpi=120) for name, fig in figures]
+    if getattr(args, "report", False):
+        from plantmech.interfaces.report_cli import planetary_report
+
+        written += planetary_report(args, out, design, motion, summary,
+                                    [] if args.no_plots else figures)
     print(f"{design.name}: planetary train, {len(built.laws)} pairs, "
           f"{design.carrier.arms} arm(s)")
     for p in summary["pairs"]:

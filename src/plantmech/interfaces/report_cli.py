@@ -45,6 +45,14 @@ def inverse_report(args, out: Path, job, figures) -> list[Path]:
                                 command=_command(args)))
 
 
+def planetary_report(args, out: Path, design, motion, summary, figures) -> list[Path]:
+    """Report of ``plantmech forward`` on a general planetary train."""
+    from plantmech.outputs.report import planetary_animation, write_report
+
+    return _finish(write_report(out / REPORT_NAME, summary, figures,
+                                planetary_animation(design, motion), command=_command(args)))
+
+
 def forward_report(args, out: Path, job, figures) -> list[Path]:
     """Report of ``plantmech forward`` (seeder or transplanter job)."""
     from plantmech.outputs.report import (

@@ -150,6 +150,48 @@ def transplanter_animation(job, frames: int = FRAMES) -> Animation:
     return Animation(f"{job.design.name}: one carrier turn", links, joints, traces, labels)
 
 
+def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
+    """A general planetary train (``trains.model.TrainMotion``, P = 1) over one carrier
+    turn: every gear's pitch curve at its shaft and angle (the sun once), the carrier's
+    line of shafts and the arm of every arm, the tips' paths."""
+    from plantmech.outputs.transplanter_plots import COLOURS
+    from plantmech.trains.curves import TWO_PI
+
+    built = motion.built
+    k = _frame_index(motion.tip.shape[-1], frames)
+    th = TWO_PI * np.arange(181) / 180
+
+    def xy(z):
+        return np.stack([np.real(z), np.imag(z)], axis=-1)
+
+    def body(curve):
+        return curve(th[None, :])[0][0] * np.exp(1j * th)
+
+    links, joints, traces = [], [], []
+    shafts = built.shafts[0]
+    pairs = built.train.pairs
+    for j in range(motion.tip.shape[1]):
+        c = COLOURS[j % len(COLOURS)]
+        turn = np.exp(1j * motion.carrier[0, j, k])
+        for i in range(len(pairs)):
+            curves = [(built.followers[i], shafts[i + 1], motion.gear_angles[i + 1])]
+            if (i == 0 and j == 0) or (i > 0 and pairs[i].driver is not None):
+                curves.append((built.drivers[i], shafts[i], motion.driver_angles[i]))
+            for curve, shaft, alpha in curves:
+                rot = np.exp(1j * (motion.carrier[0, j, k] + alpha[0, j, k]))
+                pts = shaft * turn[:, None] + body(curve)[None, :] * rot[:, None]
+                links.append({"label": "", "color": "#6b7280", "width": 1,
+                              "points": xy(pts)})  # a pitch curve: no legend entry
+        chain = np.c_[shafts[None, :] * turn[:, None], motion.tip[0, j, k]]
+        links.append({"label": f"carrier and arm {j + 1}", "color": c, "width": 3,
+                      "points": xy(chain)})
+        joints.append({"label": f"tip {j + 1}", "color": c, "points": xy(motion.tip[0, j, k])})
+        traces.append({"label": f"tip path {j + 1}", "color": c, "width": 1,
+                       "dash": "4 3" if j else "", "points": xy(motion.tip[0, j])})
+    labels = [f"carrier angle {np.degrees(motion.carrier_angle[i]):5.1f} deg" for i in k]
+    return Animation(f"{design.name}: one carrier turn", links, joints, traces, labels)
+
+
 # --- GIF ------------------------------------------------------------------------------
 
 
@@ -419,6 +461,7 @@ def _checks_table(summary: dict) -> str:
 def _legend(a: Animation) -> str:
     items = [(t["label"], t["color"]) for t in a.traces] + [(lk["label"], lk["color"])
                                                              for lk in a.links]
+    items = [(lab, c) for lab, c in items if lab]  # unlabelled parts (gears) stay out
     return '<p class="legend">' + "".join(
         f'<span><i style="background:{_hex(c)}"></i>{html.escape(lab)}</span>'
         for lab, c in items) + "</p>"
