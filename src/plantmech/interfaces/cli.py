@@ -72,7 +72,7 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     try:
         design = load_design(Path(args.design))
         refuse_planetary(args, design)
-        if require_trajectory:
+        if require_trajectory and design.mechanism != "planetary":
             if design.mechanism != "sugarcane_seeder":
                 raise DesignError(f"{args.design}: field 'mechanism': inverse design is for "
                                   f"the sugarcane seeder; a {design.mechanism} design runs "
@@ -99,12 +99,13 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse")
 
 
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
-    forward``, ``plantmech gears`` and ``plantmech optimize --problem planetary`` so far;
+    forward``, ``plantmech gears``, ``plantmech optimize --problem planetary`` and
+    ``plantmech inverse`` (a first-order train from a [trajectory]) so far;
     any other command or problem refuses it by name (DesignError, exit 2), and
     ``--report`` on it too."""
     from plantmech.design import DesignError
@@ -114,8 +115,9 @@ def refuse_planetary(args, design) -> None:
         return
     if command not in PLANETARY_COMMANDS:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
-                          "'plantmech forward', 'plantmech gears' and 'plantmech optimize "
-                          f"--problem planetary' so far; '{command}' is for the seeder and the "
+                          "'plantmech forward', 'plantmech gears', 'plantmech optimize "
+                          "--problem planetary' and 'plantmech inverse' (a first-order train "
+                          f"from a [trajectory]) so far; '{command}' is for the seeder and the "
                           "rice transplanters only")
     problem = getattr(args, "problem", None)
     if command == "optimize" and problem != "planetary":
@@ -158,6 +160,10 @@ def _inverse(args) -> int:
 
 
 def _inverse_body(args, design, run) -> int:
+    if design.mechanism == "planetary":
+        from plantmech.interfaces.planetary_inverse_cli import inverse_planetary
+
+        return inverse_planetary(args, design, run)
     from plantmech.geometry.trajectory import TrajectoryError
     from plantmech.outputs.files import write_json
     from plantmech.outputs.seeder_report import write_inverse_outputs

@@ -37,8 +37,23 @@ def curve_from_spec(spec, grid: int, name: str) -> Curve:
                         spec.lobes, name)
 
 
+def require_curves(design) -> None:
+    """TrainSpecError naming the field when a planetary file gives a [trajectory] instead of
+    the sun's pitch curve or the arm's start (an input of `plantmech inverse`)."""
+    first = design.train.pairs[0]
+    if first.driver is None and first.follower is None:
+        raise TrainSpecError("train.pairs.0.driver': no pitch curve: this file gives a "
+                             "[trajectory]; run 'plantmech inverse' on it, which writes the "
+                             "train's pitch curves (design.toml)")
+    if design.arm.initial_angle_deg is None or design.arm.length_mm is None:
+        raise TrainSpecError("arm': its length or start angle is missing: run 'plantmech "
+                             "inverse' on this [trajectory] file, which computes them "
+                             "(design.toml)")
+
+
 def train_from_design(design) -> Train:
     """The ``Train`` (P = 1) of a planetary design."""
+    require_curves(design)
     t = design.train
     grid = t.grid
     pairs = []
@@ -121,6 +136,7 @@ def train_from_designs(designs: list) -> Train:
     ``train_from_design``. Raises ValueError when the structures differ, TrainSpecError
     (naming the field) when a curve cannot be tabulated."""
     first = designs[0]
+    require_curves(first)
     key = structure_key(first)
     for i, d in enumerate(designs[1:], 1):
         if structure_key(d) != key:
