@@ -79,7 +79,8 @@ def test_cli_round_trip_through_forward(tmp_path, capsys):
     code, io = _run(["inverse", str(EXAMPLE), "--out", str(out)], capsys)
     assert code == 0, io.out + io.err
     s = json.loads((out / "summary.json").read_text())
-    assert s["feasible"] and s["centre_distance_mm"] == pytest.approx(50.0, abs=0.01)
+    assert s["feasible"] and s["carrier_arm_mm"] == pytest.approx(50.0, abs=0.01)
+    assert s["centre_distances_mm"] == [pytest.approx(50.0, abs=0.01)]
     assert s["arm_length_mm"] == pytest.approx(20.0, abs=0.01)
     designed = load_design(out / "design.toml")
     assert designed.train.pairs[0].driver.family == "radii"
@@ -118,7 +119,10 @@ def _write(tmp_path, doc) -> str:
      "train.pairs.0.centre_distance_mm"),
     (lambda d: d["arm"].update(length_mm=25.0), "arm.length_mm"),
     (lambda d: d["train"].update(sun_speed_ratio=0.5), "train.sun_speed_ratio"),
-    (lambda d: d["train"]["pairs"].append({"kind": "external"}), "train.pairs"),
+    (lambda d: d["train"]["pairs"].extend([{"kind": "external"}] * 2), "train.pairs"),
+    (lambda d: d["train"]["pairs"][0].update(driver={"family": "ellipse", "semi_major_mm": 9.0,
+                                                     "eccentricity": 0.1}),
+     "train.pairs.0"),
 ])
 def test_inputs_the_inverse_cannot_take_exit_2_naming_the_field(tmp_path, capsys, change,
                                                                  field):
@@ -143,3 +147,38 @@ def test_infeasible_trajectory_exit_3_with_the_reason(tmp_path, capsys):
 def test_a_trajectory_file_is_not_a_train_for_forward(tmp_path, capsys):
     code, io = _run(["forward", str(EXAMPLE), "--out", str(tmp_path / "o")], capsys)
     assert code == 2 and "train.pairs.0.driver" in io.err and "plantmech inverse" in io.err
+
+
+def test_second_order_seeder_train_from_its_trajectory_follows_the_seeder_model():
+    """Seed 000's train designed from its Table 2 trajectory through the general model: the
+    written design, run by the general forward model, gives the seeder's own inverse
+    design's realized tip (mechanisms/seeder_inverse, a separate pipeline) at every carrier
+    sample, and its pitch curves are the seeder's r1 and r3."""
+    from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
+    from plantmech.trains.inverse import run_first_order
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    design = load_design(EXAMPLES / "planetary" / "sugarcane_seeder_inverse.toml")
+    job = run_first_order(design)
+    assert job["feasible"], job["result"].reasons
+    assert job["rows"][0]["ok"] and job["rows"][0]["value"] < ROUND_TRIP_TOLERANCE_MM
+    traj = ClosedTrajectory.through(design.trajectory.points)
+    seeder = inverse_design(traj, InverseSettings(samples=3600, min_pitch_radius=5.0))
+    assert seeder.feasible
+    designed = job["designed"]
+    assert [p.centre_distance_mm for p in designed.train.pairs] == pytest.approx(
+        [seeder.L1 / 2, seeder.L1 / 2])
+    assert designed.arm.length_mm == pytest.approx(seeder.L2)
+    motion = simulate(build_from_design(designed), 3600)
+    tip = motion.tip[0, 0]
+    ref = seeder.tip_realized[:, 0] + 1j * seeder.tip_realized[:, 1]
+    assert np.abs(tip - ref).max() < 0.01  # mm, over the whole turn
+    # the sun: its radius where it touches gear 2 at carrier angle psi is the seeder's r1
+    r_sun = motion.contact_radii[0][0][0, 0]
+    # mm: the written curves are 900 control radii of the 3600 samples (periodic spline);
+    # gear 3's radius is steep where the ratio falls to 0.077, so a small angle offset of
+    # gear 2 there shows as up to 0.12 mm of radius at the same carrier angle
+    assert np.abs(r_sun - seeder.r1).max() < 0.02
+    r_gear3 = motion.contact_radii[1][0][0, 0]
+    assert np.abs(r_gear3 - seeder.r3).max() < 0.15

@@ -244,8 +244,17 @@ class PlanetaryArm(_Strict):
 
 class PlanetaryTrajectory(Trajectory):
     """The planned tip trajectory of a first-order train for `plantmech inverse` (the
-    seeder's [trajectory] points and samples; no sections): the train's ratio law and the
-    sun's pitch curve follow from it (``trains.inverse``)."""
+    seeder's [trajectory] points and samples; no sections). The file then gives a fixed
+    sun (`train.sun_speed_ratio = 0`), ONE `[[train.pairs]]` with its `kind` and
+    `follower_turns` but no pitch-curve table, and an `[arm]` without length or start angle:
+    the trajectory's farthest and nearest radii fix the carrier arm (the pair's centre
+    distance) and the arm (`arm`), the two-link chain the planet's angle along the carrier,
+    hence the ratio law and the sun's pitch curve (`trains.inverse`). `plantmech inverse`
+    writes design.toml: this file with the sun as `family = "radii"` (periodic spline),
+    the centre distance, the arm and the start angles filled in, which `plantmech forward`
+    runs; the round trip (its tip through every type-value point within 0.01 mm) is a
+    check of the verdict. A centre distance or arm length given in the file must equal the
+    one the trajectory fixes."""
 
     sections: None = Field(None, description="not used by a planetary train (the seeder's "
                            "section points)")
@@ -253,7 +262,11 @@ class PlanetaryTrajectory(Trajectory):
         "long", description="which link is the longer: the trajectory's farthest and "
         "nearest radii fix the carrier arm a and the arm L (seed 000 Eq. 1: the chain "
         "straightens and folds once per cycle); \"long\": L = (rho_max + rho_min) / 2, "
-        "a = (rho_max - rho_min) / 2 (seed 000), \"short\": the two exchanged")
+        "a = (rho_max - rho_min) / 2 (seed 000), \"short\": the two exchanged; a "
+        "second-order train (two pairs) takes \"long\"")
+    split_exponent: Annotated[float, Strict(), Field(gt=0, lt=1, allow_inf_nan=False)] = (
+        Field(0.5, description="p: a second-order train (two pairs, seed 000) gives its "
+              "first pair the ratio C (total ratio)^p (seed 000 Eq. 7-8)"))
 
     @model_validator(mode="after")
     def _sections_in_range(self):  # replaces the seeder's: no sections here
@@ -370,9 +383,8 @@ class PlanetaryDesign(_Strict):
     description: Text = Field("", description="free text")
     samples: Samples = Field(3600, description="samples per carrier turn")
     trajectory: PlanetaryTrajectory | None = Field(
-        None, description="planned tip trajectory for `plantmech inverse` (a first-order "
-        "train: one pair whose sun pitch curve the inverse design computes; "
-        "docs/design-file.md)")
+        None, description="planned tip trajectory for `plantmech inverse` (the train's "
+        "pitch curves are then computed; see the [trajectory] table below)")
     carrier: PlanetaryCarrier = Field(PlanetaryCarrier(), description="the carrier")
     train: PlanetaryTrain = Field(description="the gear pairs")
     arm: PlanetaryArm = Field(description="the arm on the planet")

@@ -1,5 +1,5 @@
 """``plantmech inverse`` on a general planetary train (``mechanism = "planetary"`` with a
-[trajectory]): the first-order inverse design of ``trains.inverse``, its round trip
+[trajectory]): the first- or second-order inverse design of ``trains.inverse``, its round trip
 through the forward model, design.toml (a planetary design file with the sun's pitch
 curve), summary.json, inverse.csv and a plot. The inverse command hands such a design here
 (one line in ``cli._inverse_body``). No physics here."""
@@ -35,16 +35,19 @@ def inverse_planetary(args, design, run) -> int:
         print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
         return EXIT_INPUT
     res = job["result"]
-    summary = {"mechanism": "planetary", "name": design.name, "inverse": "first-order",
+    order = "second-order" if len(design.train.pairs) == 2 else "first-order"
+    summary = {"mechanism": "planetary", "name": design.name, "inverse": order,
                "feasible": res.feasible, "reasons": res.reasons,
-               "centre_distance_mm": res.centre_distance, "arm_length_mm": res.arm_length,
+               "carrier_arm_mm": res.centre_distance, "arm_length_mm": res.arm_length,
                "follower_turns": res.follower_turns, "objectives": job["rows"]}
     written = []
     if res.ratio is not None:
         summary["ratio_range"] = [float(res.ratio.min()), float(res.ratio.max())]
         summary["point_carrier_angle_deg"] = [float(x) for x in res.point_carrier_angle_deg]
     if res.feasible:
-        summary.update(carrier_initial_angle_deg=res.carrier0_deg,
+        summary.update(centre_distances_mm=[p.centre_distance_mm
+                                            for p in job["designed"].train.pairs],
+                       carrier_initial_angle_deg=res.carrier0_deg,
                        arm_initial_angle_deg=res.arm0_deg,
                        sun_radius_mm=[float(res.sun_radii.min()), float(res.sun_radii.max())],
                        planet_radius_mm=[float(res.planet_radii.min()),
@@ -52,7 +55,7 @@ def inverse_planetary(args, design, run) -> int:
                        point_deviation_mm=[float(x) for x in
                                            job["deviation"]["point_deviation_mm"]])
         (out / "design.toml").write_text(
-            f"# Written by 'plantmech inverse {args.design}' (first-order inverse design); "
+            f"# Written by 'plantmech inverse {args.design}' ({order} inverse design); "
             "'plantmech forward' runs it.\n"
             + tomli_w.dumps(job["designed"].model_dump(mode="json", exclude_none=True)),
             encoding="utf-8")
@@ -73,11 +76,11 @@ def inverse_planetary(args, design, run) -> int:
 
         written.append(save(plot_inverse(job["trajectory"], res, job["motion"], design.name),
                             out / "trajectory.png", dpi=120))
-    print(f"{design.name}: first-order inverse design ({design.train.pairs[0].kind} pair, "
-          "fixed sun)")
+    print(f"{design.name}: {order} inverse design ("
+          + ("seed 000's ratio split, " if order == "second-order"
+             else f"{design.train.pairs[0].kind} pair, ") + "fixed sun)")
     if res.centre_distance is not None:
-        print(f"  carrier arm (centre distance) {res.centre_distance:.4f} mm, arm "
-              f"{res.arm_length:.4f} mm")
+        print(f"  carrier arm {res.centre_distance:.4f} mm, arm {res.arm_length:.4f} mm")
     for reason in res.reasons:
         print(f"  INFEASIBLE: {reason}", file=sys.stderr)
     if res.feasible:

@@ -265,7 +265,7 @@ def forward_deviation(traj: ClosedTrajectory, motion) -> dict:
 __all__ = ["FirstOrderResult", "extreme_radii", "first_order_inverse", "forward_deviation"]
 
 
-def control_radii_count(samples: int, most: int = 720) -> int:
+def control_radii_count(samples: int, most: int = 900) -> int:
     """Control radii written for the sun's curve: the largest divisor of ``samples`` not
     above ``most`` (every (samples / count)-th sample of the law)."""
     return max(k for k in range(4, min(most, samples) + 1) if samples % k == 0)
@@ -319,10 +319,19 @@ def check_first_order_input(design) -> None:
     if design.trajectory is None:
         raise InverseInputError("trajectory: inverse design needs the planned tip trajectory "
                                 "([trajectory] points)")
-    if len(t.pairs) != 1:
+    if len(t.pairs) not in (1, 2):
         raise InverseInputError(f"train.pairs: the inverse design of a planetary train takes a "
-                                f"first-order train (one pair, sun -> planet); this file has "
+                                f"first-order train (one pair, sun -> planet) or seed 000's "
+                                f"second-order train (two pairs); this file has "
                                 f"{len(t.pairs)} pairs")
+    for k, p in enumerate(t.pairs):
+        if p.driver is not None or p.follower is not None:
+            raise InverseInputError(f"train.pairs.{k}: the inverse design computes the pitch "
+                                    "curves; leave out the driver and follower tables")
+        if len(t.pairs) == 2 and (p.kind != "external" or p.follower_turns != 1):
+            raise InverseInputError(f"train.pairs.{k}.kind: seed 000's second-order train has "
+                                    "two external pairs closing once per turn (kind = "
+                                    "\"external\", follower_turns = 1)")
     if t.sun_speed_ratio != 0:
         raise InverseInputError(f"train.sun_speed_ratio: the inverse design takes a fixed sun "
                                 f"(0), got {t.sun_speed_ratio:g}")
@@ -334,11 +343,9 @@ def run_first_order(design) -> dict:
     forward run or None), deviation, rows (the checks: inverse feasibility, the file's
     given lengths and turns, the round trip, its [limits]), feasible}. Raises
     InverseInputError (naming the field) or geometry.trajectory.TrajectoryError."""
-    from plantmech.objectives.planetary import design_evaluation
-    from plantmech.trains.model import simulate
-    from plantmech.trains.spec import TrainSpecError, build_from_design
-
     check_first_order_input(design)
+    if len(design.train.pairs) == 2:
+        return _run_second_order(design)
     tr = design.trajectory
     traj = ClosedTrajectory.through(tr.points)
     pair = design.train.pairs[0]
@@ -363,6 +370,16 @@ def run_first_order(design) -> dict:
     if not res.feasible:
         return job
     designed = first_order_design(design, res)
+    return _round_trip(job, designed, traj)
+
+
+def _round_trip(job: dict, designed, traj) -> dict:
+    """Build and run ``designed`` forward; the round-trip row and the [limits] rows."""
+    from plantmech.objectives.planetary import design_evaluation
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import TrainSpecError, build_from_design
+
+    res = job["result"]
     try:
         built = build_from_design(designed)
     except TrainSpecError as exc:  # e.g. the planet's curve does not close (q != 1)
@@ -386,3 +403,97 @@ def run_first_order(design) -> dict:
 
 __all__ += ["ROUND_TRIP_TOLERANCE_MM", "InverseInputError", "check_first_order_input",
             "run_first_order"]
+
+
+def _run_second_order(design) -> dict:
+    """Seed 000's second-order train from a planetary [trajectory] file with two pairs: the
+    seeder's inverse design (``mechanisms.seeder_inverse.inverse_design``: carrier and arm
+    from the extreme radii, the ratio split between the pairs by
+    ``trajectory.split_exponent``, centre distances from the file or L1 / 2) written as a
+    planetary design (``second_order_design``) and checked by the same round trip."""
+    from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
+
+    tr = design.trajectory
+    t = design.train
+    traj = ClosedTrajectory.through(tr.points)
+    if design.carrier.direction != "clockwise":
+        raise InverseInputError("carrier.direction: seed 000's inverse design turns the "
+                                "carrier clockwise")
+    settings = InverseSettings(samples=tr.samples, a1=t.pairs[0].centre_distance_mm,
+                               a2=t.pairs[1].centre_distance_mm,
+                               split_exponent=tr.split_exponent,
+                               min_pitch_radius=t.min_pitch_radius_mm)
+    seeder = inverse_design(traj, settings)
+    res = FirstOrderResult(seeder.feasible, [d.message for d in seeder.diagnostics
+                                             if d.severity == "error"])
+    res.centre_distance, res.arm_length = seeder.L1, seeder.L2
+    job = {"result": res, "trajectory": traj, "designed": None, "motion": None,
+           "deviation": None, "rows": [], "feasible": res.feasible, "seeder": seeder}
+    if arm_given := design.arm.length_mm:
+        if abs(arm_given - seeder.L2) > 1e-6 * seeder.L2:
+            raise InverseInputError(f"arm.length_mm: {arm_given:g} mm, but the trajectory fixes "
+                                    f"it at {seeder.L2:.6f} mm (seed 000 Eq. 1); leave it out")
+    if seeder.carrier_angle is not None:
+        res.psi, res.u = seeder.carrier_angle, seeder.u
+        res.tip = seeder.tip[:, 0] + 1j * seeder.tip[:, 1]
+        res.carrier, res.arm = seeder.carrier_abs, seeder.arm_angle
+        res.ratio = seeder.total_ratio
+        res.point_carrier_angle_deg = np.degrees(seeder.point_carrier_angle)
+    if not res.feasible:
+        return job
+    res.follower_turns = 1.0
+    res.carrier0_deg = float(np.degrees(seeder.carrier_abs[0]))
+    res.arm0_deg = float(np.degrees(seeder.arm_angle_realized[0]))
+    res.sun_radii = seeder.r1[(-np.arange(len(seeder.r1))) % len(seeder.r1)]
+    res.planet_radii = seeder.r4
+    return _round_trip(job, second_order_design(design, seeder), traj)
+
+
+def second_order_design(design, seeder):
+    """Seed 000's train from its inverse design (``mechanisms.seeder_inverse.InverseResult``)
+    as a planetary design: pair 0 the fixed sun -> gear 2 (centre distance a1, line of
+    centres at the shaft offset from the carrier line), pair 1 gear 3 (fixed on gear 2's
+    shaft) -> the planet (a2, towards the planet axis at L1 on the carrier line), the arm L2.
+
+    Frames (``trains.model``): with the sun's orientation C0 + delta_1 its contact body angle
+    is theta_1 = -psi, so the sun's radii at uniform body angles are r1 at psi = -theta;
+    gear 2's frame touches the sun's 0 at its 0 and turns psi_2(psi) (``gear2_angle``,
+    clockwise) with the carrier angle; gear 3's phase delta_2 - delta_1 - pi on the shaft
+    puts its contact body angle at theta_3 = psi_2(psi), where its radius is r3(psi). Both
+    curves are written as ``control_radii_count`` control radii at uniform body angles (periodic spline); the
+    side of the shaft (delta_1 = +offset) does not change the planet's motion."""
+    from scipy.interpolate import CubicSpline
+
+    n = len(seeder.r1)
+    K = control_radii_count(n)
+    a1, a2, L1 = seeder.a1, seeder.a2, seeder.L1
+    d1 = seeder.shaft_offset
+    shaft1 = a1 * np.exp(1j * d1)
+    d2 = float(np.angle(L1 - shaft1))
+    sun = seeder.r1[(-np.arange(n)) % n][:: n // K]
+    theta3 = np.r_[seeder.gear2_angle, TWO_PI]
+    r3 = CubicSpline(theta3, np.r_[seeder.r3, seeder.r3[0]], bc_type="periodic")(
+        TWO_PI * np.arange(K) / K)
+    C0 = float(seeder.carrier_abs[0])
+    data = design.model_dump(exclude_none=True)
+    p0, p1 = data["train"]["pairs"]
+    p0.update(kind="external", follower_turns=1.0, centre_distance_mm=float(a1),
+              direction_deg=float(np.degrees(d1)),
+              driver={"family": "radii", "radii_mm": [float(r) for r in sun],
+                      "interpolation": "spline",
+                      "phase_deg": float(np.degrees(C0 + d1))})
+    p1.update(kind="external", follower_turns=1.0, centre_distance_mm=float(a2),
+              direction_deg=float(np.degrees(d2)),
+              driver={"family": "radii", "radii_mm": [float(r) for r in r3],
+                      "interpolation": "spline",
+                      "phase_deg": float(np.degrees(d2 - d1 - np.pi))})
+    data["carrier"]["initial_angle_deg"] = float(np.degrees(C0))
+    data["arm"]["length_mm"] = float(seeder.L2)
+    data["arm"]["initial_angle_deg"] = float(np.degrees(seeder.arm_angle_realized[0]))
+    data["train"]["sun_speed_ratio"] = 0.0
+    if not data["name"].endswith("(inverse design)"):
+        data["name"] = f"{data['name']} (inverse design)"
+    return type(design).model_validate(data)
+
+
+__all__ += ["second_order_design"]
