@@ -460,8 +460,9 @@ def second_order_design(design, seeder):
     gear 2's frame touches the sun's 0 at its 0 and turns psi_2(psi) (``gear2_angle``,
     clockwise) with the carrier angle; gear 3's phase delta_2 - delta_1 - pi on the shaft
     puts its contact body angle at theta_3 = psi_2(psi), where its radius is r3(psi). Both
-    curves are written as ``control_radii_count`` control radii at uniform body angles (periodic spline); the
-    side of the shaft (delta_1 = +offset) does not change the planet's motion."""
+    curves are written as ``control_radii_count`` control radii at uniform body angles
+    (periodic spline); the side of the shaft (delta_1 = +offset) does not change the
+    planet's motion."""
     from scipy.interpolate import CubicSpline
 
     n = len(seeder.r1)
