@@ -514,12 +514,16 @@ def build_parser() -> argparse.ArgumentParser:
         "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    inv = sub.add_parser("inverse", help="seeder: planned tip trajectory -> gear train "
-                         "(inverse design of Liu et al. 2023, section 3)",
+    inv = sub.add_parser("inverse", help="seeder or planetary [trajectory]: planned tip "
+                         "trajectory -> gear train (inverse design of Liu et al. 2023, "
+                         "section 3)",
                          description="Inverse design of the sugarcane seeder of Liu et al. "
                          "(2023): closed trajectory through the type-value points, planning "
                          "checks (Table 1), ratio law, pitch curves of the four gears, "
-                         "feasibility verdict.")
+                         "feasibility verdict. A mechanism = \"planetary\" file with a "
+                         "[trajectory]: a first-order train (fixed sun, one pair) or seed "
+                         "000's second-order train (two pairs), written as design.toml and "
+                         "checked by running it forward.")
     inv.add_argument("design", help="design file (TOML)")
     add_output_options(inv)
     inv.add_argument("--verify", action="store_true",
