@@ -103,7 +103,7 @@ def test_no_limits_is_ok_and_says_nothing_else_was_checked(tmp_path, capsys):
     (lambda d: d["train"].update(pairs=[]), r"train\.pairs"),
     (lambda d: d["train"].update(grid=100), r"train\.grid"),
     (lambda d: d["carrier"].update(arms=2.0), r"carrier\.arms"),
-    (lambda d: d["arm"].pop("length_mm"), r"arm\.length_mm': required"),
+    (lambda d: d["arm"].pop("length_mm"), r"'arm': length_mm is missing"),
     (lambda d: d["limits"].update(loops={"min": 2, "max": 1}), r"limits\.loops"),
 ])
 def test_bad_design_files_name_the_field(edit, field, tmp_path, capsys):
@@ -136,7 +136,7 @@ def test_trains_that_cannot_be_built_exit_2_naming_the_pair(edit, message, tmp_p
 
 
 @pytest.mark.parametrize("command, field", [(["design"], "mechanism"),
-                                            (["inverse"], "mechanism"),
+                                            (["inverse"], "field 'trajectory"),
                                             (["optimize", "--problem", "transplanter"],
                                              "--problem")])
 def test_other_commands_refuse_a_planetary_design_by_name(command, field, tmp_path, capsys):

@@ -122,3 +122,55 @@ def test_wrong_problem_or_missing_table_exit_2(tmp_path, capsys):
     seeder = EXAMPLES / "sugarcane_table4.toml"
     assert main(["optimize", str(seeder), "--problem", "planetary", "--out", str(out)]) == 2
     assert "planetary" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_generation_is_one_population_equal_to_single_evaluations():
+    """The candidates of a generation are built and simulated as ONE population; every
+    candidate's checks equal its own single-design evaluation (P = 1) to 1e-12, a candidate
+    whose train cannot be built (a pitch radius below the minimum) is found among them and
+    the others still evaluated, and a candidate breaking a file rule is graded, not
+    evaluated."""
+    from plantmech.objectives import planetary as obj
+    from plantmech.optimize.planetary_problem import PlanetaryProblem
+    from plantmech.trains import spec
+
+    doc = _doc()
+    doc["optimize"]["variables"]["train.pairs.0.driver.semi_major_mm"] = [2.0, 40.0]
+    design = load_design(doc, name="t.toml")
+    problem = PlanetaryProblem(design)
+    X = np.array([[0.15, 150.0, 25.0], [0.3, 190.0, 22.0], [0.25, 170.0, 2.05],
+                  [0.38, 145.0, 30.0], [0.12, 199.0, 27.5]])
+    builds = []
+    real = spec.build_from_designs
+    spec.build_from_designs = lambda ds: builds.append(len(ds)) or real(ds)
+    try:
+        batch = problem.evaluate_batch(X)
+    finally:
+        spec.build_from_designs = real
+    assert builds[0] == 5  # the whole generation at once, then halved round the refused one
+    assert sum(1 for b in builds if b == 1) <= 3
+    for i, x in enumerate(X):
+        single = obj.design_evaluation(problem.decode(x), problem.samples)
+        if i == 2:  # the 2.05 mm ellipse: its mate falls below the minimum pitch radius
+            assert all(r["value"] is None and r["violation"] == np.inf for r in single)
+            assert "cannot be built" in single[0]["note"]
+            assert np.all(np.isnan(batch.values[i])) and np.all(np.isinf(batch.G[i]))
+            continue
+        for k, r in enumerate(single):
+            assert batch.names[k] == r["name"]
+            assert batch.values[i, k] == pytest.approx(r["value"], rel=1e-12, abs=1e-12)
+            assert batch.G[i, k] == pytest.approx(r["violation"], rel=1e-12, abs=1e-12)
+            assert batch.ok[i, k] == r["ok"]
+    # a candidate that breaks a file rule (an eccentric circle's offset beyond its radius)
+    doc = _doc()
+    doc["train"]["pairs"][0]["driver"] = {"family": "eccentric", "radius_mm": 25.0,
+                                          "offset_mm": 3.0, "phase_deg": 270.0}
+    doc["optimize"]["variables"] = {"train.pairs.0.driver.offset_mm": [0.0, 20.0],
+                                    "train.pairs.0.driver.radius_mm": [15.0, 30.0]}
+    problem = PlanetaryProblem(load_design(doc, name="t.toml"))
+    designs, refusals = problem.candidates(np.array([[3.0, 25.0], [18.0, 16.0]]))
+    assert designs[0] is not None and refusals[0] is None
+    assert designs[1] is None and "offset_mm" in refusals[1]
+    batch = problem.evaluate_batch(np.array([[3.0, 25.0], [18.0, 16.0]]))
+    assert np.all(np.isinf(batch.G[1])) and np.all(np.isfinite(batch.G[0]))
+

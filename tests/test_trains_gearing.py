@@ -184,8 +184,8 @@ def test_commands_still_refused_say_which_work(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["design", str(EXAMPLE), "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert ("'plantmech forward', 'plantmech gears' and 'plantmech optimize --problem "
-            "planetary'") in err and not out.exists()
+    assert ("'plantmech forward', 'plantmech gears', 'plantmech optimize --problem "
+            "planetary' and 'plantmech inverse'") in err and not out.exists()
     assert main(["gears", str(EXAMPLE), "--out", str(out), "--report"]) == 2
     assert "--report" in capsys.readouterr().err and not out.exists()
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field, Strict, model_validator
+from pydantic import Field, Strict, field_validator, model_validator
 
 from plantmech.design import (
     MAX_CARRIER_SPEED_DEG_S,
@@ -24,6 +24,7 @@ from plantmech.design import (
     Range,
     Samples,
     Text,
+    Trajectory,
     _check_polar_points,
     _Strict,
     _uniform,
@@ -203,10 +204,6 @@ class PlanetaryTrain(_Strict):
 
     @model_validator(mode="after")
     def _one_curve_per_pair(self):
-        first = self.pairs[0]
-        if first.driver is None and first.follower is None:
-            raise ValueError("pairs.0.driver is missing: the first pair's driver is the sun; "
-                             "give its pitch curve (or the follower's)")
         for k, p in enumerate(self.pairs):
             if p.driver is not None and p.follower is not None:
                 raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
@@ -236,9 +233,48 @@ class PlanetaryCarrier(_Strict):
 class PlanetaryArm(_Strict):
     """The arm fixed on the planet (last follower)."""
 
-    length_mm: PositiveMM = Field(description="L: planet axis to tip (mm)")
-    initial_angle_deg: AngleDeg = Field(description="beta_0: absolute angle of planet axis "
-                                        "-> tip of arm 1 at the start (deg, CCW from +x)")
+    length_mm: PositiveMM | None = Field(None, description="L: planet axis to tip (mm); "
+                                         "required unless `plantmech inverse` computes it "
+                                         "from a [trajectory]")
+    initial_angle_deg: AngleDeg | None = Field(
+        None, description="beta_0: absolute angle of planet axis -> tip of arm 1 at the "
+        "start (deg, CCW from +x); required unless `plantmech inverse` computes it from a "
+        "[trajectory]")
+
+
+class PlanetaryTrajectory(Trajectory):
+    """The planned tip trajectory of a first-order train for `plantmech inverse` (the
+    seeder's [trajectory] points and samples; no sections). The file then gives a fixed
+    sun (`train.sun_speed_ratio = 0`), ONE `[[train.pairs]]` with its `kind` and
+    `follower_turns` but no pitch-curve table, and an `[arm]` without length or start angle:
+    the trajectory's farthest and nearest radii fix the carrier arm (the pair's centre
+    distance) and the arm (`arm`), the two-link chain the planet's angle along the carrier,
+    hence the ratio law and the sun's pitch curve (`trains.inverse`). `plantmech inverse`
+    writes design.toml: this file with the sun as `family = "radii"` (periodic spline),
+    the centre distance, the arm and the start angles filled in, which `plantmech forward`
+    runs; the round trip (its tip through every type-value point within 0.01 mm) is a
+    check of the verdict. A centre distance or arm length given in the file must equal the
+    one the trajectory fixes."""
+
+    sections: None = Field(None, description="not used by a planetary train (the seeder's "
+                           "section points)")
+    arm: Literal["long", "short"] = Field(
+        "long", description="which link is the longer: the trajectory's farthest and "
+        "nearest radii fix the carrier arm a and the arm L (seed 000 Eq. 1: the chain "
+        "straightens and folds once per cycle); \"long\": L = (rho_max + rho_min) / 2, "
+        "a = (rho_max - rho_min) / 2 (seed 000), \"short\": the two exchanged; a "
+        "second-order train (two pairs) takes \"long\"")
+    split_exponent: Annotated[float, Strict(), Field(gt=0, lt=1, allow_inf_nan=False)] = (
+        Field(0.5, description="p: a second-order train (two pairs, seed 000) gives its "
+              "first pair the ratio C (total ratio)^p (seed 000 Eq. 7-8)"))
+
+    @model_validator(mode="after")
+    def _sections_in_range(self):  # replaces the seeder's: no sections here
+        n = len(self.points)
+        if self.samples < 4 * n:
+            raise ValueError(f"samples = {self.samples} is fewer than 4 per type-value point "
+                             f"({n} points)")
+        return self
 
 
 class PlanetaryLimits(_Strict):
@@ -346,6 +382,9 @@ class PlanetaryDesign(_Strict):
     name: Text = Field("unnamed design", description="name shown in reports")
     description: Text = Field("", description="free text")
     samples: Samples = Field(3600, description="samples per carrier turn")
+    trajectory: PlanetaryTrajectory | None = Field(
+        None, description="planned tip trajectory for `plantmech inverse` (the train's "
+        "pitch curves are then computed; see the [trajectory] table below)")
     carrier: PlanetaryCarrier = Field(PlanetaryCarrier(), description="the carrier")
     train: PlanetaryTrain = Field(description="the gear pairs")
     arm: PlanetaryArm = Field(description="the arm on the planet")
@@ -355,6 +394,27 @@ class PlanetaryDesign(_Strict):
                                          "can cut (`plantmech gears`; docs/manufacturing.md)")
     optimize: PlanetaryOptimize | None = Field(
         None, description="free variables for `plantmech optimize --problem planetary`")
+
+    @field_validator("train")
+    @classmethod
+    def _sun_curve_or_trajectory(cls, train, info):
+        first = train.pairs[0]
+        if first.driver is None and first.follower is None and \
+                info.data.get("trajectory") is None:
+            raise ValueError("pairs.0.driver is missing: the first pair's driver is the sun; "
+                             "give its pitch curve (or the follower's), or a [trajectory] for "
+                             "`plantmech inverse` to compute it")
+        return train
+
+    @field_validator("arm")
+    @classmethod
+    def _arm_or_trajectory(cls, arm, info):
+        if info.data.get("trajectory") is None:
+            for name in ("length_mm", "initial_angle_deg"):
+                if getattr(arm, name) is None:
+                    raise ValueError(f"{name} is missing (or give a [trajectory] for "
+                                     "`plantmech inverse` to compute it)")
+        return arm
 
     @model_validator(mode="after")
     def _variables_are_numeric_fields(self):

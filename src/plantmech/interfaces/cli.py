@@ -72,7 +72,7 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     try:
         design = load_design(Path(args.design))
         refuse_planetary(args, design)
-        if require_trajectory:
+        if require_trajectory and design.mechanism != "planetary":
             if design.mechanism != "sugarcane_seeder":
                 raise DesignError(f"{args.design}: field 'mechanism': inverse design is for "
                                   f"the sugarcane seeder; a {design.mechanism} design runs "
@@ -99,12 +99,13 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse")
 
 
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
-    forward``, ``plantmech gears`` and ``plantmech optimize --problem planetary`` so far;
+    forward``, ``plantmech gears``, ``plantmech optimize --problem planetary``,
+    ``plantmech inverse`` (from a [trajectory]), ``plantmech verify`` and the app so far;
     any other command or problem refuses it by name (DesignError, exit 2), and
     ``--report`` on it too."""
     from plantmech.design import DesignError
@@ -114,9 +115,10 @@ def refuse_planetary(args, design) -> None:
         return
     if command not in PLANETARY_COMMANDS:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
-                          "'plantmech forward', 'plantmech gears' and 'plantmech optimize "
-                          f"--problem planetary' so far; '{command}' is for the seeder and the "
-                          "rice transplanters only")
+                          "'plantmech forward', 'plantmech gears', 'plantmech optimize "
+                          "--problem planetary', 'plantmech inverse' (from a [trajectory]), "
+                          "'plantmech verify' and 'plantmech app' so far; "
+                          f"'{command}' is for the seeder and the rice transplanters only")
     problem = getattr(args, "problem", None)
     if command == "optimize" and problem != "planetary":
         raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
@@ -158,6 +160,10 @@ def _inverse(args) -> int:
 
 
 def _inverse_body(args, design, run) -> int:
+    if design.mechanism == "planetary":
+        from plantmech.interfaces.planetary_inverse_cli import inverse_planetary
+
+        return inverse_planetary(args, design, run)
     from plantmech.geometry.trajectory import TrajectoryError
     from plantmech.outputs.files import write_json
     from plantmech.outputs.seeder_report import write_inverse_outputs
@@ -508,12 +514,16 @@ def build_parser() -> argparse.ArgumentParser:
         "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    inv = sub.add_parser("inverse", help="seeder: planned tip trajectory -> gear train "
-                         "(inverse design of Liu et al. 2023, section 3)",
+    inv = sub.add_parser("inverse", help="seeder or planetary [trajectory]: planned tip "
+                         "trajectory -> gear train (inverse design of Liu et al. 2023, "
+                         "section 3)",
                          description="Inverse design of the sugarcane seeder of Liu et al. "
                          "(2023): closed trajectory through the type-value points, planning "
                          "checks (Table 1), ratio law, pitch curves of the four gears, "
-                         "feasibility verdict.")
+                         "feasibility verdict. A mechanism = \"planetary\" file with a "
+                         "[trajectory]: a first-order train (fixed sun, one pair) or seed "
+                         "000's second-order train (two pairs), written as design.toml and "
+                         "checked by running it forward.")
     inv.add_argument("design", help="design file (TOML)")
     add_output_options(inv)
     inv.add_argument("--verify", action="store_true",

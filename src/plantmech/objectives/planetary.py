@@ -21,28 +21,31 @@ LOOP_SAMPLES = 720
 def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     """Proper crossings of each closed polyline ``path`` (P, S) complex (mm), resampled to
     ``samples`` points: pairs of non-adjacent segments whose ends lie strictly on both
-    sides of each other (orientation signs), counted once. (P,) integers."""
+    sides of each other (orientation signs), counted once. (P,) integers.
+
+    With segment i from a_i to a_{i+1} = b_i, one (n, n) table per design holds every
+    orientation: M[i, j] = d_j x (a_i - a_j), the side of segment j's line on which point
+    a_i lies (d_j = b_j - a_j). The ends of segment i straddle line j where
+    S[i, j] = M[i, j] M[i + 1, j] < 0, so segments i and j cross properly where S[i, j]
+    and S[j, i] both hold."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
-    a, b = z, np.roll(z, -1, axis=1)  # segment i: a_i -> b_i
     n = samples
-    i, j = np.triu_indices(n, k=2)
-    keep = ~((i == 0) & (j == n - 1))  # the closing segment touches the first
-    i, j = i[keep], j[keep]
+    ax, ay = z.real, z.imag
+    d = np.roll(z, -1, axis=1) - z
+    dx, dy = d.real, d.imag
+    upper = np.triu(np.ones((n, n), dtype=bool), k=2)
+    upper[0, n - 1] = False  # the closing segment touches the first
     count = np.zeros(P, dtype=int)
-    step = max(1000, 2_000_000 // P)  # bounded temporaries: ~2e6 segment pairs at a time
-    for lo in range(0, len(i), step):
-        ii, jj = i[lo:lo + step], j[lo:lo + step]
-        p1, p2, p3, p4 = a[:, ii], b[:, ii], a[:, jj], b[:, jj]
-
-        def cross(u, v, w):
-            return ((v - u).conjugate() * (w - u)).imag
-
-        d1, d2 = cross(p3, p4, p1), cross(p3, p4, p2)
-        d3, d4 = cross(p1, p2, p3), cross(p1, p2, p4)
-        hit = (d1 * d2 < 0) & (d3 * d4 < 0)
-        count += hit.sum(axis=1)
+    step = max(1, 4_000_000 // (n * n))  # bounded temporaries: ~4e6 entries at a time
+    for lo in range(0, P, step):
+        sl = slice(lo, lo + step)
+        M = (dx[sl, None, :] * (ay[sl, :, None] - ay[sl, None, :])
+             - dy[sl, None, :] * (ax[sl, :, None] - ax[sl, None, :]))
+        straddle = M * np.roll(M, -1, axis=1) < 0
+        hit = straddle & straddle.transpose(0, 2, 1) & upper
+        count[sl] = hit.sum(axis=(1, 2))
     return count
 
 
@@ -92,51 +95,93 @@ def checks(values: dict, limits, design: int = 0) -> list[Check]:
 
 def design_evaluation(design, samples: int | None = None) -> list[dict]:
     """Every check of one planetary design file as rows {name, value, unit, limit, ok,
-    violation, note}: its [limits] checks (``checks``; violation: the relative one of
-    ``objectives.relative_violation``) and, per pair, the pitch-curve manufacturability
-    rules of ``gears.manufacturability`` (``trains.gearing.assess``): the module window
-    (``cuttable_module_<pair>``: the largest module the curves allow, mm, against the
-    smallest the pair needs) and the working pressure angle (``working_pressure_angle_
-    <pair>``, deg), with the relative violations of ``manufacturability.violation``.
-    ``samples``: carrier samples (default the file's). A train that cannot be built (a pair
-    that does not roll or close) gives every row value None, not ok, violation inf, and the
-    reason as its note; the rows are the same in number and order for every design with
+    violation, note}: ``population_evaluation`` of the one design (P = 1)."""
+    return population_evaluation([design], samples)[0]
+
+
+def population_evaluation(designs: list, samples: int | None = None) -> list[list[dict]]:
+    """Every check of P planetary design files, one list of rows {name, value, unit, limit,
+    ok, violation, note} per design: its [limits] checks (``checks``; violation: the
+    relative one of ``objectives.relative_violation``) and, per pair, the pitch-curve
+    manufacturability rules of ``gears.manufacturability`` (``trains.gearing.assess``): the
+    module window (``cuttable_module_<pair>``: the largest module the curves allow, mm,
+    against the smallest the pair needs) and the working pressure angle
+    (``working_pressure_angle_<pair>``, deg), with the relative violations of
+    ``manufacturability.violation``. ``samples``: carrier samples (default each file's).
+
+    The designs sharing a train structure (``trains.spec.structure_key``: everything but
+    the numbers) are built, simulated and judged as ONE population (``trains.model``,
+    (P, J, S) arrays). A design whose train cannot be built (a pair that does not roll or
+    close) gives every row value None, not ok, violation inf, and the reason as its note;
+    it is found by halving the population that holds it, so the others are still
+    evaluated together. The rows are the same in number and order for every design with
     the same structure (an optimizer's columns)."""
+    from plantmech.trains.spec import structure_key
+
+    groups: dict = {}
+    for i, d in enumerate(designs):
+        groups.setdefault((structure_key(d), samples or d.samples), []).append(i)
+    out: list = [None] * len(designs)
+    for (_, n), members in groups.items():
+        for i, rows in zip(members, _evaluate_group([designs[i] for i in members], n),
+                           strict=True):
+            out[i] = rows
+    return out
+
+
+def _refused_rows(design, reason: str) -> list[dict]:
+    """The rows of a design whose train cannot be built: every value None, violation inf."""
+    from plantmech.trains.gearing import gear_names
+
+    note = f"the train cannot be built: {reason}"
+    rows = [{"name": n, "value": None, "unit": UNITS[n], "limit": "", "ok": False,
+             "violation": np.inf, "note": note}
+            for n in UNITS if getattr(design.limits, n) is not None]
+    for a, b in gear_names(design):
+        rows += [{"name": f"{c}_{a}_{b}", "value": None, "unit": u, "limit": "",
+                  "ok": False, "violation": np.inf, "note": note}
+                 for c, u in (("cuttable_module", "mm"), ("working_pressure_angle", "deg"))]
+    return rows
+
+
+def _evaluate_group(designs: list, samples: int) -> list[list[dict]]:
+    """``population_evaluation`` of designs sharing one structure: one build, one
+    simulation, one manufacturability assessment of the (P, ...) arrays."""
     from plantmech.gears.manufacturability import violation
     from plantmech.objectives import relative_violation
-    from plantmech.trains.gearing import assess, gear_names
+    from plantmech.trains.gearing import assess
     from plantmech.trains.model import simulate
-    from plantmech.trains.spec import TrainSpecError, build_from_design
+    from plantmech.trains.spec import TrainSpecError, build_from_designs
 
-    names = gear_names(design)
-    limited = [n for n in UNITS if getattr(design.limits, n) is not None]
     try:
-        built = build_from_design(design)
+        built = build_from_designs(designs)
     except TrainSpecError as exc:
-        note = f"the train cannot be built: {exc}"
-        rows = [{"name": n, "value": None, "unit": UNITS[n], "limit": "", "ok": False,
-                 "violation": np.inf, "note": note} for n in limited]
-        for a, b in names:
-            rows += [{"name": f"{c}_{a}_{b}", "value": None, "unit": u, "limit": "",
-                      "ok": False, "violation": np.inf, "note": note}
-                     for c, u in (("cuttable_module", "mm"), ("working_pressure_angle", "deg"))]
-        return rows
-    motion = simulate(built, samples or design.samples)
-    values = motion_objectives(motion, design.carrier.speed_deg_s)
-    rows = []
-    for c in checks(values, design.limits):
-        rng = getattr(design.limits, c.name)
-        rows.append(dict(c.as_dict(), violation=float(relative_violation(
-            values[c.name][0], rng.min, rng.max))))
-    verdicts, rules = assess(design, built)
-    for v in verdicts:
-        g = violation(v, rules)[0]
-        lo, hi = float(v.module_low[0]), float(v.module_high[0])
-        w = float(v.working_pressure_angle_deg[0])
-        rows.append({"name": f"cuttable_module_{v.name}", "value": round(hi, 6), "unit": "mm",
-                     "limit": f">= {lo:g} mm", "ok": bool(hi >= lo), "violation": float(g[0])})
-        lim = rules.max_working_pressure_angle_deg
-        rows.append({"name": f"working_pressure_angle_{v.name}", "value": round(w, 6),
-                     "unit": "deg", "limit": f"<= {lim:g} deg", "ok": bool(w <= lim),
-                     "violation": float(g[1])})
-    return rows
+        if len(designs) == 1:
+            return [_refused_rows(designs[0], str(exc))]
+        half = len(designs) // 2  # find the refused ones; evaluate the rest together
+        return _evaluate_group(designs[:half], samples) + _evaluate_group(designs[half:],
+                                                                          samples)
+    first = designs[0]
+    motion = simulate(built, samples)
+    values = motion_objectives(motion, first.carrier.speed_deg_s)
+    verdicts, rules = assess(first, built)
+    graded = [violation(v, rules) for v in verdicts]  # (P, 2) each
+    lim = rules.max_working_pressure_angle_deg
+    out = []
+    for i, design in enumerate(designs):
+        rows = []
+        for c in checks(values, design.limits, i):
+            rng = getattr(design.limits, c.name)
+            rows.append(dict(c.as_dict(), violation=float(relative_violation(
+                values[c.name][i], rng.min, rng.max))))
+        for v, g in zip(verdicts, graded, strict=True):
+            lo, hi = float(v.module_low[i]), float(v.module_high[i])
+            w = float(v.working_pressure_angle_deg[i])
+            rows.append({"name": f"cuttable_module_{v.name}", "value": round(hi, 6),
+                         "unit": "mm", "limit": f">= {lo:g} mm", "ok": bool(hi >= lo),
+                         "violation": float(g[i, 0])})
+            rows.append({"name": f"working_pressure_angle_{v.name}", "value": round(w, 6),
+                         "unit": "deg", "limit": f"<= {lim:g} deg", "ok": bool(w <= lim),
+                         "violation": float(g[i, 1])})
+        out.append(rows)
+    return out

@@ -9,10 +9,12 @@ window and the working pressure angle (reported only, with ``--no-manufacturabil
 The one objective minimized among designs meeting them is the largest working pressure
 angle of the chain (deg): the smoother the teeth push, the better.
 
-First version: the population is evaluated one design after the other (a loop over the
-candidates, ~0.1 s each at 720 samples on an 8192-point grid); the train model itself is
-population-first (``trains.model``), but mapping any dotted path onto its (P,) arrays is
-not done yet.
+A generation is evaluated as ONE population (``objectives.planetary.population_evaluation``):
+the candidates' numbers become (P,) arrays of one ``trains.model.Train`` (the structure,
+which no numeric variable changes, is shared), built, simulated and judged at once. A
+candidate that breaks a rule of the design file (e.g. an eccentric circle's offset beyond
+its radius once two bounds combine) is refused: graded (every row violated, the rule as
+its note), not evaluated.
 """
 
 from __future__ import annotations
@@ -56,14 +58,36 @@ class PlanetaryProblem(DesignProblem):
 
         return design_evaluation(design, self.samples)
 
-    def evaluate_batch(self, X):
-        rows = []
-        for x in np.atleast_2d(X):  # one design after the other (module docstring)
+    def candidates(self, X) -> tuple[list, list]:
+        """(designs, refusals): the design of each row of X, or None and the reason when it
+        breaks a rule of the design file."""
+        from pydantic import ValidationError
+
+        designs, refusals = [], []
+        for x in np.atleast_2d(X):
+            d = self.decode(x)
             try:
-                rows.append(self._rows(self.decode(x)))
-            except ValueError as exc:  # a candidate the file's checks refuse
-                rows.append([{"name": n, "value": None, "unit": "", "limit": "", "ok": False,
-                              "violation": np.inf, "note": str(exc)} for n in self.row_names])
+                d = d.__class__.model_validate(d.model_dump())
+                designs.append(d)
+                refusals.append(None)
+            except ValidationError as exc:
+                e = exc.errors()[0]
+                loc = ".".join(str(p) for p in e["loc"])
+                designs.append(None)
+                refusals.append(f"the candidate breaks a rule of the design file ({loc}: "
+                                f"{e['msg']})")
+        return designs, refusals
+
+    def evaluate_batch(self, X):
+        from plantmech.objectives.planetary import population_evaluation
+
+        designs, refusals = self.candidates(X)
+        accepted = [d for d in designs if d is not None]
+        evaluated = iter(population_evaluation(accepted, self.samples) if accepted else [])
+        rows = [next(evaluated) if d is not None else
+                [{"name": n, "value": None, "unit": "", "limit": "", "ok": False,
+                  "violation": np.inf, "note": why} for n in self.row_names]
+                for d, why in zip(designs, refusals, strict=True)]
         # units and limits from a candidate the file's checks accepted (a refused one
         # carries none)
         first = next((row for row in rows if any(r["limit"] for r in row)), rows[0])

@@ -79,3 +79,43 @@ def plot_ratios(motion) -> Figure:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return fig
+
+
+def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
+    """A first-order inverse design (``trains.inverse``): the planned trajectory through its
+    type-value points (numbered), the reach circles rho = L + a and |L - a| when the
+    lengths are known, the written design's forward tip path (``motion``, when feasible),
+    and the sun's pitch curve at the start (mm)."""
+    import textwrap
+
+    fig = Figure(figsize=(6.4, 6.4), layout="constrained")
+    ax = fig.add_subplot()
+    u = np.linspace(0.0, traj.period, 2000)
+    xy = traj(u)
+    ax.plot(xy[:, 0], xy[:, 1], lw=2.5, color="tab:blue", alpha=0.5, label="planned trajectory")
+    p = traj.points
+    ax.plot(p[:, 0], p[:, 1], "o", ms=4, color="tab:blue", label="type-value points")
+    for i, (x, y) in enumerate(p):
+        ax.annotate(f"q{i}", (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    t = np.linspace(0, 2 * np.pi, 400)
+    if result.centre_distance is not None:
+        a, L = result.centre_distance, result.arm_length
+        for r, style in ((L + a, ":"), (abs(L - a), ":")):
+            ax.plot(r * np.cos(t), r * np.sin(t), style, color="0.5", lw=0.8)
+        ax.plot(a * np.cos(t), a * np.sin(t), "--", color="0.6", lw=0.8, label="planet axis")
+    if motion is not None:
+        z = motion.tip[0, 0]
+        ax.plot(z.real, z.imag, color="tab:red", lw=1.0, label="forward tip of design.toml")
+        sun = motion.built.drivers[0]
+        alpha = motion.driver_angles[0][0, 0, 0] + motion.carrier[0, 0, 0]
+        g = sun.r[0] * np.exp(1j * (sun.theta + alpha))
+        ax.plot(np.r_[g.real, g.real[0]], np.r_[g.imag, g.imag[0]], color="tab:gray", lw=0.8,
+                label="sun pitch curve")
+    ax.plot([0], [0], "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(textwrap.fill(title or "first-order inverse design", 60))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    return fig

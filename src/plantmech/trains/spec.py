@@ -37,8 +37,23 @@ def curve_from_spec(spec, grid: int, name: str) -> Curve:
                         spec.lobes, name)
 
 
+def require_curves(design) -> None:
+    """TrainSpecError naming the field when a planetary file gives a [trajectory] instead of
+    the sun's pitch curve or the arm's start (an input of `plantmech inverse`)."""
+    first = design.train.pairs[0]
+    if first.driver is None and first.follower is None:
+        raise TrainSpecError("train.pairs.0.driver': no pitch curve: this file gives a "
+                             "[trajectory]; run 'plantmech inverse' on it, which writes the "
+                             "train's pitch curves (design.toml)")
+    if design.arm.initial_angle_deg is None or design.arm.length_mm is None:
+        raise TrainSpecError("arm': its length or start angle is missing: run 'plantmech "
+                             "inverse' on this [trajectory] file, which computes them "
+                             "(design.toml)")
+
+
 def train_from_design(design) -> Train:
     """The ``Train`` (P = 1) of a planetary design."""
+    require_curves(design)
     t = design.train
     grid = t.grid
     pairs = []
@@ -67,6 +82,106 @@ def train_from_design(design) -> Train:
                  arm_angle=np.radians(design.arm.initial_angle_deg), arms=c.arms,
                  min_radius=t.min_pitch_radius_mm,
                  closure_tolerance=np.radians(t.closure_tolerance_deg))
+
+
+def _curve_structure(spec):
+    """What P curves of one family must share to be tabulated together (everything but
+    their numbers): the family, the control angles, interpolation and lobes, the number
+    of harmonics."""
+    if spec is None:
+        return None
+    if spec.family == "radii":
+        return ("radii", tuple(spec.angles()), len(spec.radii_mm), spec.interpolation,
+                spec.lobes)
+    if spec.family == "fourier":
+        return ("fourier", len(spec.cos_mm), len(spec.sin_mm))
+    return (spec.family,)
+
+
+def structure_key(design) -> tuple:
+    """The structure P planetary designs must share to be one population (``Train``):
+    pair kinds, which pairs give a driver or a follower table and of which family,
+    follower turns, whether a centre distance is given, the sun speed ratio, the grid, the
+    carrier's sense and arms, and the rules (limits, cutting). Designs differing only in
+    numbers (radii, eccentricities, phases, centre distances, arm, carrier start) share it."""
+    t = design.train
+    pairs = tuple((p.kind, _curve_structure(p.driver), _curve_structure(p.follower),
+                   p.follower_turns, p.centre_distance_mm is None) for p in t.pairs)
+    return (pairs, t.sun_speed_ratio, t.grid, t.min_pitch_radius_mm, t.closure_tolerance_deg,
+            design.carrier.direction, design.carrier.arms, design.carrier.speed_deg_s,
+            design.limits.model_dump_json(), design.manufacturing.model_dump_json())
+
+
+def _curves_from_specs(specs: list, grid: int, name: str) -> Curve:
+    """The pitch curves (P, grid) of P ``driver``/``follower`` tables of one structure
+    (``_curve_structure``), tabulated at once."""
+    first = specs[0]
+    if first.family == "ellipse":
+        return ellipse(np.array([s.semi_major_mm for s in specs]),
+                       np.array([s.eccentricity for s in specs]), grid, name)
+    if first.family == "eccentric":
+        return eccentric_circle(np.array([s.radius_mm for s in specs]),
+                                np.array([s.offset_mm for s in specs]), grid, name)
+    if first.family == "fourier":
+        return fourier(np.array([s.mean_radius_mm for s in specs]),
+                       np.array([s.cos_mm or [0.0] for s in specs]),
+                       np.array([s.sin_mm or [0.0] for s in specs]), grid, name)
+    return interpolated(np.radians(first.angles()), np.array([s.radii_mm for s in specs]),
+                        grid, first.interpolation, first.lobes, name)
+
+
+def train_from_designs(designs: list) -> Train:
+    """One ``Train`` of P planetary designs sharing their ``structure_key``: every number
+    of the files becomes a (P,) array (the curves (P, grid)); P = 1 is
+    ``train_from_design``. Raises ValueError when the structures differ, TrainSpecError
+    (naming the field) when a curve cannot be tabulated."""
+    first = designs[0]
+    require_curves(first)
+    key = structure_key(first)
+    for i, d in enumerate(designs[1:], 1):
+        if structure_key(d) != key:
+            raise ValueError(f"design {i} does not share design 0's train structure (pair "
+                             "kinds, curve families, turns, grid, carrier, rules)")
+    t = first.train
+    pairs = []
+    for k, p in enumerate(t.pairs):
+        field = f"train.pairs.{k}"
+        curves = {}
+        phase = np.zeros(len(designs))
+        for role in ("driver", "follower"):
+            if getattr(p, role) is None:
+                continue
+            specs = [getattr(d.train.pairs[k], role) for d in designs]
+            try:
+                curves[role] = _curves_from_specs(specs, t.grid, f"{field}.{role}")
+            except CurveError as exc:
+                raise TrainSpecError(str(exc)) from None
+            phase = np.radians([s.phase_deg for s in specs])
+        given = [d.train.pairs[k].centre_distance_mm for d in designs]
+        pairs.append(PairSpec(kind=p.kind, driver=curves.get("driver"), phase=phase,
+                              follower=curves.get("follower"),
+                              centre_distance=None if given[0] is None else np.array(given),
+                              direction=np.radians([d.train.pairs[k].direction_deg
+                                                    for d in designs]),
+                              follower_turns=p.follower_turns, name=field))
+    c = first.carrier
+    return Train(pairs, carrier0=np.radians([d.carrier.initial_angle_deg for d in designs]),
+                 carrier_sense=-1 if c.direction == "clockwise" else 1,
+                 sun_speed_ratio=t.sun_speed_ratio,
+                 arm_length=np.array([d.arm.length_mm for d in designs]),
+                 arm_angle=np.radians([d.arm.initial_angle_deg for d in designs]), arms=c.arms,
+                 min_radius=t.min_pitch_radius_mm,
+                 closure_tolerance=np.radians(t.closure_tolerance_deg))
+
+
+def build_from_designs(designs: list) -> BuiltTrain:
+    """The built train of P planetary designs sharing their structure (``train_from_designs``);
+    TrainSpecError names the pair (and the design) whose curves cannot roll or close."""
+    train = train_from_designs(designs)
+    try:
+        return build(train, len(designs))
+    except (PairError, CurveError) as exc:
+        raise TrainSpecError(str(exc)) from None
 
 
 def build_from_design(design) -> BuiltTrain:
