@@ -114,3 +114,86 @@ best = 1
     assert s["best"][0]["seed"] in (0, 1)
     assert main(["report", str(out)]) == code  # the report's verdict is the study's
     assert 'id="best-table"' in (out / "report.html").read_text(encoding="utf-8")
+
+
+ELLIPTIC = str(ROOT / "examples" / "rotary_transplanter_elliptic.toml")
+
+
+def test_a_general_planetary_train_is_studied_by_its_fields(tmp_path, capsys):
+    """Study parameters of a planetary file are its numeric fields by dotted path. A
+    sweep of the arm's length: every variant's tip is the nominal's moved along the arm by
+    the change (the arm turns as before), so the largest tip deviation is |dL| exactly and
+    the attitude is untouched; the path height grows with the arm. A tolerance study of
+    the sun's eccentricity runs; a field that is not there, or is a count, is refused."""
+    import pyarrow.parquet as pq
+
+    spec = _write(tmp_path / "w.toml", """kind = "sweep"
+method = "grid"
+chunk = 3
+cycle_samples = 720
+[parameters."arm.length_mm"]
+low = 150.0
+high = 170.0
+levels = 3
+""")
+    out = tmp_path / "sweep"
+    assert main(["study", ELLIPTIC, "--spec", spec, "--out", str(out), "--workers", "1",
+                 "--quiet"]) == 0
+    rows = pq.read_table(out / "chunks" / "chunk_00000.parquet").to_pydict()
+    assert rows["arm.length_mm"] == [150.0, 160.0, 170.0]
+    for length, dev, att in zip(rows["arm.length_mm"], rows["tip_deviation_mm"],
+                                rows["attitude_error_deg"], strict=True):
+        assert abs(dev - abs(length - 160.0)) < 1e-9 and att < 1e-9
+    h = rows["path_height_mm"]
+    assert h[0] < h[1] < h[2] and all(rows["all_ok"])
+    capsys.readouterr()
+    tol = _write(tmp_path / "t.toml", """kind = "tolerance"
+samples = 40
+chunk = 20
+cycle_samples = 360
+[parameters."train.pairs.0.driver.eccentricity"]
+distribution = "normal"
+sigma = 0.002
+""")
+    assert main(["study", ELLIPTIC, "--spec", tol, "--out", str(tmp_path / "tol"),
+                 "--workers", "1", "--quiet"]) == 0
+    s = json.loads((tmp_path / "tol" / "summary.json").read_text())
+    assert s["samples"] == 40 and {o["name"] for o in s["objectives"]} >= {
+        "path_height_mm", "working_pressure_angle_sun_idler1"}
+    for bad, said in (("train.pairs.0.driver.shape", "not a field"),
+                      ("carrier.arms", "a count")):
+        spec = _write(tmp_path / "b.toml", TOL.replace("[parameters.L2_mm]",
+                                                       f'[parameters."{bad}"]'))
+        assert main(["study", ELLIPTIC, "--spec", spec, "--out", str(tmp_path / "b")]) == 2
+        err = capsys.readouterr().err
+        assert bad in err and said in err
+
+
+def test_multi_start_of_a_planetary_train(tmp_path, capsys):
+    """`problem = "planetary"`: the fields a file frees in [optimize.variables], here to
+    lift the tip path from 239 mm to at least 270 mm."""
+    import tomllib
+
+    import tomli_w
+
+    doc = tomllib.loads(Path(ELLIPTIC).read_text())
+    doc["limits"]["path_height_mm"] = {"min": 270.0}
+    doc["optimize"] = {"variables": {"train.pairs.0.driver.eccentricity": [0.1, 0.3],
+                                     "arm.length_mm": [150.0, 200.0]}}
+    design = tmp_path / "d.toml"
+    design.write_text(tomli_w.dumps(doc))
+    spec = _write(tmp_path / "m.toml", """kind = "multi-start"
+problem = "planetary"
+starts = 1
+generations = 3
+pop = 8
+""")
+    out = tmp_path / "ms"
+    assert main(["study", str(design), "--spec", spec, "--out", str(out), "--workers", "1",
+                 "--quiet"]) == 0
+    from plantmech.design import load_design
+    from plantmech.objectives.planetary import design_evaluation
+
+    best = load_design(out / "best_1.toml")
+    rows = {r["name"]: r for r in design_evaluation(best)}
+    assert rows["path_height_mm"]["ok"] and rows["path_height_mm"]["value"] > 270.0

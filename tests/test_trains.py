@@ -194,6 +194,50 @@ def test_self_crossings_of_a_circle_and_a_figure_eight():
     assert list(self_crossings(np.stack([circle, eight]))) == [0, 1]
 
 
+def _crossings_of_every_pair(z: np.ndarray) -> int:
+    """The reference: every pair of non-adjacent segments of one closed polyline tested
+    (segments i, j cross properly when each one's ends lie strictly on both sides of the
+    other's line)."""
+    n = len(z)
+    a, d = z, np.roll(z, -1) - z
+
+    def side(p, q):
+        return d[q].real * (a[p].imag - a[q].imag) - d[q].imag * (a[p].real - a[q].real)
+
+    count = 0
+    for i in range(n):
+        for j in range(i + 2, n):
+            if i == 0 and j == n - 1:
+                continue
+            if (side(i, j) * side((i + 1) % n, j) < 0
+                    and side(j, i) * side((j + 1) % n, i) < 0):
+                count += 1
+    return count
+
+
+def test_self_crossings_equal_the_count_over_every_pair_of_segments():
+    """The sweep over bounding boxes finds what testing every pair finds: smooth curves
+    with 0 to several loops, a star polygon (5 crossings) and jagged random polylines with
+    thousands of crossings, in one population."""
+    from plantmech.objectives.planetary import self_crossings
+
+    rng = np.random.default_rng(7)
+    t = np.linspace(0, TWO_PI, 180, endpoint=False)
+    paths = []
+    for _ in range(6):
+        u, v, w = rng.uniform(0.2, 3.0, 3)
+        paths.append(np.cos(t) + u * np.cos(2 * t + v) + 0.5 * np.sin(3 * t + w)
+                     + 1j * (np.sin(t) + 0.7 * np.sin(2 * t) + 0.3 * u * np.cos(5 * t)))
+    star = np.exp(1j * TWO_PI * 2 * np.arange(5) / 5)  # the pentagram
+    paths.append(np.repeat(star, 36))  # 180 points, repeated vertices: degenerate segments
+    for _ in range(3):
+        paths.append(rng.normal(size=180) + 1j * rng.normal(size=180))
+    P = np.stack(paths)
+    expected = [_crossings_of_every_pair(z) for z in P]
+    assert expected[6] == 5 and max(expected) > 1000
+    assert list(self_crossings(P, samples=180)) == expected
+
+
 def test_pairs_that_cannot_roll_or_close_are_refused_by_name():
     e = ellipse(25.0, 0.2, 1024, name="sun")
     with pytest.raises(PairError, match=r"closes at 50\.0000 mm"):

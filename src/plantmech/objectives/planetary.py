@@ -23,30 +23,52 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     ``samples`` points: pairs of non-adjacent segments whose ends lie strictly on both
     sides of each other (orientation signs), counted once. (P,) integers.
 
-    With segment i from a_i to a_{i+1} = b_i, one (n, n) table per design holds every
-    orientation: M[i, j] = d_j x (a_i - a_j), the side of segment j's line on which point
-    a_i lies (d_j = b_j - a_j). The ends of segment i straddle line j where
-    S[i, j] = M[i, j] M[i + 1, j] < 0, so segments i and j cross properly where S[i, j]
-    and S[j, i] both hold."""
+    Segment i runs from a_i to a_{i+1}; M(i, j) = d_j x (a_i - a_j) is the side of segment
+    j's line on which point a_i lies (d_j = a_{j+1} - a_j), and segments i and j cross
+    properly where M(i, j) M(i + 1, j) < 0 and M(j, i) M(j + 1, i) < 0. Only pairs whose
+    bounding boxes overlap can cross (a crossing point lies in both), so the pairs are
+    found by a sweep over the segments sorted by their smallest x (``np.searchsorted`` on
+    all designs' rows at once), then tested exactly: O(n log n + crossing candidates) per
+    design instead of every one of the n^2 / 2 pairs (tests/test_objectives_planetary.py
+    holds it to the all-pairs count)."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
     n = samples
     ax, ay = z.real, z.imag
-    d = np.roll(z, -1, axis=1) - z
-    dx, dy = d.real, d.imag
-    upper = np.triu(np.ones((n, n), dtype=bool), k=2)
-    upper[0, n - 1] = False  # the closing segment touches the first
-    count = np.zeros(P, dtype=int)
-    step = max(1, 4_000_000 // (n * n))  # bounded temporaries: ~4e6 entries at a time
-    for lo in range(0, P, step):
-        sl = slice(lo, lo + step)
-        M = (dx[sl, None, :] * (ay[sl, :, None] - ay[sl, None, :])
-             - dy[sl, None, :] * (ax[sl, :, None] - ax[sl, None, :]))
-        straddle = M * np.roll(M, -1, axis=1) < 0
-        hit = straddle & straddle.transpose(0, 2, 1) & upper
-        count[sl] = hit.sum(axis=(1, 2))
-    return count
+    bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
+    xlo, xhi = np.minimum(ax, bx), np.maximum(ax, bx)
+    ylo, yhi = np.minimum(ay, by), np.maximum(ay, by)
+    order = np.argsort(xlo, axis=1, kind="stable")
+    xs = np.take_along_axis(xlo, order, axis=1)
+    xe = np.take_along_axis(xhi, order, axis=1)
+    # one sorted key over all rows: row p shifted past row p - 1 (the shift's rounding is
+    # covered by the margin; the candidates are then tested exactly)
+    lo = float(np.min(xs)) if P else 0.0
+    width = float(np.max(xe) - lo) + 1.0 if P else 1.0
+    shift = (np.arange(P) * 2.0 * width)[:, None]
+    key = (xs - lo + shift).ravel()
+    margin = 1e-9 * 2.0 * width * max(P, 1)
+    ends = np.searchsorted(key, (xe - lo + shift).ravel() + margin, side="right")
+    first = np.arange(P * n) + 1
+    counts = np.maximum(ends - first, 0)
+    k = np.repeat(np.arange(P * n), counts)  # candidate pairs in sorted order: k < m
+    m = np.arange(len(k)) - np.repeat(np.cumsum(counts) - counts, counts) + k + 1
+    row = k // n
+    i = order.ravel()[k]
+    j = order.ravel()[m]
+    gap = np.abs(i - j)
+    keep = ((gap > 1) & (gap < n - 1) & (ylo[row, i] <= yhi[row, j])
+            & (ylo[row, j] <= yhi[row, i]))
+    row, i, j = row[keep], i[keep], j[keep]
+    dx, dy = bx - ax, by - ay
+    i1, j1 = (i + 1) % n, (j + 1) % n
+
+    def side(p, q):  # M(p, q) for the pairs' rows
+        return dx[row, q] * (ay[row, p] - ay[row, q]) - dy[row, q] * (ax[row, p] - ax[row, q])
+
+    hit = (side(i, j) * side(i1, j) < 0) & (side(j, i) * side(j1, i) < 0)
+    return np.bincount(row[hit], minlength=P).astype(int)
 
 
 def motion_objectives(motion: TrainMotion, carrier_speed_deg_s: float) -> dict:
@@ -129,6 +151,18 @@ def population_evaluation(designs: list, samples: int | None = None) -> list[lis
     return out
 
 
+def structure_population(designs: list, samples: int) -> tuple[list[list[dict]], list]:
+    """``population_evaluation`` of designs that share one train structure (variants of
+    one file: only numbers differ), with arm 1's motion of each: (rows per design, [(tip,
+    tip rate, arm angle) or None]) (``_evaluate_group``)."""
+    from plantmech.trains.spec import structure_key
+
+    if len({structure_key(d) for d in designs}) > 1:
+        raise ValueError("structure_population: the designs do not share one train structure")
+    motions: list = []
+    return _evaluate_group(designs, samples, motions), motions
+
+
 def _refused_rows(design, reason: str) -> list[dict]:
     """The rows of a design whose train cannot be built: every value None, violation inf."""
     from plantmech.trains.gearing import gear_names
@@ -144,9 +178,13 @@ def _refused_rows(design, reason: str) -> list[dict]:
     return rows
 
 
-def _evaluate_group(designs: list, samples: int) -> list[list[dict]]:
+def _evaluate_group(designs: list, samples: int, motions: list | None = None
+                    ) -> list[list[dict]]:
     """``population_evaluation`` of designs sharing one structure: one build, one
-    simulation, one manufacturability assessment of the (P, ...) arrays."""
+    simulation, one manufacturability assessment of the (P, ...) arrays. ``motions``: a
+    list that gets, per design in order, arm 1's (tip, tip rate, arm angle) over the
+    carrier samples (complex mm, complex mm/rad, rad; None for a train that cannot be
+    built)."""
     from plantmech.gears.manufacturability import violation
     from plantmech.objectives import relative_violation
     from plantmech.trains.gearing import assess
@@ -157,12 +195,17 @@ def _evaluate_group(designs: list, samples: int) -> list[list[dict]]:
         built = build_from_designs(designs)
     except TrainSpecError as exc:
         if len(designs) == 1:
+            if motions is not None:
+                motions.append(None)
             return [_refused_rows(designs[0], str(exc))]
         half = len(designs) // 2  # find the refused ones; evaluate the rest together
-        return _evaluate_group(designs[:half], samples) + _evaluate_group(designs[half:],
-                                                                          samples)
+        return (_evaluate_group(designs[:half], samples, motions)
+                + _evaluate_group(designs[half:], samples, motions))
     first = designs[0]
     motion = simulate(built, samples)
+    if motions is not None:
+        motions.extend((motion.tip[i, 0], motion.tip_rate[i, 0], motion.arm_angle[i, 0])
+                       for i in range(len(designs)))
     values = motion_objectives(motion, first.carrier.speed_deg_s)
     verdicts, rules = assess(first, built)
     graded = [violation(v, rules) for v in verdicts]  # (P, 2) each

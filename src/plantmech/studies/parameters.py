@@ -103,12 +103,16 @@ class Evaluated:
 
 
 def parameters_of(design) -> dict:
+    if design.mechanism == "planetary":  # any numeric field, by its dotted path
+        return {}
     return SEEDER_PARAMETERS if design.mechanism == "sugarcane_seeder" else TRANSPLANTER_PARAMETERS
 
 
 def make_model(design, names: list[str], cycle_samples: int = 720, dense: int = 2048):
     if design.mechanism == "sugarcane_seeder":
         return SeederModel(design, names, cycle_samples, dense)
+    if design.mechanism == "planetary":
+        return PlanetaryModel(design, names, cycle_samples)
     return TransplanterModel(design, names, cycle_samples)
 
 
@@ -280,6 +284,85 @@ class TransplanterModel:
         return Evaluated([ev.names[k] for k in keep], [ev.units[k] for k in keep],
                          [ev.limits[k] for k in keep], ev.values[:, keep], ev.ok[:, keep],
                          motion.carrier_angle, tip, tip_rate, motion.needle_angle[:, 0, :], {})
+
+
+class PlanetaryModel:
+    """Variants of a general planetary train (``mechanism = "planetary"``): a study
+    parameter is any numeric field of the file by its dotted path ("arm.length_mm",
+    "train.pairs.0.driver.eccentricity", "train.pairs.1.centre_distance_mm", ...; the
+    deviation in the field's unit). Each variant is the file with the fields moved,
+    validated again as a file (a variant breaking a file rule, or whose train does not
+    roll or close, is counted as failing every check), and the variants are built,
+    simulated and judged as ONE population (``objectives.planetary.structure_population``:
+    the [limits] checks and the pitch curves' manufacturability rules)."""
+
+    mechanism = "planetary"
+
+    def __init__(self, design, names: list[str], cycle_samples: int = 720):
+        from plantmech.design_planetary import get_path
+
+        self.design, self.names, self.cycle_samples = design, list(names), cycle_samples
+        self._nominal = {}
+        for n in names:
+            try:
+                value = get_path(design, n)
+            except (ValueError, AttributeError, TypeError) as exc:
+                raise StudyInputError(f"parameter {n!r}: not a field of this planetary design "
+                                      f"({exc}); give a dotted path such as 'arm.length_mm' "
+                                      "or 'train.pairs.0.driver.eccentricity'") from None
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise StudyInputError(f"parameter {n!r}: not a number in this design (a study "
+                                      "moves numeric fields)")
+            if n.split(".")[-1] in ("arms", "lobes", "grid", "samples", "teeth"):
+                raise StudyInputError(f"parameter {n!r}: a count (a whole number) cannot "
+                                      "deviate by a tolerance")
+            self._nominal[n] = float(value)
+
+    def nominal(self, name: str) -> float:
+        return self._nominal[name]
+
+    def _variant(self, row):
+        from pydantic import ValidationError
+
+        from plantmech.design_planetary import set_path
+
+        data = self.design.model_dump()
+        for n, dv in zip(self.names, row, strict=True):
+            set_path(data, n, self._nominal[n] + float(dv))
+        try:
+            return self.design.__class__.model_validate(data)
+        except ValidationError as exc:
+            return str(exc).splitlines()[0]
+
+    def evaluate(self, deltas: np.ndarray) -> Evaluated:
+        from plantmech.objectives.planetary import structure_population
+
+        deltas = np.atleast_2d(np.asarray(deltas, dtype=float))
+        P = deltas.shape[0]
+        variants = [self._variant(row) for row in deltas]
+        valid = [i for i, v in enumerate(variants) if not isinstance(v, str)]
+        if 0 not in valid and P:
+            raise StudyInputError(f"the nominal design is refused: {variants[0]}")
+        rows, motions = structure_population([variants[i] for i in valid],
+                                             self.cycle_samples)
+        template = next(r for r, m in zip(rows, motions, strict=True) if m is not None) \
+            if any(m is not None for m in motions) else rows[0]
+        names = [r["name"] for r in template]
+        values = np.full((P, len(names)), np.nan)
+        ok = np.zeros((P, len(names)), dtype=bool)
+        S = self.cycle_samples
+        tip = np.full((P, S), np.nan + 0j)
+        rate = np.full((P, S), np.nan + 0j)
+        arm = np.full((P, S), np.nan)
+        for i, r, m in zip(valid, rows, motions, strict=True):
+            values[i] = [np.nan if x["value"] is None else x["value"] for x in r]
+            ok[i] = [x["ok"] for x in r]
+            if m is not None:
+                tip[i], rate[i], arm[i] = m
+        return Evaluated(names, [r["unit"] for r in template], [r["limit"] for r in template],
+                         values, ok, 2.0 * np.pi * np.arange(S) / S,
+                         np.stack([tip.real, tip.imag], axis=-1),
+                         np.stack([rate.real, rate.imag], axis=-1), np.degrees(arm), {})
 
 
 # objectives (i) and (ii): the shapely interference checks are left out of population
