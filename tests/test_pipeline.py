@@ -49,3 +49,45 @@ def test_design_of_the_manufacturable_transplanter_ends_in_workshop_files(tmp_pa
     assert "every objective and manufacturability check met" in (out / "report.html").read_text()
     assert not (out / "optimize").exists()
     assert capsys.readouterr().out.strip().splitlines()[-1].startswith("verdict: ok")
+
+
+def _planetary_file(tmp_path, height_min: float, variables: bool) -> str:
+    import tomllib
+
+    import tomli_w
+
+    doc = tomllib.loads((EXAMPLES / "rotary_transplanter_elliptic.toml").read_text())
+    doc["limits"]["path_height_mm"] = {"min": height_min}
+    if variables:
+        doc["optimize"] = {"samples": 360, "variables": {
+            "train.pairs.0.driver.eccentricity": [0.1, 0.3], "arm.length_mm": [150.0, 200.0]}}
+    path = tmp_path / f"p{int(height_min)}{'v' if variables else ''}.toml"
+    path.write_text(tomli_w.dumps(doc))
+    return str(path)
+
+
+def test_design_of_a_general_planetary_train(tmp_path, capsys):
+    """`design` on a planetary file: the limit it misses (path height 239 mm < 270 mm) is
+    met by moving the fields its [optimize.variables] frees, the teeth are cut and checked,
+    the report written, exit 0; without free fields the job says why it did not optimize
+    and ends NOT MET (exit 4); a [trajectory] file is sent to `plantmech inverse` (exit 2)."""
+    out = tmp_path / "o"
+    assert main(["design", _planetary_file(tmp_path, 270.0, True), "--out", str(out),
+                 "--quiet", "--generations", "4"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert [st["stage"] for st in s["stages"]] == ["check", "optimize", "gears"]
+    final = {c["name"]: c for c in s["final_checks"]}
+    assert final["path_height_mm"]["ok"] and final["path_height_mm"]["value"] > 270.0
+    best = load_design(out / "design.toml")
+    assert best.arm.length_mm != 160.0 or best.train.pairs[0].driver.eccentricity != 0.18
+    assert {"sun.dxf", "idler1.dxf", "planet.dxf"} <= {p.name for p in (out / "gears").iterdir()}
+    assert (out / "report.html").stat().st_size > 50_000
+    capsys.readouterr()
+    out2 = tmp_path / "o2"
+    assert main(["design", _planetary_file(tmp_path, 270.0, False), "--out", str(out2),
+                 "--quiet"]) == 4
+    printed = capsys.readouterr().out
+    assert "[optimize.variables]" in printed and "NOT MET" in printed
+    inverse_file = EXAMPLES / "planetary" / "first_order_inverse.toml"
+    assert main(["design", str(inverse_file), "--out", str(tmp_path / "o3")]) == 2
+    assert "plantmech inverse" in capsys.readouterr().err

@@ -33,6 +33,8 @@ class DesignOutcome:
 
 def problem_for(design) -> str:
     """The optimization problem that designs this file's mechanism."""
+    if design.mechanism == "planetary":  # the fields its [optimize.variables] frees
+        return "planetary"
     if design.mechanism != "sugarcane_seeder":
         return "transplanter"
     return "seeder-layered" if design.train is None else "seeder-layer2"
@@ -69,6 +71,13 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         stages.append(info)
         return info
 
+    if design.mechanism == "planetary":
+        from plantmech.trains.spec import TrainSpecError, require_curves
+
+        try:
+            require_curves(design)  # a [trajectory] file is inverse design's input
+        except TrainSpecError as exc:
+            raise ValueError(f"field '{exc}") from None
     say("[1/3] checking the design at full resolution (objectives and manufacturability)")
     start = design if design.mechanism != "sugarcane_seeder" or design.train is not None \
         else None  # a trajectory alone is no gear train yet: optimize it
@@ -78,6 +87,12 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         stage("check", all_met=check["all_met"], failed=_failed(check))
     if check is not None and check["all_met"]:
         say("      every objective and manufacturability check met: no optimization needed")
+    elif design.mechanism == "planetary" and design.optimize is None:
+        # nothing the job may move: the file names its free fields, or the design stands
+        say(f"      not met: {', '.join(_failed(check))}")
+        say("[2/3] not optimized: the file frees no field ([optimize.variables]: the dotted "
+            "paths the optimizer may move, docs/design-file.md)")
+        stage("optimize", skipped="the file has no [optimize.variables]")
     else:
         name = problem_for(design)
         if check is not None:
@@ -170,25 +185,48 @@ def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
     from plantmech.outputs.verdict import verdict_line
     from plantmech.workflows import run_seeder_forward, run_transplanter
 
-    job = (run_seeder_forward(final) if final.mechanism == "sugarcane_seeder"
-           else run_transplanter(final))
-    figures, drawings = list(job_figures(job)), []
+    if final.mechanism == "planetary":
+        summary, figures, animation = _planetary_parts(final)
+    else:
+        job = (run_seeder_forward(final) if final.mechanism == "sugarcane_seeder"
+               else run_transplanter(final))
+        summary, figures, animation = job.summary, list(job_figures(job)), job_animation(job)
+    drawings = []
     # why an optimization fell short: its trade-off fronts (layer 2's, and the path's own)
     layered = (out / "optimize" / "layer2").is_dir()
     for name in (("optimize/layer2/tradeoff.png", "optimize/layer1/tradeoff.png") if layered
                  else ("optimize/tradeoff.png",)):
         if not rec["verdict"]["ok"] and (out / name).is_file():
             figures.append((name, out / name))
-    summary = dict(job.summary, stages=rec["stages"])
+    summary = dict(summary, stages=rec["stages"])
     if gears is not None:
         gdir = out / "gears"
         summary["gear_checks"] = findings_rows(gears)
         figures += [(f, gdir / f) for f in gears["files"] if f.endswith(".png")]
         drawings = [(f, gdir / f) for f in gears["files"] if f.endswith(".svg")]
     v = rec["verdict"]
-    return write_report(out / "report.html", summary, figures, job_animation(job),
+    return write_report(out / "report.html", summary, figures, animation,
                         gear_drawings=drawings, title=f"{final.name}: plantmech design",
                         command="plantmech design",
                         verdict=(v["ok"], verdict_line(v, "every objective and "
                                                           "manufacturability check met, the "
                                                           "gears cut and checked")))
+
+
+def _planetary_parts(design):
+    """(summary, figures, animation) of a general planetary train for the report: its
+    forward run at the file's resolution (as ``plantmech forward``)."""
+    from plantmech.objectives.planetary import checks, motion_objectives
+    from plantmech.outputs import planetary_plots as pp
+    from plantmech.outputs.planetary_report import planetary_summary
+    from plantmech.outputs.report import planetary_animation
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    motion = simulate(build_from_design(design), design.samples)
+    values = motion_objectives(motion, design.carrier.speed_deg_s)
+    summary = planetary_summary(design, motion, values, checks(values, design.limits))
+    figures = [("trajectories.png", pp.plot_paths(motion, design.name)),
+               ("attitude_speed.png", pp.plot_attitude_speed(motion, design.carrier.speed_deg_s)),
+               ("ratios.png", pp.plot_ratios(motion))]
+    return summary, figures, planetary_animation(design, motion)

@@ -99,7 +99,7 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design")
 
 
 def refuse_planetary(args, design) -> None:
@@ -117,14 +117,15 @@ def refuse_planetary(args, design) -> None:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
                           "'plantmech forward', 'plantmech gears', 'plantmech optimize "
                           "--problem planetary', 'plantmech inverse' (from a [trajectory]), "
-                          "'plantmech study', 'plantmech verify' and 'plantmech app' so far; "
-                          f"'{command}' is for the seeder and the rice transplanters only")
+                          "'plantmech study', 'plantmech design', 'plantmech verify' and "
+                          f"'plantmech app' so far; '{command}' is for the seeder and the rice "
+                          "transplanters only")
     problem = getattr(args, "problem", None)
     if command == "optimize" and problem != "planetary":
         raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
                           f"optimized with --problem planetary ('{problem}' is for the seeder "
                           "and the rice transplanters)")
-    if command not in ("forward", "study") and getattr(args, "report", False):
+    if command not in ("forward", "study", "design") and getattr(args, "report", False):
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
                           "verification.json without it)")
