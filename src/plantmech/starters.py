@@ -68,6 +68,21 @@ STARTERS: dict[str, Starter] = {
          "plantmech optimize {file} --problem transplanter --out out/optimize --report",
          "plantmech gears {file} --out out/gears --report"),
     ),
+    "planetary": Starter(
+        "rotary_transplanter_elliptic",
+        "a general non-circular planetary train (any chain of gear pairs): the classic rotary "
+        "transplanter with three identical elliptic gears (fixed sun, idler, planet; two "
+        "arms at 180 deg)",
+        ("[[train.pairs]]: the chain, each pair's kind and its driver's pitch curve (an "
+         "ellipse, an eccentric circle, a Fourier series or control radii)",
+         "[arm], [carrier]: the arm's length and start, the arms and the carrier's sense",
+         "[limits]: what the tip path must do; [optimize.variables]: the fields the "
+         "optimizer may move (dotted paths with bounds)"),
+        ("plantmech forward {file} --out out/forward --report",
+         "plantmech design {file} --out out/design",
+         "plantmech gears {file} --out out/gears",
+         "plantmech verify {file} --gears out/gears --out out/verify"),
+    ),
 }
 
 

@@ -31,7 +31,8 @@ def register(subparsers) -> None:
 
     kinds = "; ".join(f"{k}: {s.what.split(':')[0]}" for k, s in STARTERS.items())
     p = subparsers.add_parser(
-        "init", help="write a commented starting design (seeder, seeder-train, transplanter)",
+        "init", help="write a commented starting design (seeder, seeder-train, transplanter, "
+        "planetary)",
         description="Write a commented starting design into DIR, copied from a shipped "
         f"example, with what to edit first and the commands to run. Kinds: {kinds}. "
         "An existing file is never overwritten (exit 2).")
