@@ -109,3 +109,16 @@ def test_objective_columns_are_the_full_tables():
                 np.abs(full[:, c("seeding_de", "swing")]), full[:, c("seeding_de", "end")],
                 full[:, c("vx_e")], full[:, c("travel")], full[:, c("peak_static_de")],
                 full[:, c("least_static_ef")], full[:, c("least_dynamic_ef")]])
+
+
+def test_section_location_rows_are_independent_designs():
+    """Three tip paths at once (the eight scaled and turned) locate as each alone."""
+    from plantmech.objectives.seeder_population import locate_sections
+
+    psi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    tips = np.stack([_gerono(psi) * s + o for s, o in ((1.0, 0.0), (1.1, 2.0), (0.9, -3.0))])
+    points = _gerono(np.array([0.4, 1.2, 2.8, 4.0, 5.0, 5.8]))
+    both = locate_sections(tips, psi, points, return_miss=True)
+    for p in range(3):
+        one = locate_sections(tips[p:p + 1], psi, points, return_miss=True)
+        assert np.array_equal(both[0][p], one[0][0]) and np.array_equal(both[1][p], one[1][0])

@@ -21,7 +21,8 @@ LETTERS = ("a", "b", "c", "d", "e", "f")
 
 
 def refine_minimum(values: np.ndarray, k: np.ndarray, step: float):
-    """Sub-sample minimum of cyclic rows ``values`` (P, S) near their samples k (P, m):
+    """Sub-sample minimum of cyclic rows ``values`` (P, S) near their samples k (P, m)
+    (the refinement ``locate_sections`` applies in its kernel, in NumPy):
     the vertex of the parabola through k - 1, k, k + 1. Returns (offset from sample k in
     the units of ``step`` (within +-step / 2), value at the vertex), each (P, m)."""
     rows = np.arange(values.shape[0])[:, None]
@@ -51,14 +52,18 @@ def _ordered_passes(angle: np.ndarray, miss: np.ndarray) -> np.ndarray:
     P, K, C = angle.shape
     combos = np.indices((C,) * K).reshape(K, -1).T  # (C^K, K)
     cols = np.arange(K)
-    a = angle[:, cols, combos]  # (P, C^K, K)
-    turn = np.mod(np.diff(np.concatenate([a, a[..., :1]], axis=-1), axis=-1),
-                  TWO_PI).sum(axis=-1)
-    cost = miss[:, cols, combos].sum(axis=-1)
-    cost = np.where(np.abs(turn - TWO_PI) > 1e-9, np.inf, cost)
-    best = np.argmin(cost, axis=1)
-    none = ~np.isfinite(cost[np.arange(P), best])
-    return np.where(none[:, None], 0, combos[best])
+    out = np.empty((P, K), dtype=np.int64)
+    chunk = max(1, 2**22 // (len(combos) * K))  # designs per (chunk, C^K, K) temporary
+    for lo in range(0, P, chunk):
+        a = angle[lo:lo + chunk, cols, combos]  # (chunk, C^K, K)
+        turn = np.mod(np.diff(np.concatenate([a, a[..., :1]], axis=-1), axis=-1),
+                      TWO_PI).sum(axis=-1)
+        cost = miss[lo:lo + chunk, cols, combos].sum(axis=-1)
+        cost = np.where(np.abs(turn - TWO_PI) > 1e-9, np.inf, cost)
+        best = np.argmin(cost, axis=1)
+        none = ~np.isfinite(cost[np.arange(len(a)), best])
+        out[lo:lo + chunk] = np.where(none[:, None], 0, combos[best])
+    return out
 
 
 def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
