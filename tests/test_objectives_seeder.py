@@ -93,62 +93,98 @@ def test_seeding_speed_need_is_the_least_speed_with_enough_vertical_speed():
     assert need == pytest.approx(speed, abs=1e-4)
 
 
-def _old_periodic_at(psi, values, p):
-    """The interpolation as it was before the table was shared (one table per call)."""
-    return float(np.interp(np.mod(p, 2 * np.pi), np.r_[psi, 2 * np.pi], np.r_[values, values[0]]))
-
-
-def test_shared_periodic_table_gives_identical_numbers():
-    """One table per cycle (``_periodic_table``) and one interpolation for several angles
-    give bit-identical values to one table per angle, at samples, between samples, at 0,
-    2 pi, past 2 pi and at negative angles, and the section speeds are identical."""
-    from plantmech.objectives.seeder import (
-        _periodic_at,
-        _periodic_table,
-        section_values,
-        speed_by_section,
-        zero_speed_travel,
-    )
+def test_section_speeds_and_zero_speed_of_a_known_velocity():
+    """One design's section speeds (the section table with P = 1) against the velocity
+    law v = (1.2 cos psi, 0.8 sin psi) m/s, the ends of each section interpolated linearly
+    between samples (np.interp as the independent reference), at uniform and at
+    non-uniform carrier samples (interval lookup)."""
+    from plantmech.objectives.seeder import speed_by_section, zero_speed_travel
 
     rng = np.random.default_rng(3)
-    n = 360
-    psi = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    values = rng.normal(size=n)
-    angles = np.r_[psi[::7], rng.uniform(-10, 10, 50), 0.0, 2 * np.pi, -2 * np.pi, 7.5,
-                   psi[-1] + 1e-9, 2 * np.pi - 1e-12]
-    table = _periodic_table(psi)
-    together = _periodic_at(table, values, angles)
-    one_by_one = [_old_periodic_at(psi, values, p) for p in angles]
-    assert together.tolist() == one_by_one  # exact, not approximate
-    assert [_periodic_at(table, values, p) for p in angles] == one_by_one
-    # an interpolation between two samples is the straight line between them
-    assert _periodic_at(table, values, (psi[3] + psi[4]) / 2) == pytest.approx(
-        (values[3] + values[4]) / 2, rel=1e-12, abs=1e-12)
-    # past the last sample it closes on the first (the cycle is periodic)
-    assert _periodic_at(table, values, (psi[-1] + 2 * np.pi) / 2) == pytest.approx(
-        (values[-1] + values[0]) / 2, rel=1e-12, abs=1e-12)
+    for psi in (np.linspace(0, 2 * np.pi, 720, endpoint=False),
+                np.r_[0.0, np.sort(rng.uniform(0.0, 2 * np.pi, 1500))]):
+        velocity = np.c_[1.2 * np.cos(psi), 0.8 * np.sin(psi)]
+        sec = {"d": 4.1, "e": 4.9, "f": 5.6}
 
-    velocity = rng.normal(size=(n, 2))
-    sec = {"d": 4.1, "e": 4.9, "f": 5.6}
-    static = np.hypot(velocity[:, 0], velocity[:, 1])
-    dynamic = np.hypot(velocity[:, 0] - 0.3, velocity[:, 1])
+        def at(v, p, psi=psi):
+            return np.interp(p, np.r_[psi, 2 * np.pi], np.r_[v, v[0]])
 
-    def old_section(v, a, b):
-        span = np.mod(b - a, 2 * np.pi)
-        m = np.mod(psi - a, 2 * np.pi) <= span
-        return np.r_[v[m], _old_periodic_at(psi, v, a), _old_periodic_at(psi, v, b)]
+        def section(v, a, b, psi=psi):
+            m = (psi >= a) & (psi <= b)
+            return np.r_[v[m], at(v, a), at(v, b)]
 
-    assert section_values(psi, static, sec["e"], sec["f"]).tolist() == old_section(
-        static, sec["e"], sec["f"]).tolist()
-    s = speed_by_section(psi, velocity, 0.3, sec)
-    assert s["max_speed_seeding_m_s"] == float(old_section(static, sec["d"], sec["e"]).max())
-    assert s["min_speed_return_static_m_s"] == float(
-        old_section(static, sec["e"], sec["f"]).min())
-    assert s["min_speed_return_dynamic_m_s"] == float(
-        old_section(dynamic, sec["e"], sec["f"]).min())
-    assert s["max_speed_seeding_dynamic_m_s"] == float(
-        old_section(dynamic, sec["d"], sec["e"]).max())
-    z = zero_speed_travel(psi, velocity, 10.0, sec["e"])
-    assert z["zero_speed_travel_m_s"] == _old_periodic_at(psi, velocity[:, 0], sec["e"])
-    assert z["speed_at_e_m_s"] == float(np.hypot(_old_periodic_at(psi, velocity[:, 0], sec["e"]),
-                                                 _old_periodic_at(psi, velocity[:, 1], sec["e"])))
+        static = np.hypot(velocity[:, 0], velocity[:, 1])
+        dynamic = np.hypot(velocity[:, 0] - 0.3, velocity[:, 1])
+        s = speed_by_section(psi, velocity, 0.3, sec)
+        assert s["max_speed_seeding_m_s"] == pytest.approx(section(static, 4.1, 4.9).max(),
+                                                           abs=1e-12)
+        assert s["min_speed_return_static_m_s"] == pytest.approx(
+            section(static, 4.9, 5.6).min(), abs=1e-12)
+        assert s["min_speed_return_dynamic_m_s"] == pytest.approx(
+            section(dynamic, 4.9, 5.6).min(), abs=1e-12)
+        assert s["max_speed_seeding_dynamic_m_s"] == pytest.approx(
+            section(dynamic, 4.1, 4.9).max(), abs=1e-12)
+        assert s["max_speed_static_m_s"] == pytest.approx(static.max(), abs=1e-12)
+        assert s["min_speed_static_m_s"] == pytest.approx(static.min(), abs=1e-12)
+        # the ellipse's speed over ef (4.9..5.6 rad, sin^2 growing) is least at e
+        assert s["min_speed_return_static_m_s"] == pytest.approx(
+            np.hypot(1.2 * np.cos(4.9), 0.8 * np.sin(4.9)), abs=2e-5)
+        z = zero_speed_travel(psi, velocity, 10.0, 4.9)
+        assert z["zero_speed_travel_m_s"] == pytest.approx(1.2 * np.cos(4.9), abs=2e-5)
+        assert z["speed_at_e_m_s"] == pytest.approx(
+            np.hypot(at(velocity[:, 0], 4.9), at(velocity[:, 1], 4.9)), abs=1e-12)
+        assert z["velocity_direction_at_e_deg"] == pytest.approx(np.degrees(np.arctan2(
+            0.8 * np.sin(4.9), 1.2 * np.cos(4.9))), abs=1e-3)
+        assert z["eq18_as_printed_m_s"] == pytest.approx(
+            z["speed_at_e_m_s"] * np.sin(np.radians(10.0)), rel=1e-12)
+
+
+def test_attitude_table_at_non_uniform_samples():
+    """arm = 10 + 20 sin(psi) deg at 2,000 random carrier angles: start, end, min, max,
+    change and the signed swing of each section are the law's (to the interpolation's
+    error), and a section that wraps through 0 (ea) is one section."""
+    rng = np.random.default_rng(5)
+    psi = np.r_[0.0, np.sort(rng.uniform(0.0, 2 * np.pi, 1999))]
+    arm = 10 + 20 * np.sin(psi)
+    pts = np.radians([0, 60, 120, 180, 240, 300])
+    att = attitude_by_section(psi, arm, pts, dict(a=0, b=1, c=2, d=3, e=4, f=5))
+    law = lambda deg: 20 * np.sin(np.radians(deg))  # noqa: E731  (relative to psi = 0)
+    tol = 2e-3  # linear interpolation between samples <= 1.3 deg apart
+    assert att["initial_attitude"] == pytest.approx(10)
+    ab, de, ea = att["picking_ab"], att["seeding_de"], att["return_efca"]
+    assert ab["start"] == pytest.approx(0.0, abs=1e-12)
+    assert ab["end"] == pytest.approx(law(60), abs=tol)
+    assert ab["max"] == pytest.approx(law(60), abs=tol) and ab["min"] == pytest.approx(0, abs=tol)
+    assert ab["change"] == pytest.approx(law(60), abs=tol)
+    # de (180..240 deg): falls from 0 to -17.32, swing negative
+    assert de["swing_from_start"] == pytest.approx(law(240), abs=tol)
+    assert de["min"] == pytest.approx(law(240), abs=tol)
+    # ea (240..360 deg): from -17.32 down to -20 at 270 and back up to 0
+    assert ea["min"] == pytest.approx(-20.0, abs=tol) and ea["max"] == pytest.approx(0, abs=tol)
+    assert ea["swing_from_start"] == pytest.approx(-law(240), abs=tol)
+    assert att["sowing_angle"] == pytest.approx(law(240), abs=tol)
+    assert att["sowing_angle_to_horizontal"] == pytest.approx(10 + law(240), abs=tol)
+
+
+def test_speeds_where_the_tip_passes_points():
+    """A tip on a 300 mm circle at 720 samples, speed 300 omega: points 310 mm out at
+    40.05 and 80 deg are passed at the nearest samples (40 and 80 deg), 10 mm away; only
+    the samples within the section [30, 90] deg count."""
+    from plantmech.objectives.seeder import speeds_at_points
+
+    psi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    tip = np.c_[300 * np.cos(psi), 300 * np.sin(psi)]
+    w = 2 * np.pi  # rad/s
+    vel = np.c_[-300 * np.sin(psi), 300 * np.cos(psi)] * w / 1000  # m/s
+    where = np.radians([40.05, 80.0])
+    pts = np.c_[310 * np.cos(where), 310 * np.sin(where)]
+    got = speeds_at_points(psi, tip, vel, pts, np.radians(30), np.radians(90), 0.5)
+    assert got["carrier_angle_deg"] == pytest.approx([40.0, 80.0], abs=1e-9)
+    assert got["miss_mm"][1] == pytest.approx(10.0, abs=1e-9)
+    assert got["speed_m_s"] == pytest.approx([0.3 * w, 0.3 * w], rel=1e-12)
+    k = np.radians(80.0)
+    assert got["dynamic_speed_m_s"][1] == pytest.approx(
+        np.hypot(-0.3 * w * np.sin(k) - 0.5, 0.3 * w * np.cos(k)), rel=1e-12)
+    # outside the section the nearer samples are not used
+    far = speeds_at_points(psi, tip, vel, pts[:1], np.radians(50), np.radians(90), 0.0)
+    assert far["carrier_angle_deg"][0] == pytest.approx(50.0, abs=1e-9)

@@ -107,49 +107,6 @@ def train_from_design(design: SeederDesign):
         min_radius=t.min_pitch_radius_mm)
 
 
-def locate_section_points(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
-                          sections: dict[str, int], candidates: int = 4) -> tuple[dict, dict]:
-    """Carrier angle (rad) at which the tip passes each section point, and the distance
-    (mm) it misses the point by (closest sample, refined between samples by the parabola
-    through its squared distances: ``refine_minimum``).
-
-    An "8" passes near some points twice (near its crossing), so for every point the
-    few closest local approaches are candidates and the combination that keeps the
-    points in their order along the cycle with the smallest total miss is chosen.
-    """
-    from itertools import product
-
-    from plantmech.objectives.seeder_population import refine_minimum
-
-    letters = list(sections)
-    cands = []
-    step = float(psi[1] - psi[0])
-    for letter in letters:
-        d2 = ((tip - points[sections[letter]]) ** 2).sum(axis=1)
-        local = np.flatnonzero((d2 <= np.roll(d2, 1)) & (d2 <= np.roll(d2, -1)))
-        local = local[np.argsort(d2[local])][:candidates]
-        at, low = refine_minimum(d2[None], local[None], step)
-        # the parabola through three squared distances can dip below 0 when the tip
-        # passes closer than a sample step: then the closest sample's distance (an upper
-        # bound) is reported, never a NaN
-        low = np.where(low[0] >= 0, low[0], d2[local])
-        cands.append([(float(np.mod(psi[k] + a, 2 * np.pi)), float(np.sqrt(v)))
-                      for k, a, v in zip(local, at[0], low, strict=True)])
-    best, best_cost = None, np.inf
-    for combo in product(*cands):
-        angles = np.array([c[0] for c in combo])
-        turn = np.mod(np.diff(np.r_[angles, angles[0]]), 2 * np.pi).sum()
-        if abs(turn - 2 * np.pi) > 1e-9:  # not in cyclic order
-            continue
-        cost = sum(c[1] for c in combo)
-        if cost < best_cost:
-            best, best_cost = combo, cost
-    if best is None:  # no ordered combination: fall back to the nearest approaches
-        best = [c[0] for c in cands]
-    return ({k: c[0] for k, c in zip(letters, best, strict=True)},
-            {k: c[1] for k, c in zip(letters, best, strict=True)})
-
-
 def run_seeder_forward(design: SeederDesign) -> SeederForwardJob:
     """Simulate the train of ``design`` (its [train], or the inverse design of its
     [trajectory] when there is none) and evaluate every section-4.1 objective."""
@@ -187,6 +144,8 @@ def _section_angles(design: SeederDesign, res, inv, traj) -> tuple[dict, dict | 
     if inv is not None:
         pc = inv.result.point_carrier_angle
         return {k: float(pc[i]) for k, i in inv.sections.items()}, None
+    from plantmech.objectives.seeder import locate_section_points
+
     return locate_section_points(res.tip, res.carrier_angle, traj.points,
                                  design.trajectory.sections.model_dump())
 
@@ -196,23 +155,16 @@ def _evaluate_forward(job: SeederForwardJob) -> None:
     from plantmech.objectives.seeder import (
         gear_checks,
         ratio_ranges,
-        speed_by_section,
+        section_objectives,
         speed_checks,
-        zero_speed_travel,
     )
 
     d, res = job.design, job.result
-    letters = list("abcdef")
-    att = attitude_by_section(res.carrier_angle, np.degrees(res.arm_angle),
-                              np.array([job.section_psi[k] for k in letters]),
-                              {k: i for i, k in enumerate(letters)})
-    checks = attitude_checks(att, d.attitude)
     vel = res.velocity(d.operation.carrier_speed_deg_s)
-    zero = zero_speed_travel(res.carrier_angle, vel, att["sowing_angle"], job.section_psi["e"])
-    travel = d.operation.travel_speed_m_s
-    job.travel_m_s = zero["zero_speed_travel_m_s"] if travel is None else float(travel)
-    speeds = speed_by_section(res.carrier_angle, vel, job.travel_m_s, job.section_psi)
-    checks += speed_checks(speeds, d.speed)
+    att, zero, speeds, job.travel_m_s = section_objectives(
+        res.carrier_angle, np.degrees(res.arm_angle), vel, job.section_psi,
+        d.operation.travel_speed_m_s)
+    checks = attitude_checks(att, d.attitude) + speed_checks(speeds, d.speed)
     gear_metrics, g_checks = gear_checks(job.train, rules_for(d))
     checks += g_checks
     job.metrics = {"attitude_deg": att, "speeds": speeds, "zero_speed": zero,
@@ -226,27 +178,18 @@ def _evaluate_forward(job: SeederForwardJob) -> None:
 
 def _speeds_at_return_points(job: SeederForwardJob, vel: np.ndarray) -> list[dict]:
     """Static and dynamic speed (m/s) where the tip passes the type-value points from e
-    to f (seed 000 objective 5 names "the type value points q4-q8")."""
-    from plantmech.objectives.seeder import _section_mask
+    to f (seed 000 objective 5 names "the type value points q4-q8";
+    ``objectives.seeder.speeds_at_points``)."""
+    from plantmech.objectives.seeder import speeds_at_points
 
     sec = job.design.trajectory.sections
     n = len(job.trajectory.points)
+    idx = (sec.e + np.arange((sec.f - sec.e) % n + 1)) % n
     res = job.result
-    m = _section_mask(res.carrier_angle, job.section_psi["e"], job.section_psi["f"])
-    idx = np.flatnonzero(m)
-    out = []
-    i = sec.e
-    while True:
-        d = np.hypot(*(res.tip[idx] - job.trajectory.points[i]).T)
-        k = idx[int(np.argmin(d))]
-        v = vel[k]
-        out.append({"point": f"q{i}", "carrier_angle_deg": float(np.degrees(res.carrier_angle[k])),
-                    "miss_mm": float(d.min()), "speed_m_s": float(np.hypot(*v)),
-                    "dynamic_speed_m_s": float(np.hypot(v[0] - job.travel_m_s, v[1]))})
-        if i == sec.f:
-            break
-        i = (i + 1) % n
-    return out
+    at = speeds_at_points(res.carrier_angle, res.tip, vel, job.trajectory.points[idx],
+                          job.section_psi["e"], job.section_psi["f"], job.travel_m_s)
+    return [{"point": f"q{i}", **{k: float(v[j]) for k, v in at.items()}}
+            for j, i in enumerate(idx)]
 
 
 def _distance_to_closed_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:

@@ -628,14 +628,16 @@ def _pitch_extremes_rows_span(lo, hi, x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _locate_rows_span(lo, hi, tip, psi, points, near, count, out):
+def _locate_rows_span(lo, hi, tip, psi, points, first, count, out, miss):
     """Carrier angles (rad) where each design's tip (P, S, 2) passes closest to each
-    section point (K, 2) among the samples near[j, :count[j]] (ascending sample indices
-    within the window about point j's reference angle), refined by the parabola through
-    the squared distances at the closest sample and its two neighbours
-    (``objectives.seeder_population.locate_sections`` / ``refine_minimum``): out (P, K).
-    The first smallest sample wins; a NaN distance is taken as numpy's argmin takes it (the
-    first NaN); no sample in the window: sample 0."""
+    section point (K, 2) among its candidate samples: the cyclic run of ``count[p, j]``
+    samples from ``first[p, j]``, scanned in ascending sample index; the closest one is
+    refined by the parabola through the squared distances at it and its two neighbours
+    (vertex offset within +-half a step of psi[1] - psi[0]): out (P, K) rad in [0, 2 pi),
+    miss (P, K) the distance at the vertex (mm; the closest sample's when the parabola
+    dips below 0). The first smallest sample wins; a NaN distance is taken as numpy's
+    argmin takes it (the first NaN); no candidate: sample 0
+    (``objectives.seeder_population.locate_sections``)."""
     S = tip.shape[1]
     step = psi[1] - psi[0]
     for p in range(lo, hi):
@@ -644,14 +646,21 @@ def _locate_rows_span(lo, hi, tip, psi, points, near, count, out):
             best = np.inf
             k = 0
             found = False
-            for n in range(count[j]):
-                i = near[j, n]
-                d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
-                if d2 != d2:
-                    k = i
+            f0, n = first[p, j], count[p, j]
+            wrap = f0 + n - S  # samples 0 .. wrap - 1 come first (ascending order)
+            for r in range(2):
+                i0, i1 = (0, wrap) if r == 0 else (f0, min(f0 + n, S))
+                for i in range(i0, i1):
+                    d2 = (tip[p, i, 0] - px) ** 2 + (tip[p, i, 1] - py) ** 2
+                    if d2 != d2:
+                        k = i
+                        found = True
+                        best = d2
+                        break
+                    if not found or d2 < best:
+                        best, k, found = d2, i, True
+                if best != best:
                     break
-                if not found or d2 < best:
-                    best, k, found = d2, i, True
             km, kp = (k - 1) % S, (k + 1) % S
             a = (tip[p, km, 0] - px) ** 2 + (tip[p, km, 1] - py) ** 2
             b = (tip[p, k, 0] - px) ** 2 + (tip[p, k, 1] - py) ** 2
@@ -660,30 +669,46 @@ def _locate_rows_span(lo, hi, tip, psi, points, near, count, out):
             t = 0.5 * (a - c) / curv if curv > 0 else 0.0
             t = min(max(t, -0.5), 0.5)
             out[p, j] = (psi[k] + t * step) % TWO_PI
+            low = b - 0.25 * (a - c) * t
+            miss[p, j] = np.sqrt(low if low >= 0 else b)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _interval(psi, where):
+    """(k, t): carrier angle ``where`` (rad) lies the fraction t of the way from sample
+    psi[k] to the next one (psi ascending in [0, 2 pi), closed at psi[0] + 2 pi; any
+    spacing): uniform samples are located by one division, others by bisection."""
+    S = psi.shape[0]
+    w = where % TWO_PI
+    if w < psi[0]:
+        w += TWO_PI
+    step = psi[1] - psi[0]
+    k = int(np.floor((w - psi[0]) / step))
+    if k >= S:
+        k = S - 1
+    # one division locates uniform samples; the check makes any other spacing exact
+    if not (psi[k] <= w and (k == S - 1 or w < psi[k + 1])):
+        k = np.searchsorted(psi, w, side="right") - 1
+    x1 = psi[k + 1] if k < S - 1 else psi[0] + TWO_PI
+    return k, (w - psi[k]) / (x1 - psi[k])
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _at_row(psi, values, where):
-    """values (S,) at carrier angle ``where`` (rad), linear between the uniform samples
-    psi (periodic): ``seeder_population._at`` for one design."""
+    """values (S,) at carrier angle ``where`` (rad), linear between the samples psi
+    (periodic, ``_interval``)."""
     S = values.shape[0]
-    f = (where % TWO_PI) / (psi[1] - psi[0])
-    fl = np.floor(f)
-    k = int(fl) % S
-    t = f - fl
+    k, t = _interval(psi, where)
     return (1.0 - t) * values[k] + t * values[(k + 1) % S]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _speed_at(psi, vx, vy, where, travel):
     """The speed samples |(vx - travel, vy)| (S,) at carrier angle ``where``, linear
-    between the uniform samples (periodic), as ``_at`` interpolates them."""
+    between the samples (periodic), as ``_at_row`` interpolates them."""
     S = vx.shape[0]
-    f = (where % TWO_PI) / (psi[1] - psi[0])
-    fl = np.floor(f)
-    k = int(fl) % S
+    k, t = _interval(psi, where)
     k1 = (k + 1) % S
-    t = f - fl
     return ((1.0 - t) * np.hypot(vx[k] - travel, vy[k])
             + t * np.hypot(vx[k1] - travel, vy[k1]))
 
@@ -696,20 +721,33 @@ def _offset(psi_i, start0):
     return d + TWO_PI if d < 0 else d
 
 
+# the section table's columns: 5 per attitude section (SECTION_STATS) for the sections
+# ab, bc, cd, de, ea (ATTITUDE_SECTIONS), then the speeds (SPEED_COLUMNS)
+ATTITUDE_SECTIONS = ((0, 1), (1, 2), (2, 3), (3, 4), (4, 0))
+SECTION_STATS = ("start", "end", "min", "max", "swing")
+SPEED_COLUMNS = ("vx_e", "vy_e", "travel", "peak_static_de", "least_static_ef",
+                 "least_dynamic_ef", "peak_dynamic_de", "peak_static", "least_static")
+SECTION_COLUMNS = 5 * len(ATTITUDE_SECTIONS) + len(SPEED_COLUMNS)
+
+
 @njit(cache=True, error_model="numpy")
-def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_scale, sec, travel,
-                                  given, out):
-    """Section-4.1 values of every design (what ``section_swing``, ``_at`` and
-    ``section_extreme`` of ``objectives.seeder_population`` gave, fused): the attitude
-    rel = (angle - angle[:, 0]) * angle_scale (deg) of angles (P, S), the tip velocity
-    rate * rate_scale (m/s) of rates (P, S, 2), section angles ``sec`` (P, 6) rad of a..f,
-    the travel speed (P,) m/s when ``given`` (else the horizontal tip speed at e, Eq. 18).
-    out (P, 8): picking swing (ab), seeding swing (de) (largest |rel - rel(start)|), the
-    attitude at e (signed), the horizontal speed at e, the travel speed, the seeding
-    section's peak static speed (de), the return section's least static and least dynamic
-    speed (ef). Section ends are interpolated and included; NaN is kept as numpy's max and
-    min keep it. A sample psi[i] is in the section [start, start + span] when
-    (psi[i] - start) mod 2 pi <= span (``_offset``: one subtraction, psi in [0, 2 pi))."""
+def _section_table_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_scale, sec, travel,
+                             given, full, out):
+    """The section table of every design: the attitude rel = (angle - angle[:, 0]) *
+    angle_scale (deg) of angles (P, S) and the tip velocity rate * rate_scale (m/s) of
+    rates (P, S, 2) at the carrier angles psi (S,) rad (ascending in [0, 2 pi), any
+    spacing), sections a..f at ``sec`` (P, 6) rad, the travel speed (P,) m/s when
+    ``given`` (else the horizontal tip speed at e, Eq. 18). out (P, SECTION_COLUMNS): per
+    attitude section (ab, bc, cd, de, ea) its start, end, min, max and swing (the value
+    farthest from the start, minus the start: signed); then vx and vy at e, the travel
+    speed, the seeding section's peak static speed (de), the return section's least static
+    and least dynamic (Eq. 17) speed (ef), the peak dynamic speed over de and the peak and
+    least static speed over the cycle. Section ends are interpolated and included (after
+    the samples, start then end); NaN is kept as numpy's max and min keep it. A sample
+    psi[i] is in the section [start, start + span] when (psi[i] - start) mod 2 pi <= span
+    (``_offset``). ``full`` False: only what the section-4.1 objectives read, faster (the
+    optimizer's path): sections ab and de with their swings as |swing| (branch-free), the
+    speeds over de and ef; every other column NaN."""
     P, S = angle.shape
     rel = np.empty(S)
     vx = np.empty(S)
@@ -722,22 +760,52 @@ def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_sc
             vy[i] = rate[p, i, 1] * rate_scale
         for i in range(S):
             static[i] = np.sqrt(vx[i] * vx[i] + vy[i] * vy[i])
-        for col, s0, s1 in ((0, 0, 1), (1, 3, 4)):  # attitude swings over ab and de
+        for q in range(5):  # attitude per section
+            c = 5 * q
+            if not full and q != 0 and q != 3:
+                for k in range(5):
+                    out[p, c + k] = np.nan
+                continue
+            s0, s1 = ATTITUDE_SECTIONS[q]
             start, end = sec[p, s0], sec[p, s1]
             ref = _at_row(psi, rel, start)
+            fin = _at_row(psi, rel, end)
             span = (end - start) % TWO_PI
             start0 = start % TWO_PI
-            dev = -np.inf
+            if not full:  # |swing| only: the largest |rel - ref| (branch-free, SIMD)
+                dev = -np.inf
+                for i in range(S):
+                    d = abs(rel[i] - ref) if _offset(psi[i], start0) <= span else 0.0
+                    dev = _nan_max(dev, d)
+                out[p, c], out[p, c + 1], out[p, c + 2], out[p, c + 3] = ref, fin, np.nan, np.nan
+                out[p, c + 4] = _nan_max(dev, abs(fin - ref))
+                continue
+            low, high = ref, ref
+            dev, swing = 0.0, 0.0  # the start itself: no change
+            nan = ref != ref
             for i in range(S):
-                d = abs(rel[i] - ref) if _offset(psi[i], start0) <= span else 0.0
-                dev = _nan_max(dev, d)
-            out[p, col] = _nan_max(dev, abs(_at_row(psi, rel, end) - ref))
+                if _offset(psi[i], start0) <= span:
+                    v = rel[i]
+                    low = _nan_min(low, v)
+                    high = _nan_max(high, v)
+                    d = abs(v - ref)
+                    if d > dev:
+                        dev, swing = d, v - ref
+                    elif d != d:
+                        nan = True
+            low, high = _nan_min(low, fin), _nan_max(high, fin)
+            d = abs(fin - ref)
+            if d > dev:
+                dev, swing = d, fin - ref
+            elif d != d:
+                nan = True
+            out[p, c], out[p, c + 1], out[p, c + 2], out[p, c + 3] = ref, fin, low, high
+            out[p, c + 4] = np.nan if nan else swing
         d_, e, f = sec[p, 3], sec[p, 4], sec[p, 5]
-        out[p, 2] = _at_row(psi, rel, e)
         vx_e = _at_row(psi, vx, e)
         tr = travel[p] if given else vx_e
-        out[p, 3] = vx_e
-        out[p, 4] = tr
+        c = 25
+        out[p, c], out[p, c + 1], out[p, c + 2] = vx_e, _at_row(psi, vy, e), tr
         span_de = (e - d_) % TWO_PI
         span_ef = (f - e) % TWO_PI
         d0 = d_ % TWO_PI
@@ -758,7 +826,19 @@ def _section_objectives_rows_span(lo, hi, psi, angle, angle_scale, rate, rate_sc
         for w in (e, f):
             low_s = _nan_min(low_s, _speed_at(psi, vx, vy, w, 0.0))
             low_d = _nan_min(low_d, _speed_at(psi, vx, vy, w, tr))
-        out[p, 5], out[p, 6], out[p, 7] = peak, low_s, low_d
+        peak_d, top, bottom = np.nan, np.nan, np.nan
+        if full:
+            peak_d, top, bottom = -np.inf, -np.inf, np.inf
+            for i in range(S):
+                top = _nan_max(top, static[i])
+                bottom = _nan_min(bottom, static[i])
+                if _offset(psi[i], d0) <= span_de:
+                    wx = vx[i] - tr
+                    peak_d = _nan_max(peak_d, np.sqrt(wx * wx + vy[i] * vy[i]))
+            for w in (d_, e):
+                peak_d = _nan_max(peak_d, _speed_at(psi, vx, vy, w, tr))
+        out[p, c + 3], out[p, c + 4], out[p, c + 5] = peak, low_s, low_d
+        out[p, c + 6], out[p, c + 7], out[p, c + 8] = peak_d, top, bottom
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
@@ -786,24 +866,24 @@ def _pitch_extremes_rows_threads(chunks, x, R, Sl, c, a, M, out):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _locate_rows_threads(chunks, tip, psi, points, near, count, out):
+def _locate_rows_threads(chunks, tip, psi, points, first, count, out, miss):
     """``_locate_rows_span`` over all P designs in ``chunks`` contiguous spans of designs, run on
     numba's threads (``prange``); one chunk: one thread."""
     P = tip.shape[0]
     for ch in prange(chunks):
-        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, near, count,
-                          out)
+        _locate_rows_span(ch * P // chunks, (ch + 1) * P // chunks, tip, psi, points, first,
+                          count, out, miss)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _section_objectives_rows_threads(chunks, psi, angle, angle_scale, rate, rate_scale, sec,
-                                     travel, given, out):
-    """``_section_objectives_rows_span`` over all P designs in ``chunks`` contiguous spans of
+def _section_table_rows_threads(chunks, psi, angle, angle_scale, rate, rate_scale, sec,
+                                travel, given, full, out):
+    """``_section_table_rows_span`` over all P designs in ``chunks`` contiguous spans of
     designs, run on numba's threads (``prange``); one chunk: one thread."""
     P = angle.shape[0]
     for ch in prange(chunks):
-        _section_objectives_rows_span(ch * P // chunks, (ch + 1) * P // chunks, psi, angle,
-            angle_scale, rate, rate_scale, sec, travel, given, out)
+        _section_table_rows_span(ch * P // chunks, (ch + 1) * P // chunks, psi, angle,
+            angle_scale, rate, rate_scale, sec, travel, given, full, out)
 
 
 def _run(span, threaded, P, args):
@@ -834,7 +914,7 @@ def locate_rows(*args):
     _run(_locate_rows_span, _locate_rows_threads, args[0].shape[0], args)
 
 
-def section_objectives_rows(*args):
-    """``_section_objectives_rows_span`` over every design (angle.shape[0] of them): on one
-    thread, or on ``kernel_threads()`` threads in spans (``_section_objectives_rows_threads``)."""
-    _run(_section_objectives_rows_span, _section_objectives_rows_threads, args[1].shape[0], args)
+def section_table_rows(*args):
+    """``_section_table_rows_span`` over every design (angle.shape[0] of them): on one
+    thread, or on ``kernel_threads()`` threads in spans (``_section_table_rows_threads``)."""
+    _run(_section_table_rows_span, _section_table_rows_threads, args[1].shape[0], args)

@@ -37,40 +37,73 @@ def planning_checks(traj: ClosedTrajectory, sections: dict[str, int], limits) ->
             for (name, lim, unit, text), x in zip(rows, v, strict=True)]
 
 
-def _section_mask(psi, p_start, p_end):
+LETTERS = "abcdef"
+
+
+def section_mask(psi, p_start, p_end) -> np.ndarray:
+    """Carrier angles psi (rad) within the clockwise section [p_start, p_end] (rad): the
+    section pass's membership rule, (psi - p_start) mod 2 pi <= (p_end - p_start) mod 2 pi."""
     span = np.mod(p_end - p_start, 2 * np.pi)
     return np.mod(psi - p_start, 2 * np.pi) <= span
 
 
-def attitude_by_section(psi, arm_deg, point_psi, sections: dict[str, int]) -> dict:
-    """Arm (cane) attitude per section, degrees relative to the initial attitude
-    (arm collinear with the carrier at the farthest point, seed 000 §3.4)."""
-    ref = arm_deg[0]
-    rel = arm_deg - ref
-    pp = {k: point_psi[v] for k, v in sections.items()}
+def _one(psi, arm_deg=None, velocity=None, section_psi=None, travel_m_s=None) -> np.ndarray:
+    """Row 0 of ``seeder_population.section_table`` for one design (P = 1): arm angles
+    (S,) deg (none: zeros), tip velocities (S, 2) m/s (none: zeros), section angles (6,)
+    rad of a..f."""
+    from plantmech.objectives.seeder_population import section_table
 
-    table_psi, table_rel = np.append(psi, 2 * np.pi), np.append(rel, rel[0])  # built once
+    S = len(psi)
+    arm = np.zeros(S) if arm_deg is None else np.asarray(arm_deg, dtype=float)
+    vel = np.zeros((S, 2)) if velocity is None else np.asarray(velocity, dtype=float)
+    return section_table(psi, arm[None], np.asarray(section_psi, dtype=float),
+                         vel[None], travel_m_s=travel_m_s)[0]
 
-    def at(p):
-        return float(np.interp(p, table_psi, table_rel))
+
+def _attitude_table(row, arm0: float) -> dict:
+    """The attitude dict of one section-table row (deg, to 4 decimals)."""
+    from plantmech.objectives.seeder_population import ATTITUDE_SECTION_NAMES, section_column
 
     out = {}
-    for name, (s, e) in {"picking_ab": ("a", "b"), "transport_bc": ("b", "c"),
-                         "transport_cd": ("c", "d"), "seeding_de": ("d", "e"),
-                         "return_efca": ("e", "a")}.items():
-        m = _section_mask(psi, pp[s], pp[e])
-        vals = np.r_[rel[m], at(pp[s]), at(pp[e])]
-        start, end = at(pp[s]), at(pp[e])
-        out[name] = {
-            "start": round(start, 4), "end": round(end, 4),
-            "min": round(float(vals.min()), 4), "max": round(float(vals.max()), 4),
-            "change": round(end - start, 4),
-            "swing_from_start": round(float(vals[np.argmax(np.abs(vals - start))] - start), 4),
-        }
-    out["sowing_angle"] = round(at(pp["e"]), 4)
-    out["sowing_angle_to_horizontal"] = round(at(pp["e"]) + ref, 4)
-    out["initial_attitude"] = round(float(ref), 4)
+    for name in ATTITUDE_SECTION_NAMES:
+        start, end, low, high, swing = (float(row[section_column(name, k)]) for k in (
+            "start", "end", "min", "max", "swing"))
+        out[name] = {"start": round(start, 4), "end": round(end, 4), "min": round(low, 4),
+                     "max": round(high, 4), "change": round(end - start, 4),
+                     "swing_from_start": round(swing, 4)}
+    at_e = float(row[section_column("seeding_de", "end")])
+    out["sowing_angle"] = round(at_e, 4)
+    out["sowing_angle_to_horizontal"] = round(at_e + arm0, 4)
+    out["initial_attitude"] = round(arm0, 4)
     return out
+
+
+def attitude_by_section(psi, arm_deg, point_psi, sections: dict[str, int]) -> dict:
+    """Arm (cane) attitude per section, degrees relative to the initial attitude
+    (arm collinear with the carrier at the farthest point, seed 000 §3.4): per section
+    (ab, bc, cd, de, ea) start, end, min, max, change and the signed swing from the start
+    (the section table of ``seeder_population.section_table`` for this one design) at the
+    carrier angles psi (S,) rad of the arm angles ``arm_deg`` (S,) deg, sections at
+    ``point_psi[sections[letter]]`` rad."""
+    sec = np.array([point_psi[sections[k]] for k in LETTERS], dtype=float)
+    return _attitude_table(_one(psi, arm_deg, None, sec), float(arm_deg[0]))
+
+
+def locate_section_points(tip, psi, points, sections: dict[str, int],
+                          candidates: int = 4) -> tuple[dict, dict]:
+    """Carrier angle (rad) at which one design's tip (S, 2) mm passes each section point
+    (``points[sections[letter]]``, mm), and the distance (mm) it misses the point by:
+    ``seeder_population.locate_sections`` with P = 1 and no reference (the ``candidates``
+    closest approaches per point, the combination in cyclic order with the least total
+    miss, refined between samples)."""
+    from plantmech.objectives.seeder_population import locate_sections
+
+    letters = list(sections)
+    pts = np.asarray(points, dtype=float)[[sections[k] for k in letters]]
+    angle, miss = locate_sections(np.asarray(tip)[None], psi, pts, candidates=candidates,
+                                  return_miss=True)
+    return ({k: float(angle[0, i]) for i, k in enumerate(letters)},
+            {k: float(miss[0, i]) for i, k in enumerate(letters)})
 
 
 def attitude_checks(att: dict, limits) -> list[Check]:
@@ -88,41 +121,11 @@ def attitude_checks(att: dict, limits) -> list[Check]:
     ]
 
 
-def _periodic_table(psi) -> np.ndarray:
-    """The carrier angles psi (rad, ascending in [0, 2 pi)) closed at 2 pi: the abscissae
-    of ``_periodic_at``'s interpolation, built once per cycle and shared by its calls."""
-    return np.append(psi, 2 * np.pi)
+def _zero_speed(row, sowing_angle_deg: float) -> dict:
+    """Eq. 18's travel speeds (m/s) from one section-table row."""
+    from plantmech.objectives.seeder_population import section_column
 
-
-def _periodic_at(table, values, p):
-    """Linear interpolation of a sampled periodic quantity ``values`` (one per carrier
-    angle) at carrier angle(s) p (rad); ``table``: ``_periodic_table(psi)``. A float for
-    a scalar p, an array for an array of angles (one interpolation for all of them)."""
-    out = np.interp(np.mod(p, 2 * np.pi), table, np.append(values, values[0]))
-    return float(out) if np.ndim(out) == 0 else out
-
-
-def section_values(psi, values, p_start, p_end, table=None) -> np.ndarray:
-    """Samples of ``values`` within the section [p_start, p_end] (clockwise carrier
-    angles, rad), including both ends interpolated; ``table``: ``_periodic_table(psi)``
-    when the caller has it."""
-    m = _section_mask(psi, p_start, p_end)
-    ends = _periodic_at(_periodic_table(psi) if table is None else table, values,
-                        np.array([p_start, p_end], dtype=float))
-    return np.r_[values[m], ends]
-
-
-def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dict:
-    """Machine travel speed (m/s) for zero-speed seeding at e (seed 000 Eq. 18).
-
-    Physically consistent reading: the machine cancels the tip's horizontal velocity at
-    e, v_c = x_dot_A(e), so Eq. 17's absolute horizontal velocity x_dot - v_c vanishes
-    there. The printed form v_c = v_A cos(pi/2 - beta) = v_A sin(beta) with beta the
-    sowing (attitude) angle is reported beside it; both agree only when the tip moves
-    along the cane (docs/conventions.md)."""
-    table = _periodic_table(psi)
-    vx = _periodic_at(table, velocity[:, 0], p_e)
-    vy = _periodic_at(table, velocity[:, 1], p_e)
+    vx, vy = float(row[section_column("vx_e")]), float(row[section_column("vy_e")])
     v = float(np.hypot(vx, vy))
     return {"zero_speed_travel_m_s": vx,
             "speed_at_e_m_s": v,
@@ -130,23 +133,71 @@ def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dic
             "eq18_as_printed_m_s": v * float(np.sin(np.radians(sowing_angle_deg)))}
 
 
+def zero_speed_travel(psi, velocity, sowing_angle_deg: float, p_e: float) -> dict:
+    """Machine travel speed (m/s) for zero-speed seeding at e (seed 000 Eq. 18), from tip
+    velocities (S, 2) m/s at carrier angles psi (S,) rad, e at p_e rad.
+
+    Physically consistent reading: the machine cancels the tip's horizontal velocity at
+    e, v_c = x_dot_A(e), so Eq. 17's absolute horizontal velocity x_dot - v_c vanishes
+    there. The printed form v_c = v_A cos(pi/2 - beta) = v_A sin(beta) with beta the
+    sowing (attitude) angle is reported beside it; both agree only when the tip moves
+    along the cane (docs/conventions.md). The e columns of the section table (every
+    section point at e: only e is read)."""
+    return _zero_speed(_one(psi, None, velocity, np.full(6, float(p_e))), sowing_angle_deg)
+
+
+def _speeds(row) -> dict:
+    """The section-4.1 speed extremes (m/s) of one section-table row."""
+    from plantmech.objectives.seeder_population import section_column
+
+    c = section_column
+    return {"max_speed_seeding_m_s": float(row[c("peak_static_de")]),
+            "min_speed_return_static_m_s": float(row[c("least_static_ef")]),
+            "min_speed_return_dynamic_m_s": float(row[c("least_dynamic_ef")]),
+            "max_speed_seeding_dynamic_m_s": float(row[c("peak_dynamic_de")]),
+            "max_speed_static_m_s": float(row[c("peak_static")]),
+            "min_speed_static_m_s": float(row[c("least_static")])}
+
+
 def speed_by_section(psi, velocity, travel_m_s: float, section_psi: dict[str, float]) -> dict:
     """Static and dynamic (Eq. 17) speed extremes (m/s) of the section-4.1 objectives:
-    seeding section de (peak) and return section ef (minimum)."""
-    static = np.hypot(velocity[:, 0], velocity[:, 1])
-    dynamic = np.hypot(velocity[:, 0] - travel_m_s, velocity[:, 1])
-    p = section_psi
-    table = _periodic_table(psi)  # once for the four sections' eight ends
-    de_s = section_values(psi, static, p["d"], p["e"], table)
-    ef_s = section_values(psi, static, p["e"], p["f"], table)
-    ef_d = section_values(psi, dynamic, p["e"], p["f"], table)
-    de_d = section_values(psi, dynamic, p["d"], p["e"], table)
-    return {"max_speed_seeding_m_s": float(de_s.max()),
-            "min_speed_return_static_m_s": float(ef_s.min()),
-            "min_speed_return_dynamic_m_s": float(ef_d.min()),
-            "max_speed_seeding_dynamic_m_s": float(de_d.max()),
-            "max_speed_static_m_s": float(static.max()),
-            "min_speed_static_m_s": float(static.min())}
+    seeding section de (peak) and return section ef (minimum), from tip velocities (S, 2)
+    m/s at carrier angles psi (S,) rad, the machine travelling at ``travel_m_s`` m/s,
+    sections at ``section_psi`` rad (the section table for this one design)."""
+    sec = np.array([section_psi.get(k, section_psi["e"]) for k in LETTERS], dtype=float)
+    return _speeds(_one(psi, None, velocity, sec, float(travel_m_s)))
+
+
+def section_objectives(psi, arm_deg, velocity, section_psi: dict[str, float],
+                       travel_m_s: float | None = None) -> tuple[dict, dict, dict, float]:
+    """Attitude per section (deg), zero-speed travel (Eq. 18) and section speeds (m/s) of
+    one simulated design from ONE section-table row: arm angles (S,) deg and tip
+    velocities (S, 2) m/s at carrier angles psi (S,) rad, sections at ``section_psi`` rad,
+    the machine's travel speed (m/s; None: zero-speed seeding at e). Returns (attitude,
+    zero_speed, speeds, travel_m_s)."""
+    sec = np.array([section_psi[k] for k in LETTERS], dtype=float)
+    row = _one(psi, arm_deg, velocity, sec, travel_m_s)
+    att = _attitude_table(row, float(arm_deg[0]))
+    from plantmech.objectives.seeder_population import section_column
+
+    return (att, _zero_speed(row, att["sowing_angle"]), _speeds(row),
+            float(row[section_column("travel")]))
+
+
+def speeds_at_points(psi, tip, velocity, points, p_start: float, p_end: float,
+                     travel_m_s: float) -> dict:
+    """Static and dynamic (Eq. 17) speed (m/s) where the tip (S, 2) mm passes each of
+    ``points`` (n, 2) mm within the section [p_start, p_end] (rad): the closest sample of
+    the section (no interpolation), its carrier angle (deg) and the miss (mm). Returns
+    arrays (n,) by name."""
+    idx = np.flatnonzero(section_mask(psi, p_start, p_end))
+    d = np.hypot(tip[idx][None, :, 0] - points[:, None, 0],
+                 tip[idx][None, :, 1] - points[:, None, 1])  # (n, m)
+    k = idx[np.argmin(d, axis=1)]
+    v = velocity[k]
+    return {"carrier_angle_deg": np.degrees(psi[k]), "miss_mm": d.min(axis=1),
+            "speed_m_s": np.hypot(v[:, 0], v[:, 1]),
+            "dynamic_speed_m_s": np.hypot(v[:, 0] - travel_m_s, v[:, 1])}
 
 
 def speed_checks(speeds: dict, limits) -> list[Check]:

@@ -1,9 +1,10 @@
 """Section-4.1 objectives and gear checks of a whole population of seeder trains at
 once (arrays over designs x samples; no Python loop per design or per sample).
 
-The same quantities as ``objectives.seeder`` for one design; section points are
-either given as carrier angles or located on each design's tip path near reference
-angles. Used by the optimizer (issue 6) and the app.
+The one implementation of the section-4.1 values: ``objectives.seeder``'s one-design
+tables are its rows with P = 1. Section points are either given as carrier angles or
+located on each design's tip path (``locate_sections``). Used by the forward and inverse
+jobs, the optimizer (issue 6), studies and the app.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ LETTERS = ("a", "b", "c", "d", "e", "f")
 
 
 def refine_minimum(values: np.ndarray, k: np.ndarray, step: float):
-    """Sub-sample minimum of cyclic rows ``values`` (P, S) near their samples k (P, m):
+    """Sub-sample minimum of cyclic rows ``values`` (P, S) near their samples k (P, m)
+    (the refinement ``locate_sections`` applies in its kernel, in NumPy):
     the vertex of the parabola through k - 1, k, k + 1. Returns (offset from sample k in
     the units of ``step`` (within +-step / 2), value at the vertex), each (P, m)."""
     rows = np.arange(values.shape[0])[:, None]
@@ -33,42 +35,112 @@ def refine_minimum(values: np.ndarray, k: np.ndarray, step: float):
     return t * step, b - 0.25 * (a - c) * t
 
 
-def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
-                    reference: np.ndarray, window: float = np.radians(40.0)) -> np.ndarray:
-    """(P, 6) carrier angles (rad) where each design's tip passes closest to each
-    section point (6, 2), searched within +-window of the reference angles (6,), refined
-    between samples (the parabola of ``refine_minimum``), one pass per design
-    (``seeder_kernel.locate_rows``)."""
-    from plantmech.mechanisms.seeder_kernel import locate_rows
+def _local_minima(d2: np.ndarray, candidates: int) -> np.ndarray:
+    """Sample indices (..., candidates) of the ``candidates`` deepest local minima of the
+    cyclic rows d2 (..., S), deepest first (a row with fewer repeats its deepest)."""
+    local = (d2 <= np.roll(d2, 1, axis=-1)) & (d2 <= np.roll(d2, -1, axis=-1))
+    ranked = np.where(local, d2, np.inf)
+    order = np.argsort(ranked, axis=-1)[..., :candidates]
+    count = local.sum(axis=-1, keepdims=True)
+    return np.where(np.arange(candidates) < np.maximum(count, 1), order, order[..., :1])
 
-    psi = np.asarray(psi, dtype=float)
-    points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
-    reference = np.asarray(reference, dtype=float).reshape(-1)
-    near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
-    count = near.sum(axis=1)
-    # each point's window as its ascending sample indices (padded rows): the kernel scans
-    # those only, in the order the full mask would
-    order = np.argsort(~near, axis=1, kind="stable")
-    out = np.empty((tip.shape[0], len(points)))
-    locate_rows(np.ascontiguousarray(tip, dtype=float), psi, points,
-                np.ascontiguousarray(order, dtype=np.int64), count.astype(np.int64), out)
+
+def _ordered_passes(angle: np.ndarray, miss: np.ndarray) -> np.ndarray:
+    """Index (P, K) of the candidate pass (angles and misses (P, K, C)) of each point that
+    keeps the K points in their cyclic order along the cycle with the smallest total miss;
+    with no such combination, each point's first candidate (its closest pass)."""
+    P, K, C = angle.shape
+    combos = np.indices((C,) * K).reshape(K, -1).T  # (C^K, K)
+    cols = np.arange(K)
+    out = np.empty((P, K), dtype=np.int64)
+    chunk = max(1, 2**22 // (len(combos) * K))  # designs per (chunk, C^K, K) temporary
+    for lo in range(0, P, chunk):
+        a = angle[lo:lo + chunk, cols, combos]  # (chunk, C^K, K)
+        turn = np.mod(np.diff(np.concatenate([a, a[..., :1]], axis=-1), axis=-1),
+                      TWO_PI).sum(axis=-1)
+        cost = miss[lo:lo + chunk, cols, combos].sum(axis=-1)
+        cost = np.where(np.abs(turn - TWO_PI) > 1e-9, np.inf, cost)
+        best = np.argmin(cost, axis=1)
+        none = ~np.isfinite(cost[np.arange(len(a)), best])
+        out[lo:lo + chunk] = np.where(none[:, None], 0, combos[best])
     return out
 
 
-def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
-                   rate_scale: float = 1.0, travel_m_s=None) -> np.ndarray:
-    """Section-4.1 values (P, 8) of P designs sampled at uniform carrier angles psi (S,):
-    attitude rel = (angle - angle[:, 0]) * angle_scale (deg) from angles (P, S), tip
-    velocity rate * rate_scale (m/s) from rates (P, S, 2), sections a..f at
-    ``section_psi`` ((6,) or (P, 6) rad), travel speed ``travel_m_s`` (m/s, shared or (P,);
-    None: zero-speed seeding at e, the horizontal tip speed there, Eq. 18). Columns:
-    picking swing over ab and seeding swing over de (deg, largest change from the
-    section's start), attitude at e (deg, signed), horizontal tip speed at e, travel speed,
-    seeding peak static speed over de, return minimum static and dynamic speed over ef
-    (m/s); section ends interpolated and included. One pass per design
-    (``seeder_kernel.section_objectives_rows``): the forward population and the inverse
-    population (layer 1) both evaluate their sections here."""
-    from plantmech.mechanisms.seeder_kernel import section_objectives_rows
+def locate_sections(tip: np.ndarray, psi: np.ndarray, points: np.ndarray,
+                    reference: np.ndarray | None = None,
+                    window: float = np.radians(40.0), candidates: int = 4,
+                    return_miss: bool = False):
+    """(P, K) carrier angles (rad, in [0, 2 pi)) where each design's tip (P, S, 2) passes
+    closest to each section point (K, 2) mm, sampled at the carrier angles psi (S,) rad
+    (ascending; the refinement takes psi[1] - psi[0] as the step).
+
+    One algorithm for one design and for a population: the closest sample among each
+    point's candidates, refined between samples by the vertex of the parabola through the
+    squared distances at it and its two neighbours (``refine_minimum``; one pass per design
+    in ``seeder_kernel.locate_rows``). The candidates: with ``reference`` ((K,) rad, where
+    a base design passes the points), the samples within +-``window`` of it; without, the
+    ``candidates`` closest local approaches of the tip to each point, of which the
+    combination that keeps the points in their order along the cycle with the smallest
+    total miss is taken (an "8" passes near some points twice, near its crossing).
+    ``return_miss``: also the distances (P, K) mm the tip misses the points by (at the
+    vertex; the closest sample's when the parabola dips below 0, never NaN)."""
+    from plantmech.mechanisms.seeder_kernel import locate_rows
+
+    tip = np.ascontiguousarray(np.asarray(tip, dtype=float))
+    psi = np.asarray(psi, dtype=float)
+    points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
+    P, S = tip.shape[:2]
+    K = len(points)
+    if reference is not None:
+        reference = np.asarray(reference, dtype=float).reshape(-1)
+        near = np.abs(np.angle(np.exp(1j * (psi[None, :] - reference[:, None])))) <= window
+        count = near.sum(axis=1)
+        # each window is a cyclic run of samples: its first sample follows a sample outside
+        first = np.argmax(near & ~np.roll(near, 1, axis=1), axis=1)
+        first = np.where(count == S, 0, first)
+        angle, miss = _locate(locate_rows, tip, psi, points,
+                              np.broadcast_to(first, (P, K)), np.broadcast_to(count, (P, K)))
+        return (angle, miss) if return_miss else angle
+    d2 = ((tip[:, None, :, :] - points[None, :, None, :]) ** 2).sum(axis=-1)  # (P, K, S)
+    cand = _local_minima(d2, candidates)  # (P, K, C)
+    C = cand.shape[-1]
+    angle, miss = _locate(locate_rows, tip, psi, np.repeat(points, C, axis=0),
+                          cand.reshape(P, K * C), np.ones((P, K * C), dtype=np.int64))
+    angle, miss = angle.reshape(P, K, C), miss.reshape(P, K, C)
+    pick = _ordered_passes(angle, miss)[..., None]
+    angle = np.take_along_axis(angle, pick, axis=2)[..., 0]
+    miss = np.take_along_axis(miss, pick, axis=2)[..., 0]
+    return (angle, miss) if return_miss else angle
+
+
+def _locate(locate_rows, tip, psi, points, first, count):
+    """``seeder_kernel.locate_rows`` on candidate runs (P, K): (angle, miss) (P, K)."""
+    P, K = first.shape
+    angle, miss = np.empty((P, K)), np.empty((P, K))
+    locate_rows(tip, psi, points, np.ascontiguousarray(first, dtype=np.int64),
+                np.ascontiguousarray(count, dtype=np.int64), angle, miss)
+    return angle, miss
+
+
+def section_table(psi, angle, section_psi, rate, angle_scale: float = 1.0,
+                  rate_scale: float = 1.0, travel_m_s=None, full: bool = True) -> np.ndarray:
+    """The section table (P, ``SECTION_COLUMNS``) of P designs sampled at carrier angles
+    psi (S,) rad (ascending in [0, 2 pi), any spacing): attitude rel = (angle -
+    angle[:, 0]) * angle_scale (deg) from angles (P, S), tip velocity rate * rate_scale
+    (m/s) from rates (P, S, 2), sections a..f at ``section_psi`` ((6,) or (P, 6) rad),
+    travel speed ``travel_m_s`` (m/s, shared or (P,); None: zero-speed seeding at e, the
+    horizontal tip speed there, Eq. 18). Columns (``section_column``): per attitude
+    section ab, bc, cd, de, ea its start, end, min, max and signed swing (deg, the value
+    farthest from the start less the start); vx_e, vy_e (m/s at e), travel, the seeding
+    section's peak static speed (de), the return section's least static and dynamic
+    (Eq. 17) speed (ef), the peak dynamic speed over de, the cycle's peak and least
+    static speed (m/s); section ends interpolated and included. One pass per design
+    (``seeder_kernel.section_table_rows``): the one-design tables of ``objectives.seeder``,
+    the forward population and the inverse population all read their sections here.
+    ``full`` False: only the columns the section-4.1 objectives read (``section_values``:
+    the swings of ab and de as |swing|, the speeds at e and over de and ef), the others NaN;
+    the same numbers, ~40 % less work for the optimizer's populations."""
+    from plantmech.mechanisms.seeder_kernel import SECTION_COLUMNS, section_table_rows
 
     angle = np.ascontiguousarray(np.asarray(angle, dtype=float))
     P = angle.shape[0]
@@ -76,12 +148,40 @@ def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
     given = travel_m_s is not None
     travel = np.ascontiguousarray(np.broadcast_to(
         np.asarray(travel_m_s if given else 0.0, dtype=float), (P,)))
-    out = np.empty((P, 8))
-    section_objectives_rows(np.asarray(psi, dtype=float), angle,
-                            float(angle_scale),
-                            np.ascontiguousarray(np.asarray(rate, dtype=float)),
-                            float(rate_scale), sec, travel, given, out)
+    out = np.empty((P, SECTION_COLUMNS))
+    section_table_rows(np.ascontiguousarray(psi, dtype=float), angle, float(angle_scale),
+                       np.ascontiguousarray(np.asarray(rate, dtype=float)),
+                       float(rate_scale), sec, travel, given, bool(full), out)
     return out
+
+
+ATTITUDE_SECTION_NAMES = ("picking_ab", "transport_bc", "transport_cd", "seeding_de",
+                          "return_efca")
+
+
+def section_column(name: str, stat: str | None = None) -> int:
+    """Column of ``section_table``: an attitude section's statistic
+    (``section_column("seeding_de", "swing")``) or a speed column (``"peak_static_de"``)."""
+    from plantmech.mechanisms.seeder_kernel import SECTION_STATS, SPEED_COLUMNS
+
+    if stat is None:
+        return 5 * len(ATTITUDE_SECTION_NAMES) + SPEED_COLUMNS.index(name)
+    return 5 * ATTITUDE_SECTION_NAMES.index(name) + SECTION_STATS.index(stat)
+
+
+def section_values(psi, angle, section_psi, rate, angle_scale: float = 1.0,
+                   rate_scale: float = 1.0, travel_m_s=None) -> np.ndarray:
+    """The section-4.1 objective columns (P, 8) of ``section_table``: picking swing over ab
+    and seeding swing over de (deg, largest |change| from the section's start), attitude
+    at e (deg, signed), horizontal tip speed at e, travel speed, seeding peak static speed
+    over de, return minimum static and dynamic speed over ef (m/s)."""
+    t = section_table(psi, angle, section_psi, rate, angle_scale, rate_scale, travel_m_s,
+                      full=False)
+    c = section_column
+    return np.c_[np.abs(t[:, c("picking_ab", "swing")]), np.abs(t[:, c("seeding_de", "swing")]),
+                 t[:, c("seeding_de", "end")], t[:, c("vx_e")], t[:, c("travel")],
+                 t[:, c("peak_static_de")], t[:, c("least_static_ef")],
+                 t[:, c("least_dynamic_ef")]]
 
 
 def pitch_curve_metrics(nodes, radii, a, contact0=0.0, kind: str = "spline",
