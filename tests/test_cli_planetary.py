@@ -135,7 +135,8 @@ def test_trains_that_cannot_be_built_exit_2_naming_the_pair(edit, message, tmp_p
     assert re.search(message, capsys.readouterr().err)
 
 
-@pytest.mark.parametrize("command, field", [(["design"], "mechanism"),
+@pytest.mark.parametrize("command, field", [(["optimize", "--problem", "seeder-layered"],
+                                             "--problem"),
                                             (["inverse"], "field 'trajectory"),
                                             (["optimize", "--problem", "transplanter"],
                                              "--problem")])
