@@ -180,17 +180,28 @@ def test_circular_internal_pair_shapes_have_the_spur_values():
         R / rules_for(d).min_internal_difference, rel=1e-6)
 
 
-def test_commands_still_refused_say_which_work(tmp_path, capsys):
+def test_what_is_still_refused_says_what_works(tmp_path, capsys):
+    """Every command takes a planetary file now; what is refused is a seeder or
+    transplanter problem, and --report where none is written for it, each by name."""
+    import argparse
+
+    from plantmech.design import DesignError, load_design
+    from plantmech.interfaces.cli import refuse_planetary
+
     out = tmp_path / "o"
-    assert main(["design", str(EXAMPLE), "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    for works in ("'plantmech forward'", "'plantmech gears'",
-                  "'plantmech optimize --problem planetary'", "'plantmech inverse'",
-                  "'plantmech study'", "'plantmech verify'", "'plantmech app'"):
-        assert works in err
-    assert "'design' is for the seeder" in err and not out.exists()
+    assert main(["optimize", str(EXAMPLE), "--problem", "transplanter", "--out", str(out)]) == 2
+    assert "--problem planetary" in capsys.readouterr().err and not out.exists()
     assert main(["gears", str(EXAMPLE), "--out", str(out), "--report"]) == 2
     assert "--report" in capsys.readouterr().err and not out.exists()
+    # a command outside the list (none of the CLI's today) is told which ones work
+    args = argparse.Namespace(command="other", design=str(EXAMPLE))
+    with pytest.raises(DesignError) as err:
+        refuse_planetary(args, load_design(EXAMPLE))
+    for works in ("'plantmech forward'", "'plantmech gears'",
+                  "'plantmech optimize --problem planetary'", "'plantmech inverse'",
+                  "'plantmech study'", "'plantmech design'", "'plantmech verify'",
+                  "'plantmech app'"):
+        assert works in str(err.value)
 
 
 def test_a_ring_follower_beside_an_idler_is_refused_by_field(tmp_path, capsys):
