@@ -6,7 +6,7 @@ import pytest
 from plantmech.design import load_design
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
-from plantmech.mechanisms.seeder_inverse_batch import extreme_radii, inverse_population
+from plantmech.mechanisms.seeder_inverse import extreme_radii, inverse_population
 
 from .conftest import EXAMPLES
 
