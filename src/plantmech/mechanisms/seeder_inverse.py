@@ -576,6 +576,7 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     reverses = alive & ratio_bad.any(axis=1)
     stop(reverses, "ratio_not_positive", lambda: _run_score(ratio_bad, step_deg))
     ratio_known = alive | reverses
+    laws = {r: law for r, law in laws.items() if alive[r]}  # a stopped row keeps its plan
 
     def integral(values, factor, power):
         out = _running_integral(values, step)
