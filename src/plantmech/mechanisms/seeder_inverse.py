@@ -460,7 +460,10 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     interface): P rows, no Python loop per sample (nor per design, except the toothless
     ``dwell``'s per-design steps). ``a1``, ``a2``: centre distances (mm; None: L1/2);
     ``split_exponent`` p: stage 1 takes C (total ratio)^p; ``min_pitch_radius`` (mm).
-    ``full``: keep every array and the diagnostics' flags (``inverse_design`` reads them).
+    ``samples`` n: uniform carrier angles per cycle. ``dwell``: the sun's toothless sector
+    (Eq. 5), the same type-value points for every row, placed on each row's own carrier
+    law (the rows' carrier angles differ). ``full``: keep every array and the
+    diagnostics' flags (``inverse_design`` reads them).
     ``fused``: the dense carrier direction and the inversion in the numba kernels
     (spline coefficients needed), else their NumPy form. ``tangent_angle``: compute
     ``pitch_tangent_angle`` (else None)."""
@@ -522,16 +525,16 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
     back = alive & backwards.any(axis=1)
     stop(back, "carrier_not_monotonic", lambda: _runs(backwards) + np.degrees(
         np.where(backwards, -dpsi, 0.0).sum(axis=1)) / 30.0)
-    psi_dense_used = np.where(alive[:, None], psi_dense, grid[None, :] * TWO_PI)  # monotone
+    psi_bracket = np.where(alive[:, None], psi_dense, grid[None, :] * TWO_PI)  # stopped: monotone
 
     # Tip samples at uniform carrier angle
     psi = np.linspace(0.0, TWO_PI, n, endpoint=False)
     if fused:
-        u, phi, tip = kernel.invert_carrier(psi, u_dense, phi_dense, psi_dense_used, tb.coef,
+        u, phi, tip = kernel.invert_carrier(psi, u_dense, phi_dense, psi_bracket, tb.coef,
                                             tb.knots, tb.period, L1s, L2s, u_min, u_max,
                                             sigma, alive)
     else:
-        u, phi_k = invert_carrier(psi, u_dense, phi_dense, psi_dense_used, alive,
+        u, phi_k = invert_carrier(psi, u_dense, phi_dense, psi_bracket, alive,
                                   lambda x: _carrier_direction(tb, x, L1s, L2s, u_min, u_max,
                                                                sigma)[0])
         phi, tip = _carrier_direction(tb, u, L1s, L2s, u_min, u_max, sigma)
