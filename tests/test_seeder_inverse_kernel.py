@@ -56,7 +56,7 @@ def test_kernels_match_the_numpy_path(name, samples):
 
 def test_extreme_radii_kernel_matches_the_numpy_loop():
     from plantmech.geometry.trajectory_batch import TrajectoryBatch
-    from plantmech.mechanisms.seeder_inverse_batch import extreme_radii
+    from plantmech.mechanisms.seeder_inverse import extreme_radii
 
     pts = np.stack([np.asarray(load_design(EXAMPLES / n).trajectory.points, dtype=float)
                     for n in SEEDERS if len(load_design(EXAMPLES / n).trajectory.points) == 27])

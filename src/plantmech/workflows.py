@@ -570,9 +570,9 @@ def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
 
 def _pitch_tangent_angle_deg(res) -> list[float]:
     """Largest pitch tangent angle mu (deg) of the sun-gear 2 and gear 3-planet pairs of a
-    single inverse design, as ``seeder_inverse_batch.pitch_tangent_angle`` (samples in a
+    single inverse design, as ``seeder_inverse.pitch_tangent_angle`` (samples in a
     toothless dwell, where the radii are NaN, are left out)."""
-    from plantmech.mechanisms.seeder_inverse_batch import pitch_tangent_angle
+    from plantmech.mechanisms.seeder_inverse import pitch_tangent_angle
 
     radii = np.stack([res.r1, res.r2, res.r3, res.r4])[None]
     with np.errstate(invalid="ignore"):
@@ -712,7 +712,7 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
     (lists) and values, ok, violation (P, 13), infeasible (P,) (the inverse design's
     error grading, 0 when feasible), objectives (P, 3)."""
     from plantmech.geometry.trajectory_batch import TrajectoryBatch
-    from plantmech.mechanisms.seeder_inverse_batch import _node_slopes, inverse_population
+    from plantmech.mechanisms.seeder_inverse import _node_slopes, inverse_population
     from plantmech.objectives import limit_text, relative_violation
     from plantmech.objectives.seeder_inverse_population import (
         attitude_values,

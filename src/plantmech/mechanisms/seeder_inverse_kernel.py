@@ -1,21 +1,23 @@
 """Kernels (numba) of the seeder's inverse design (seed 000, sections 3.2-3.3) and of its
-layer-1 geometry.
+layer-1 geometry, for P designs at once (one design is P = 1).
 
-- ``dense_carrier``: the carrier direction on the dense parameter grid for both assembly
-  branches (Eq. 2-3), unwrapped as ``np.unwrap`` does;
+- ``dense_carrier``: the carrier direction on each design's dense parameter grid for both
+  assembly branches (Eq. 2-3), unwrapped as ``np.unwrap`` does;
 - ``invert_carrier``: the tip at uniform carrier angle by the Illinois method, every
-  sample stepping together until all carrier angle errors are below 1e-10 rad;
+  sample of every design stepping together until all carrier angle errors are below
+  1e-10 rad;
 - ``refine_extremes`` / ``refine_crossings``: the Newton refinements of the extreme
-  radii (``seeder_inverse_batch.extreme_radii``) and of the "8"'s self-crossing
+  radii (``seeder_inverse.extreme_radii``) and of the "8"'s self-crossing
   (``objectives.seeder_inverse_population.loop_spans``), for one design or a population.
 
-The spline is evaluated on its own cubic pieces in the kernels (SciPy's coefficients
-and arithmetic for ``ClosedTrajectory``, ``TrajectoryBatch``'s for a population); the
-two arctan2 of Eq. 2-3 are NumPy's vectorized ones, several times faster per element
-than a scalar libm call inside a kernel. The same model and arithmetic, step for step,
-as the NumPy paths, which stay as the reference (tests/test_seeder_inverse_kernel.py:
-the bundled seeder examples give identical numbers). Imported lazily: numba stays out
-of the CLI's start-up; its compilation is cached on disk (``cache=True``).
+The spline is evaluated on its own cubic pieces in the kernels (``TrajectoryBatch``'s
+coefficients and arithmetic); the two arctan2 of Eq. 2-3 are NumPy's vectorized ones,
+several times faster per element than a scalar libm call inside a kernel. The same model
+and arithmetic, step for step, as the NumPy path of ``seeder_inverse`` (``fused=False``,
+also the path of curve objects without spline coefficients), which stays as the reference
+(tests/test_seeder_inverse_kernel.py: the bundled seeder examples give the same numbers).
+Imported lazily: numba stays out of the CLI's start-up; its compilation is cached on disk
+(``cache=True``).
 
 Lengths mm, parameter u in mm of chord, angles rad (conventions of ``seeder_inverse``).
 """
@@ -70,157 +72,185 @@ def _on_inner(u, u_min, inner_len, period):
 
 
 @njit(cache=True, error_model="numpy")
-def spline_polar(coef, knots, period, u, L1, L2):
-    """At parameters u (n,): the tip x, y (mm) on the periodic cubic spline (SciPy's
-    coefficients ``coef`` (4, N, 2), highest power first, evaluated as SciPy does), and
-    the two arguments (sin, cos) of the angle beta_1 at O between the carrier and the
-    tip (Eq. 2-3): the formulas of ``seeder_inverse._carrier_geometry`` up to its
-    arctan2 calls, which ``tip_angles`` makes with NumPy's vectorized arctan2 (several
-    times faster per element than a scalar libm call in a kernel)."""
-    n = u.shape[0]
-    x, y = np.empty(n), np.empty(n)
-    sin_b1, cos_b1 = np.empty(n), np.empty(n)
-    for j in range(n):
-        w = _mod(u[j], period)  # np.mod's own rule (exact), then SciPy's power sum
-        i = _piece(knots, w)
-        t = w - knots[i]
-        t2 = t * t
-        t3 = t2 * t
-        xj = coef[3, i, 0] + coef[2, i, 0] * t + coef[1, i, 0] * t2 + coef[0, i, 0] * t3
-        yj = coef[3, i, 1] + coef[2, i, 1] * t + coef[1, i, 1] * t2 + coef[0, i, 1] * t3
-        rho = np.hypot(xj, yj)
-        c = min(1.0, max(-1.0, (L1 * L1 + rho * rho - L2 * L2) / (2.0 * L1 * rho)))
-        x[j], y[j] = xj, yj
-        sin_b1[j] = np.sqrt(max(1.0 - c * c, 0.0))
-        cos_b1[j] = c
+def _point(coef, knots, period, u):
+    """(x, y) of one row of a ``TrajectoryBatch`` at parameter u: its coefficients ``coef``
+    (N, 4, 2) (lowest power first), knots (N + 1), evaluated as ``TrajectoryBatch``
+    evaluates them (u wrapped by floor, Horner's rule)."""
+    n = coef.shape[0]
+    w = u - period * np.floor(u / period)
+    i = _piece(knots, w)
+    if i > n - 1:
+        i = n - 1
+    t = w - knots[i]
+    x = coef[i, 0, 0] + t * (coef[i, 1, 0] + t * (coef[i, 2, 0] + t * coef[i, 3, 0]))
+    y = coef[i, 0, 1] + t * (coef[i, 1, 1] + t * (coef[i, 2, 1] + t * coef[i, 3, 1]))
+    return x, y
+
+
+@njit(cache=True, error_model="numpy")
+def spline_polar(coef, knots, period, u, L1, L2, alive):
+    """At parameters u (P, n) of the rows of a ``TrajectoryBatch`` (``coef`` (P, N, 4, 2),
+    ``knots`` (P, N + 1), ``period`` (P,)): the tip x, y (mm) and the two arguments (sin,
+    cos) of the angle beta_1 at O between the carrier of length L1 (P,) and the tip for an
+    arm L2 (P,) (Eq. 2-3), each (P, n): the formulas of ``seeder_inverse._carrier_geometry``
+    up to its arctan2 calls, which ``tip_angles`` makes with NumPy's vectorized arctan2
+    (several times faster per element than a scalar libm call in a kernel). Rows not
+    ``alive`` are left at 0."""
+    P, n = u.shape
+    x, y = np.zeros((P, n)), np.zeros((P, n))
+    sin_b1, cos_b1 = np.zeros((P, n)), np.ones((P, n))
+    for p in range(P):
+        if not alive[p]:
+            continue
+        a, b = L1[p], L2[p]
+        for j in range(n):
+            xj, yj = _point(coef[p], knots[p], period[p], u[p, j])
+            rho = np.hypot(xj, yj)
+            c = min(1.0, max(-1.0, (a * a + rho * rho - b * b) / (2.0 * a * rho)))
+            x[p, j], y[p, j] = xj, yj
+            sin_b1[p, j] = np.sqrt(max(1.0 - c * c, 0.0))
+            cos_b1[p, j] = c
     return x, y, sin_b1, cos_b1
 
 
-def tip_angles(coef, knots, period, u, L1, L2):
-    """(beta_3, beta_1, x, y) at parameters u: ``spline_polar`` and two arctan2."""
-    x, y, sin_b1, cos_b1 = spline_polar(coef, knots, period, u, L1, L2)
+def tip_angles(coef, knots, period, u, L1, L2, alive):
+    """(beta_3, beta_1, x, y), each (P, n), at parameters u (P, n): ``spline_polar`` and
+    two arctan2."""
+    x, y, sin_b1, cos_b1 = spline_polar(coef, knots, period, u, L1, L2, alive)
     return np.arctan2(y, x), np.arctan2(sin_b1, cos_b1), x, y
 
 
 @njit(cache=True, error_model="numpy")
 def _branches(u, beta3, beta1, u_min, u_max, period):
-    """phi_1 (2, m + 1) for sigma_inner = +1, -1, each unwrapped as ``np.unwrap`` does
-    (jumps of at least pi replaced by their 2 pi complement, corrections summed)."""
-    m1 = u.shape[0]
-    inner_len = _mod(u_max - u_min, period)
-    out = np.empty((2, m1))
-    for k in range(m1):
-        s = 1.0 if _on_inner(u[k], u_min, inner_len, period) else -1.0
-        out[0, k] = beta3[k] + s * beta1[k]
-        out[1, k] = beta3[k] + (-s) * beta1[k]
-    for row in range(2):
-        p = out[row]
-        corr = 0.0
-        prev = p[0]
-        for k in range(1, m1):
-            d = p[k] - prev
-            prev = p[k]
-            if abs(d) >= np.pi:
-                dm = np.fmod(d + np.pi, TWO_PI)
-                if dm < 0.0:
-                    dm += TWO_PI
-                dm -= np.pi
-                if dm == -np.pi and d > 0:
-                    dm = np.pi
-                corr += dm - d
-            p[k] += corr
+    """phi_1 (2, P, m + 1) for sigma_inner = +1, -1, each row unwrapped as ``np.unwrap``
+    does (jumps of at least pi replaced by their 2 pi complement, corrections summed)."""
+    P, m1 = u.shape
+    out = np.empty((2, P, m1))
+    for q in range(P):
+        inner_len = _mod(u_max[q] - u_min[q], period[q])
+        for k in range(m1):
+            s = 1.0 if _on_inner(u[q, k], u_min[q], inner_len, period[q]) else -1.0
+            out[0, q, k] = beta3[q, k] + s * beta1[q, k]
+            out[1, q, k] = beta3[q, k] + (-s) * beta1[q, k]
+        for row in range(2):
+            p = out[row, q]
+            corr = 0.0
+            prev = p[0]
+            for k in range(1, m1):
+                d = p[k] - prev
+                prev = p[k]
+                if abs(d) >= np.pi:
+                    dm = np.fmod(d + np.pi, TWO_PI)
+                    if dm < 0.0:
+                        dm += TWO_PI
+                    dm -= np.pi
+                    if dm == -np.pi and d > 0:
+                        dm = np.pi
+                    corr += dm - d
+                p[k] += corr
     return out
 
 
-def dense_carrier(coef, knots, period, u_dense, L1, L2, u_min, u_max):
-    """Unwrapped carrier angle phi_1 (2, m + 1) on the dense grid ``u_dense`` for the
-    assembly branches sigma_inner = +1 (row 0) and -1 (row 1): phi_1 = beta_3 +
+def dense_carrier(coef, knots, period, u_dense, L1, L2, u_min, u_max, alive):
+    """Unwrapped carrier angle phi_1 (2, P, m + 1) on the dense grids ``u_dense`` (P, m + 1)
+    for the assembly branches sigma_inner = +1 (first) and -1 (second): phi_1 = beta_3 +
     sigma beta_1, sigma = sigma_inner on the arc from u_min to u_max, else -sigma_inner."""
-    beta3, beta1, _, _ = tip_angles(coef, knots, period, u_dense, L1, L2)
+    beta3, beta1, _, _ = tip_angles(coef, knots, period, u_dense, L1, L2, alive)
     return _branches(u_dense, beta3, beta1, u_min, u_max, period)
 
 
 @njit(cache=True, error_model="numpy")
-def _illinois_start(psi, u_dense, psi_dense):
-    """Brackets of the Illinois method: the dense-grid interval k (n,) holding each psi
-    (psi_dense[k] <= psi < psi_dense[k + 1], clipped to the grid; psi increasing)."""
+def _illinois_start(psi, psi_dense):
+    """Brackets of the Illinois method: the dense-grid interval k (P, n) holding each psi
+    (psi_dense[p, k] <= psi < psi_dense[p, k + 1], clipped to the grid; psi increasing)."""
     n = psi.shape[0]
-    m = u_dense.shape[0] - 1
-    ks = np.empty(n, np.int64)
-    k = 0
-    for j in range(n):
-        while k < m and psi_dense[k + 1] <= psi[j]:
-            k += 1
-        ks[j] = min(k, m - 1)
+    P, m1 = psi_dense.shape
+    m = m1 - 1
+    ks = np.empty((P, n), np.int64)
+    for p in range(P):
+        k = 0
+        for j in range(n):
+            while k < m and psi_dense[p, k + 1] <= psi[j]:
+                k += 1
+            ks[p, j] = min(k, m - 1)
     return ks
 
 
 @njit(cache=True, error_model="numpy")
 def _illinois_trial(lo, hi, f_lo, f_hi, u):
     """The regula falsi point of each bracket (bisection where the values do not
-    bracket), written into u."""
-    for j in range(u.shape[0]):
-        den = f_hi[j] - f_lo[j]
-        if den > 0:
-            u[j] = lo[j] - f_lo[j] * (hi[j] - lo[j]) / den
-        else:
-            u[j] = 0.5 * (lo[j] + hi[j])
+    bracket), written into u (P, n)."""
+    P, n = u.shape
+    for p in range(P):
+        for j in range(n):
+            den = f_hi[p, j] - f_lo[p, j]
+            if den > 0:
+                u[p, j] = lo[p, j] - f_lo[p, j] * (hi[p, j] - lo[p, j]) / den
+            else:
+                u[p, j] = 0.5 * (lo[p, j] + hi[p, j])
 
 
 @njit(cache=True, error_model="numpy")
 def _illinois_update(u, beta3, beta1, u_min, inner_len, period, sigma_inner, phi0, phi_k,
-                     psi, lo, hi, f_lo, f_hi, side):
+                     psi, lo, hi, f_lo, f_hi, side, alive):
     """One Illinois step from the carrier angle at the trial points: the carrier angle
     error f (rad), the bracket kept on its sign change, the value kept on the side that
-    stayed twice in a row halved. Returns the largest |f|."""
+    stayed twice in a row halved. Returns the largest |f| of the ``alive`` rows."""
+    P, n = u.shape
     worst = 0.0
-    for j in range(u.shape[0]):
-        s = sigma_inner if _on_inner(u[j], u_min, inner_len, period) else -sigma_inner
-        d = (beta3[j] + s * beta1[j]) - phi_k[j]
-        f = phi0 - (phi_k[j] + (d - TWO_PI * np.round(d / TWO_PI))) - psi[j]
-        if f > 0:
-            hi[j] = u[j]
-            if side[j] > 0:
-                f_lo[j] = 0.5 * f_lo[j]
-            f_hi[j] = f
-            side[j] = 1.0
-        else:
-            lo[j] = u[j]
-            f_lo[j] = f
-            if side[j] < 0:
-                f_hi[j] = 0.5 * f_hi[j]
-            side[j] = -1.0
-        worst = max(worst, abs(f))
+    for p in range(P):
+        for j in range(n):
+            s = sigma_inner[p] if _on_inner(u[p, j], u_min[p], inner_len[p], period[p]) \
+                else -sigma_inner[p]
+            d = (beta3[p, j] + s * beta1[p, j]) - phi_k[p, j]
+            f = phi0[p] - (phi_k[p, j] + (d - TWO_PI * np.round(d / TWO_PI))) - psi[j]
+            if f > 0:
+                hi[p, j] = u[p, j]
+                if side[p, j] > 0:
+                    f_lo[p, j] = 0.5 * f_lo[p, j]
+                f_hi[p, j] = f
+                side[p, j] = 1.0
+            else:
+                lo[p, j] = u[p, j]
+                f_lo[p, j] = f
+                if side[p, j] < 0:
+                    f_hi[p, j] = 0.5 * f_hi[p, j]
+                side[p, j] = -1.0
+            if alive[p]:
+                worst = max(worst, abs(f))
     return worst
 
 
 def invert_carrier(psi, u_dense, phi_dense, psi_dense, coef, knots, period, L1, L2, u_min,
-                   u_max, sigma_inner):
-    """Curve parameter u (n,) where the carrier has turned ``psi`` (n, increasing)
-    clockwise, by the Illinois method (modified regula falsi) on the bracket of the dense
-    grid that holds each psi; all samples step together until every carrier angle error
-    is below 1e-10 rad (at most 30 iterations), as ``seeder_inverse.invert_carrier``
-    does. Also the carrier angle phi_1 unwrapped by the dense grid and the tip (n, 2).
-    The bookkeeping runs in kernels, the angles in NumPy (``tip_angles``)."""
-    k = _illinois_start(psi, u_dense, psi_dense)
-    lo, hi = u_dense[k], u_dense[k + 1]
-    f_lo, f_hi = psi_dense[k] - psi, psi_dense[k + 1] - psi
-    phi_k = phi_dense[k]
-    side = np.zeros(len(psi))
+                   u_max, sigma_inner, alive):
+    """Curve parameters u (P, n) where the carrier of each row has turned ``psi`` (n,
+    increasing) clockwise, by the Illinois method (modified regula falsi) on the bracket of
+    the dense grid (P, m + 1) that holds each psi; all samples step together until every
+    carrier angle error of the ``alive`` rows is below 1e-10 rad (at most 30 iterations),
+    as ``seeder_inverse.invert_carrier`` does. Also the carrier angle phi_1 unwrapped by
+    the dense grid and the tip (P, n, 2). The bookkeeping runs in kernels, the angles in
+    NumPy (``tip_angles``)."""
+    k = _illinois_start(psi, psi_dense)
+    rows = np.arange(len(k))[:, None]
+    lo, hi = u_dense[rows, k], u_dense[rows, k + 1]
+    f_lo, f_hi = psi_dense[rows, k] - psi, psi_dense[rows, k + 1] - psi
+    phi_k = phi_dense[rows, k]
+    side = np.zeros(k.shape)
     u = lo.copy()
-    inner_len = float(np.mod(u_max - u_min, period))
+    inner_len = np.mod(u_max - u_min, period)
+    phi0 = np.ascontiguousarray(phi_dense[:, 0])
     for _ in range(ILLINOIS_ITERATIONS):
         _illinois_trial(lo, hi, f_lo, f_hi, u)
-        beta3, beta1, _, _ = tip_angles(coef, knots, period, u, L1, L2)
+        beta3, beta1, _, _ = tip_angles(coef, knots, period, u, L1, L2, alive)
         worst = _illinois_update(u, beta3, beta1, u_min, inner_len, period, sigma_inner,
-                                 phi_dense[0], phi_k, psi, lo, hi, f_lo, f_hi, side)
+                                 phi0, phi_k, psi, lo, hi, f_lo, f_hi, side, alive)
         if worst < 1e-10:  # rad of carrier angle (round-off floor ~4e-11)
             break
-    beta3, beta1, x, y = tip_angles(coef, knots, period, u, L1, L2)
-    on_inner = np.mod(u - u_min, period) < inner_len
-    phi = beta3 + np.where(on_inner, sigma_inner, -sigma_inner) * beta1
+    beta3, beta1, x, y = tip_angles(coef, knots, period, u, L1, L2, alive)
+    on_inner = np.mod(u - u_min[:, None], period[:, None]) < inner_len[:, None]
+    phi = beta3 + np.where(on_inner, sigma_inner[:, None], -sigma_inner[:, None]) * beta1
     d = phi - phi_k
-    return u, phi_k + (d - TWO_PI * np.round(d / TWO_PI)), np.c_[x, y]
+    return u, phi_k + (d - TWO_PI * np.round(d / TWO_PI)), np.stack([x, y], axis=-1)
 
 
 @njit(cache=True, error_model="numpy")
@@ -246,7 +276,7 @@ def _point_and_derivatives(coef, knots, period, u):
 @njit(cache=True, error_model="numpy")
 def refine_extremes(coef, knots, period, lo, hi, x, done, largest):
     """Safeguarded Newton on d(rho^2)/du / 2 = p . p' = 0 for each row's candidate
-    extremes (P, c) of the distance to O (``seeder_inverse_batch.extreme_radii``): the
+    extremes (P, c) of the distance to O (``seeder_inverse.extreme_radii``): the
     bracket [lo, hi] kept on the side where the slope changes sign (+ to - through a
     maximum when ``largest``, - to + through a minimum), a step leaving it replaced by
     bisection, until the step or the bracket is below 1e-9 mm of parameter (40 steps at

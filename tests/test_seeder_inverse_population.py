@@ -1,12 +1,20 @@
-"""The population inverse design against the single-design one (seed 000 §3.2-3.3)."""
+"""The inverse design of P trajectories at once (seed 000 §3.2-3.3): each row of a population
+equals the same design alone (P = 1, with its diagnostics), the grading of infeasible rows
+reads like the diagnostics, and the toothless dwell (Eq. 5) is a per-design step of the same
+path."""
 
 import numpy as np
 import pytest
 
 from plantmech.design import load_design
 from plantmech.geometry.trajectory import ClosedTrajectory
-from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
-from plantmech.mechanisms.seeder_inverse_batch import extreme_radii, inverse_population
+from plantmech.mechanisms.seeder_inverse import (
+    DwellSpec,
+    InverseSettings,
+    extreme_radii,
+    inverse_design,
+    inverse_population,
+)
 
 from .conftest import EXAMPLES
 
@@ -123,3 +131,94 @@ def test_pitch_tangent_angle_matches_the_single_design_manufacturability_rows():
         work = d.gear_checks.tool_pressure_angle_deg + np.degrees(inv.pitch_tangent_angle[0])
         assert work[0] == pytest.approx(rows["working_pressure_angle_sun_gear2"], abs=0.5)
         assert work[1] == pytest.approx(rows["working_pressure_angle_gear3_planet"], abs=0.5)
+
+
+def _dwell_candidates(table2_points, count=6, amp=2.0):
+    """Corrected Table 2 and ``count - 1`` copies moved by up to ``amp`` mm per coordinate."""
+    pts = table2_points.copy()
+    pts[3, 1] = -299.36
+    rng = np.random.default_rng(5)
+    X = pts[None] + amp * rng.uniform(-1.0, 1.0, (count,) + pts.shape)
+    X[0] = pts
+    return X
+
+
+def test_dwell_rows_hold_the_arm_close_and_keep_the_anchor(table2_points):
+    """Each row's dwell from its own carrier law: inside the toothless sector (carrier
+    angles between the carrier angles of the dwell's points, per row) the planet does not
+    turn relative to the carrier, gears idle (ratio 0, no pitch radii), both pairs close,
+    and the realized attitude at the anchor point equals the planned one."""
+    X = _dwell_candidates(table2_points)
+    dwell = DwellSpec(start=26, end=0, anchor=4)
+    pop = inverse_population(X, 720, dwell=dwell, full=True)
+    assert pop.feasible.sum() >= 4
+    for p in np.flatnonzero(pop.feasible):
+        info = pop.dwell[p]
+        start, end = pop.point_carrier_angle[p, [26, 0]]
+        assert info["carrier_start"] == start and info["carrier_end"] == end
+        assert info["theta1"] == pytest.approx(np.mod(end - start, 2 * np.pi), abs=1e-12)
+        psi = pop.psi
+        inside = (np.mod(psi - start, 2 * np.pi) > 0.01) & (
+            np.mod(psi - start, 2 * np.pi) < info["theta1"] - 0.01)
+        assert inside.sum() > 50
+        assert np.ptp(pop.planet_rel_realized[p, inside]) < 1e-12
+        assert np.all(pop.total_ratio[p, inside] == 0)
+        assert np.isnan(pop.radii[p][:, inside]).all()
+        assert pop.closure_error[p].max() < 1e-9
+        k = np.argmin(np.abs(np.angle(np.exp(1j * (psi - pop.point_carrier_angle[p, 4])))))
+        assert abs(pop.arm_angle_realized[p, k] - pop.arm_angle[p, k]) < 2e-3
+        # the realized tip is the three-bar of the realized angles (mm)
+        tip = pop.L1[p] * np.c_[np.cos(pop.carrier_abs[p]), np.sin(pop.carrier_abs[p])] + \
+            pop.L2[p] * np.c_[np.cos(pop.arm_angle_realized[p]), np.sin(pop.arm_angle_realized[p])]
+        assert np.abs(tip - pop.tip_realized[p]).max() < 1e-9
+
+
+def test_dwell_population_rows_equal_the_designs_alone(table2_points):
+    """A row's dwell design in a population of six equals the design alone (P = 1) to
+    round-off: verdict, grading, the dwell's numbers, pitch radii and realized motion."""
+    X = _dwell_candidates(table2_points)
+    dwell = DwellSpec(start=26, end=0, anchor=4)
+    pop = inverse_population(X, 720, dwell=dwell, full=True)
+    for p, pts in enumerate(X):
+        res = inverse_design(ClosedTrajectory.through(pts),
+                             InverseSettings(samples=720, dwell=dwell))
+        assert pop.feasible[p] == res.feasible
+        assert pop.error_score[p] == pytest.approx(_grading(res), abs=1e-9)
+        if res.r1 is None:
+            continue
+        for key in ("theta1", "theta2", "ratio_scale", "edge_radius", "max_tip_deviation"):
+            assert pop.dwell[p][key] == pytest.approx(res.dwell[key], abs=1e-9), key
+        for a, b in zip(pop.radii[p], (res.r1, res.r2, res.r3, res.r4), strict=True):
+            assert np.array_equal(np.isnan(a), np.isnan(b))
+            assert np.nanmax(np.abs(a - b)) < 1e-6  # mm
+        assert np.abs(pop.arm_angle_realized[p] - res.arm_angle_realized).max() < 1e-6
+        assert np.abs(pop.tip_realized[p] - res.tip_realized).max() < 1e-4
+
+
+def test_a_dwell_anchor_inside_the_dwell_stops_that_row(table2_points):
+    """An anchor point inside the toothless sector cannot keep its attitude: the row is
+    infeasible with one error (the single design names it 'dwell'), the others are not
+    touched by it."""
+    X = _dwell_candidates(table2_points, count=2, amp=0.5)
+    bad = DwellSpec(start=20, end=2, anchor=0)  # q0 lies between q20 and q2
+    pop = inverse_population(X, 360, dwell=bad, full=True)
+    assert not pop.feasible.any()
+    assert list(pop.failure) == ["dwell", "dwell"]
+    assert np.all(pop.error_score == 1.0)
+    res = inverse_design(ClosedTrajectory.through(X[0]), InverseSettings(samples=360,
+                                                                         dwell=bad))
+    assert [d.kind for d in res.diagnostics] == ["dwell"]
+    assert res.r1 is None
+
+
+def test_one_design_is_a_population_of_one():
+    """inverse_design's arrays are the row of inverse_population(P = 1) exactly (one code
+    path), and a curve object is taken as such a population too."""
+    pts = np.asarray(load_design(EXAMPLES / "sugarcane_seeder.toml").trajectory.points)
+    traj = ClosedTrajectory.through(pts)
+    res = inverse_design(traj, InverseSettings(samples=720))
+    pop = inverse_population(pts[None], 720, full=True)
+    assert res.feasible and pop.feasible[0]
+    assert np.array_equal(res.tip_realized, pop.tip_realized[0])
+    assert np.array_equal(res.r4, pop.radii[0, 3])
+    assert res.L1 == pop.L1[0] and res.u_start == pop.u_start[0]
