@@ -8,30 +8,10 @@ import numpy as np
 
 from plantmech.gears.pitch import body_polar_curve
 from plantmech.mechanisms.seeder_inverse import InverseResult
+from plantmech.mechanisms.seeder_trains import gear_body_angles
 from plantmech.outputs.files import write_csv, write_json
 
 DEG = 180.0 / np.pi
-
-
-def gear_body_angles(res: InverseResult) -> dict[str, np.ndarray]:
-    """Contact-point polar angle (rad) of each gear in its own body frame.
-
-    Body frames coincide with the carrier frame at carrier_angle = 0, carrier
-    frame x-axis along O -> planet axis. Sun (1) is fixed to the machine frame.
-    """
-    psi = res.carrier_angle
-    off = res.shaft_offset
-    shaft = res.a1 * np.array([np.cos(off), np.sin(off)])
-    planet = np.array([res.L1, 0.0])
-    to_planet = np.arctan2(*(planet - shaft)[::-1])
-    to_shaft_from_planet = np.arctan2(*(shaft - planet)[::-1])
-    phi0 = res.carrier_abs[0]
-    return {
-        "sun": (phi0 - psi + off) - phi0,  # fixed frame, measured from the initial carrier line
-        "gear2": off + np.pi + res.gear2_angle,
-        "gear3": to_planet + res.gear2_angle,
-        "planet": to_shaft_from_planet - res.planet_rel_realized,
-    }
 
 
 def pitch_curve_table(res: InverseResult, step_deg: float = 0.5) -> dict[str, np.ndarray]:
