@@ -54,10 +54,6 @@ NAME = [name for name, _ in LAYERS]
 # issue 16, which moves it and evaluate_seeder_population (which locates the sections) out
 # of workflows.py; until then their two callers below import them from the jobs layer.
 _SECTIONS = "section location: moves out of workflows.py with its unification (issue 16)"
-# workflows.seeder_inverse_checks runs the inverse design job (run_seeder_inverse) and reads
-# its summary's checks (outputs/seeder_report.summary): it moves to objectives/layer1.py when
-# the inverse job's checks are computed apart from that summary.
-_LAYER1 = "layer-1 checks of one candidate read the inverse job's summary (not moved yet)"
 ALLOWED: dict[tuple[str, str], str] = {
     ("plantmech.optimize.problems", "plantmech.workflows.evaluate_seeder_population"):
         _SECTIONS,
@@ -65,7 +61,6 @@ ALLOWED: dict[tuple[str, str], str] = {
     ("plantmech.studies.parameters", "plantmech.workflows.evaluate_seeder_population"):
         _SECTIONS,
     ("plantmech.studies.parameters", "plantmech.workflows.section_reference_psi"): _SECTIONS,
-    ("plantmech.optimize.problems", "plantmech.workflows.seeder_inverse_checks"): _LAYER1,
 }
 
 

@@ -16,9 +16,7 @@ from plantmech.gears.manufacturability import rules_for
 from plantmech.geometry.deviation import trajectory_deviation, trajectory_deviation_batch
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.mechanisms.gear_pairs import cut_limits, gear_pairs, tooth_proportions
-from plantmech.mechanisms.seeder_inverse import InverseResult
 from plantmech.mechanisms.seeder_trains import (
-    inverse_design_of,
     inverse_settings,
     train_from_design,
     train_from_inverse,
@@ -29,24 +27,25 @@ from plantmech.mechanisms.transplanter_design import (
     simulate_transplanter,
     transplanter_travel_speed,
 )
+from plantmech.objectives.inverse_evaluation import (
+    SeederInverseJob,
+    run_seeder_inverse,
+    seeder_inverse_checks,
+)
 from plantmech.objectives.layer1 import (
     LAYER1_NAMES,
-    _check_violation,
-    _pitch_tangent_angle_deg,
-    _span_deg,
     inverse_speed_objectives,
     layer1_bounds,
     seeder_inverse_checks_population,
     seeding_point_placement,
 )
-from plantmech.objectives.seeder import attitude_by_section, attitude_checks, planning_checks
+from plantmech.objectives.seeder import attitude_by_section, attitude_checks
 from plantmech.objectives.transplanter_design import (
     evaluate_transplanter_population,
     field_setup,
     transplanter_limits,
     transplanter_population,
 )
-from plantmech.outputs.seeder_report import summary
 
 # the job wiring defined here and, re-exported from their layers, the names that lived here
 # before issue 16 (``plantmech.workflows.<name>``: docs/api.md, the notebook, the tests)
@@ -62,39 +61,6 @@ __all__ = [
     "train_from_inverse_job", "trajectory_deviation", "trajectory_deviation_batch",
     "transplanter_limits", "transplanter_population", "transplanter_travel_speed",
 ]
-
-
-@dataclass
-class SeederInverseJob:
-    design: SeederDesign
-    trajectory: ClosedTrajectory
-    result: InverseResult
-    summary: dict
-
-    @property
-    def sections(self) -> dict[str, int]:
-        return self.design.trajectory.sections.model_dump()
-
-
-def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
-    """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
-    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""
-    traj, res = inverse_design_of(design)
-    sections = design.trajectory.sections.model_dump()
-    planning = planning_checks(traj, sections, design.planning_limits)
-    att = checks = None
-    if res.arm_angle is not None:
-        arm = res.arm_angle_realized if res.arm_angle_realized is not None else res.arm_angle
-        att = attitude_by_section(res.carrier_angle, np.degrees(arm),
-                                  res.point_carrier_angle, sections)
-        checks = attitude_checks(att, design.attitude)
-    summ = summary(res, design, planning, att, checks or [])
-    if res.feasible and manufacturability:  # can the designed pitch curves be cut?
-        from plantmech.objectives.seeder import gear_checks
-        metrics, g_checks = gear_checks(train_from_inverse(res), rules_for(design))
-        summ["manufacturing"] = metrics["manufacturing"]
-        summ["manufacturing_checks"] = [c.as_dict() for c in g_checks]
-    return SeederInverseJob(design, traj, res, summ)
 
 
 @dataclass
@@ -410,54 +376,6 @@ def run_transplanter(design) -> TransplanterJob:
 
 
 # --- helpers for the optimizer ----------------------------------------------------------
-
-
-def seeder_inverse_checks(design: SeederDesign, samples: int = 720,
-                          pitch_margin_mm: float = 0.0) -> dict:
-    """Layer-1 evaluation of one candidate trajectory: Table 1 planning checks, the three
-    attitude objectives and the three speed objectives of the inverse-designed train (its
-    path is the planned one, its timing the inverse's carrier law — which the path fixes:
-    docs/optimization.md). Values NaN and large violations when the inverse design is
-    infeasible."""
-
-    d = design.model_copy(deep=True)
-    d.trajectory.samples = samples
-    # a coarse cycle can miss a narrow dip of a pitch radius: optimizers ask for a margin
-    d.gear_train.min_pitch_radius_mm += pitch_margin_mm
-    names = list(LAYER1_NAMES)
-    try:
-        job = run_seeder_inverse(d, manufacturability=False)
-    except Exception:  # a candidate whose curve cannot even be fitted
-        job = None
-    if job is None or not job.result.feasible:
-        # graded: errors, plus how much of the cycle they cover (an optimizer needs a slope)
-        n_err = 10.0
-        if job is not None:
-            errs = [x for x in job.result.diagnostics if x.severity == "error"]
-            n_err = len(errs) + sum(_span_deg(x) for x in errs) / 30.0
-        return {"names": names, "units": [""] * len(names), "limits": [""] * len(names),
-                "values": [np.nan] * len(names), "ok": [False] * len(names),
-                "violation": [10.0] * len(names), "infeasible": float(max(n_err, 1.0)),
-                "objectives": [1e3, 1e3, 1e3], "pitch_tangent_angle": [np.nan, np.nan]}
-    res = job.result
-    checks = [c for c in job.summary["trajectory_checks"]]
-    checks += job.summary["objectives"]
-    checks += [c.as_dict() for c in inverse_speed_objectives(job)["checks"]]
-    by = {c["name"]: c for c in checks}
-    values, ok, viol, units, limits = [], [], [], [], []
-    for n in names:
-        c = by[n]
-        v = np.nan if c["value"] is None else float(c["value"])
-        values.append(v)
-        ok.append(bool(c["ok"]))
-        units.append(c["unit"])
-        limits.append(c["limit"])
-        viol.append(_check_violation(n, v, design))
-    objectives = [values[names.index(n)] for n in ("picking_swing", "seeding_swing",
-                                                   "sowing_angle")]
-    return {"names": names, "units": units, "limits": limits, "values": values, "ok": ok,
-            "violation": viol, "infeasible": 0.0, "objectives": objectives,
-            "pitch_tangent_angle": _pitch_tangent_angle_deg(res)}
 
 
 # --- teeth -------------------------------------------------------------------------------

@@ -297,7 +297,7 @@ LAYER1_PITCH_MARGIN_MM = 1.5
 
 
 def _layer1_row(args):
-    from plantmech.workflows import seeder_inverse_checks
+    from plantmech.objectives.inverse_evaluation import seeder_inverse_checks
 
     design, samples = args
     return seeder_inverse_checks(design, samples, LAYER1_PITCH_MARGIN_MM)
