@@ -24,7 +24,7 @@ def _grading(res) -> float:
     as ``workflows.seeder_inverse_checks`` computes it."""
     if res.feasible:
         return 0.0
-    from plantmech.workflows import _span_deg
+    from plantmech.objectives.layer1 import _span_deg
 
     errs = [d for d in res.diagnostics if d.severity == "error"]
     return max(len(errs) + sum(_span_deg(d) for d in errs) / 30.0, 1.0)

@@ -111,7 +111,7 @@ def test_population_rows_match_single_designs():
 def test_interp_rows_is_np_interp_row_by_row():
     """The population interpolation used by the K-H-V train against ``np.interp`` per
     row: per-row tables, a shared table, a shared query (P = J on purpose), the ends."""
-    from plantmech.mechanisms.transplanter import interp_rows
+    from plantmech.geometry.interpolation import interp_rows
 
     rng = np.random.default_rng(5)
     P, N = 7, 50

@@ -22,9 +22,10 @@ Quick start (the same jobs as the command line, without files)::
 
 Every ``summary`` is a dict of plain numbers (what ``summary.json`` holds); objectives are
 ``{"name", "value", "unit", "limit", "ok"}``. Units: mm and degrees in design files and
-summaries, m/s for speeds; radians inside. Layers (data flows downwards only):
-design -> geometry -> gears -> mechanisms -> objectives -> optimize -> outputs -> interfaces.
-See docs/api.md and examples/api.ipynb. The names below are imported on first use, so
+summaries, m/s for speeds; radians inside. Layers (data flows downwards only; the order
+is held by tests/test_layers.py): design -> geometry -> gears -> trains -> mechanisms ->
+objectives -> verification -> contact -> optimize -> studies -> outputs -> jobs -> app ->
+interfaces. See docs/api.md and examples/api.ipynb. The names below are imported on first use, so
 ``import plantmech`` stays fast.
 """
 

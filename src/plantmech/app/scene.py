@@ -183,7 +183,7 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
     planned curve and the diagnostics are drawn. The spans between the points are sent
     only when an error names some of them (the page draws them red; the planned curve is
     the rest)."""
-    from plantmech.outputs.seeder_report import gear_body_angles
+    from plantmech.mechanisms.seeder_trains import gear_body_angles
 
     res, d = job.result, job.design
     diagnostics = diagnostics_list(res.diagnostics)

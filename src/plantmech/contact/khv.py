@@ -89,7 +89,7 @@ def analyse_khv(design, gears: dict[str, GearOutline], steps: int = 720) -> KHVC
     """Drive the K-H-V train of a ``rice_transplanter_khv`` design through one carrier
     turn in ``steps`` steps, every arm's middle gear and planet tooth on tooth
     (``gears``: "sun", "middle", "planet")."""
-    from plantmech.workflows import simulate_transplanter
+    from plantmech.mechanisms.transplanter_design import simulate_transplanter
 
     pair, motion, *_ = simulate_transplanter(design, samples=steps)
     carrier0 = float(np.radians(design.carrier.initial_angle_deg))

@@ -65,16 +65,18 @@ def _rolling_turn(curve, theta0: float, contact: float, a: float, n: int = 20001
 def seeder_train(design):
     """The SeederTrain of a design (its [train], or the inverse design of its
     trajectory), as ``workflows.gear_pairs`` builds the gears from it."""
-    from plantmech.workflows import run_seeder_inverse, train_from_design
+    from plantmech.mechanisms.seeder_trains import (
+        inverse_design_of,
+        train_from_design,
+        train_from_inverse,
+    )
 
     if design.train is not None:
         return train_from_design(design)[0]
-    from plantmech.verification import train_from_inverse
-
-    job = run_seeder_inverse(design)
-    if not job.result.feasible:
+    _, res = inverse_design_of(design)
+    if not res.feasible:
         raise ValueError("the trajectory's inverse design is infeasible: no gear train")
-    return train_from_inverse(job.result)
+    return train_from_inverse(res)
 
 
 def analyse_seeder(train, gears: dict[str, GearOutline], steps: int = 720) -> SeederContact:

@@ -75,7 +75,8 @@ def analyse_transplanter(design, gears: dict[str, GearOutline], steps: int = 720
     """Drive the differential train of a ``rice_transplanter`` design through one carrier
     turn in ``steps`` steps, every planet tooth on tooth against the internal gear
     (``gears``: "internal", "planet")."""
-    from plantmech.workflows import _param, simulate_transplanter
+    from plantmech.mechanisms.transplanter_design import design_param as _param
+    from plantmech.mechanisms.transplanter_design import simulate_transplanter
 
     pair, motion, *_ = simulate_transplanter(design, samples=steps)
     n = pair.lobes

@@ -103,7 +103,7 @@ def khv_loads(design, gears: dict, spec: LoadSpec, samples: int = 3600,
     train over one carrier turn (``steps`` time steps), and the energy balance; gears
     "middle", "planet" (outlines, mm)."""
     from plantmech.contact.khv import khv_frames
-    from plantmech.workflows import simulate_transplanter
+    from plantmech.mechanisms.transplanter_design import simulate_transplanter
 
     pair, motion, *_ = simulate_transplanter(design, samples=samples)
     c0 = float(np.radians(design.carrier.initial_angle_deg))
@@ -175,7 +175,8 @@ def differential_loads(design, gears: dict, spec: LoadSpec, samples: int = 3600,
     tangential tooth forces (N) of the differential train over one carrier turn, and the
     energy balance; gears "internal", "planet" (outlines, mm)."""
     from plantmech.contact.transplanter import planet_turn
-    from plantmech.workflows import _param, simulate_transplanter
+    from plantmech.mechanisms.transplanter_design import design_param as _param
+    from plantmech.mechanisms.transplanter_design import simulate_transplanter
 
     pair, motion, *_ = simulate_transplanter(design, samples=samples)
     n = pair.lobes

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from plantmech.mechanisms.seeder_trains import with_train
 from plantmech.optimize import PROBLEMS  # noqa: F401  (re-exported: the problem names)
 
 DEFAULTS = {  # algorithm, generations, population
@@ -88,20 +89,6 @@ def _needs_trajectory(design, name: str) -> None:
         raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
     if design.trajectory is None:
         raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
-
-
-def with_train(design, points: int = 16):
-    """The design with a [train]: its own, or one resampled from its inverse design."""
-    if design.train is not None:
-        return design
-    from plantmech.workflows import run_seeder_inverse, train_from_inverse_job
-
-    job = run_seeder_inverse(design, manufacturability=False)
-    if not job.result.feasible:
-        raise ValueError("the trajectory's inverse design is infeasible: run layer 1 first")
-    d = design.model_copy(deep=True)
-    d.train = train_from_inverse_job(job, points)
-    return d.__class__.model_validate(d.model_dump())
 
 
 def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,

@@ -297,14 +297,14 @@ LAYER1_PITCH_MARGIN_MM = 1.5
 
 
 def _layer1_row(args):
-    from plantmech.workflows import seeder_inverse_checks
+    from plantmech.objectives.inverse_evaluation import seeder_inverse_checks
 
     design, samples = args
     return seeder_inverse_checks(design, samples, LAYER1_PITCH_MARGIN_MM)
 
 
 def _layer1_population(args):
-    from plantmech.workflows import seeder_inverse_checks_population
+    from plantmech.objectives.layer1 import seeder_inverse_checks_population
 
     design, points, samples = args
     return seeder_inverse_checks_population(design, points, samples, LAYER1_PITCH_MARGIN_MM)
@@ -460,7 +460,8 @@ class SeederLayer2(DesignProblem):
         self._reference = None  # where the base train passes the section points
 
     def evaluate_batch(self, X):
-        from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
+        from plantmech.geometry.deviation import trajectory_deviation_batch
+        from plantmech.workflows import evaluate_seeder_population
 
         if self._reference is None and self.design.train.sections_deg is None:
             from plantmech.workflows import section_reference_psi
@@ -527,7 +528,7 @@ class SeederJoint(DesignProblem):
     def decode(self, x):
         """Trajectory from the offsets; [train] resampled from its inverse design with the
         radius corrections added."""
-        from plantmech.optimize.jobs import with_train
+        from plantmech.mechanisms.seeder_trains import with_train
 
         n1 = self.layer1.n_var
         d = self.layer1.decode(x[:n1]).model_copy(update={"train": None})
@@ -547,7 +548,8 @@ class SeederJoint(DesignProblem):
                      **{k: c[k][i] for k in keys}) for i in range(len(X))]
 
     def evaluate_batch(self, X):
-        from plantmech.workflows import evaluate_seeder_population, trajectory_deviation_batch
+        from plantmech.geometry.deviation import trajectory_deviation_batch
+        from plantmech.workflows import evaluate_seeder_population
 
         rows = []
         for x, l1 in zip(X, self._layer1_rows(X), strict=True):
@@ -627,7 +629,7 @@ class Transplanter(DesignProblem):
                 d.internal_gear.radii_mm[k] = float(val)
             variables.append(Variable(f"r{k}", float(r), max(r - radius_bound_mm, 1.0),
                                       r + radius_bound_mm, "mm", apply))
-        from plantmech.workflows import _param
+        from plantmech.mechanisms.transplanter_design import design_param as _param
 
         setters = {
             "initial_angle_deg": lambda d, v: setattr(d.carrier, "initial_angle_deg", v),
@@ -718,7 +720,7 @@ class Transplanter(DesignProblem):
 
     def _evaluate_rows(self, X):
         """The evaluation of the rows of X (raises InternalPairError if one cannot mesh)."""
-        from plantmech.workflows import evaluate_transplanter_population
+        from plantmech.objectives.transplanter_design import evaluate_transplanter_population
 
         return evaluate_transplanter_population(self.design, self._radii(X), self.samples,
                                                 self.interference, self._params(X))[1]

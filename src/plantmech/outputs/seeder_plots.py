@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from plantmech.outputs.seeder_report import gear_body_angles
+from plantmech.mechanisms.seeder_trains import gear_body_angles
 
 DEG = 180.0 / np.pi
 SECTION_COLOURS = {"picking_ab": "tab:green", "transport_bc": "tab:blue",

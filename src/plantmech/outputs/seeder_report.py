@@ -8,30 +8,15 @@ import numpy as np
 
 from plantmech.gears.pitch import body_polar_curve
 from plantmech.mechanisms.seeder_inverse import InverseResult
+from plantmech.mechanisms.seeder_trains import gear_body_angles
+from plantmech.objectives.inverse_evaluation import summary
 from plantmech.outputs.files import write_csv, write_json
 
+# gear_body_angles and summary live in their layers; imported here as before issue 16
+__all__ = ["RATIO_GAPS", "gear_body_angles", "motion_table", "pitch_curve_table",
+           "speed_ratio", "summary", "trajectory_table", "write_inverse_outputs"]
+
 DEG = 180.0 / np.pi
-
-
-def gear_body_angles(res: InverseResult) -> dict[str, np.ndarray]:
-    """Contact-point polar angle (rad) of each gear in its own body frame.
-
-    Body frames coincide with the carrier frame at carrier_angle = 0, carrier
-    frame x-axis along O -> planet axis. Sun (1) is fixed to the machine frame.
-    """
-    psi = res.carrier_angle
-    off = res.shaft_offset
-    shaft = res.a1 * np.array([np.cos(off), np.sin(off)])
-    planet = np.array([res.L1, 0.0])
-    to_planet = np.arctan2(*(planet - shaft)[::-1])
-    to_shaft_from_planet = np.arctan2(*(shaft - planet)[::-1])
-    phi0 = res.carrier_abs[0]
-    return {
-        "sun": (phi0 - psi + off) - phi0,  # fixed frame, measured from the initial carrier line
-        "gear2": off + np.pi + res.gear2_angle,
-        "gear3": to_planet + res.gear2_angle,
-        "planet": to_shaft_from_planet - res.planet_rel_realized,
-    }
 
 
 def pitch_curve_table(res: InverseResult, step_deg: float = 0.5) -> dict[str, np.ndarray]:
@@ -51,55 +36,6 @@ def pitch_curve_table(res: InverseResult, step_deg: float = 0.5) -> dict[str, np
                 vals = np.where((grid >= lo) & (grid <= hi), np.nan, vals)
         table[col] = vals
     return table
-
-
-def summary(res: InverseResult, design, planning, attitude, attitude_checks,
-            extra: dict | None = None) -> dict:
-    out = {
-        "mechanism": "sugarcane_seeder",
-        "name": design.name,
-        "feasible": res.feasible,
-        "diagnostics": [d.as_dict() for d in res.diagnostics],
-        "L1_mm": res.L1, "L2_mm": res.L2, "a1_mm": res.a1, "a2_mm": res.a2,
-        "closure_error_rad": res.closure_error or {"stage1": None, "stage2": None},
-        "trajectory_checks": [c.as_dict() for c in planning],
-    }
-    if res.carrier_angle is not None:
-        out["initial"] = {
-            "carrier_angle_deg": float(res.carrier_abs[0] * DEG),
-            "arm_angle_deg": float(res.arm_angle[0] * DEG),
-            "point_B_mm": [float(res.L1 * np.cos(res.carrier_abs[0])),
-                           float(res.L1 * np.sin(res.carrier_abs[0]))],
-            "tip_mm": [float(res.tip[0, 0]), float(res.tip[0, 1])],
-        }
-        out["point_carrier_angle_deg"] = [round(float(v), 4)
-                                          for v in res.point_carrier_angle * DEG]
-    if attitude is not None:
-        out["attitude_deg"] = attitude
-        out["objectives"] = [c.as_dict() for c in attitude_checks]
-    if res.r1 is not None:
-        ratios = {}
-        with np.errstate(divide="ignore"):
-            inv = [1 / res.total_ratio, 1 / res.stage1_ratio, 1 / res.stage2_ratio]
-        for k, v in zip(("total_i0", "stage1_i1", "stage2_i2"), inv, strict=True):
-            fin = v[np.isfinite(v)]
-            ratios[k] = {"min": float(fin.min()), "max": float(fin.max())}
-        out["ratio_range"] = ratios
-        out["pitch_radius_mm"] = {
-            k: {"min": float(np.nanmin(r)), "max": float(np.nanmax(r))}
-            for k, r in (("r1_sun", res.r1), ("r2", res.r2), ("r3", res.r3),
-                         ("r4_planet", res.r4))}
-        dev = np.hypot(*(res.tip_realized - res.tip).T)
-        out["realized_vs_planned_max_deviation_mm"] = float(dev.max())
-    if res.dwell is not None:
-        d = dict(res.dwell)
-        for k in ("theta1", "carrier_start", "carrier_end", "planned_rel_rotation", "theta2"):
-            if k in d:
-                d[k + "_deg"] = float(d.pop(k) * DEG)
-        out["dwell"] = d
-    if extra:
-        out.update(extra)
-    return out
 
 
 #: motion.csv columns with a gap (empty cell) where the gears stand still in the sun's

@@ -205,7 +205,7 @@ class TransplanterModel:
     """Variants of a transplanter (seed 001): see the module docstring."""
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720):
-        from plantmech.workflows import transplanter_travel_speed
+        from plantmech.mechanisms.transplanter_design import transplanter_travel_speed
 
         _check_names(names, TRANSPLANTER_PARAMETERS, design.mechanism)
         if design.mechanism != "rice_transplanter" and "ring_phase_deg" in names:
@@ -226,7 +226,7 @@ class TransplanterModel:
     def carrier_length(self) -> float:
         """O - planet axis (mm) of the nominal design: a (differential) or 2 a (K-H-V)."""
         if self._carrier0 is None:
-            from plantmech.workflows import simulate_transplanter
+            from plantmech.mechanisms.transplanter_design import simulate_transplanter
 
             _, motion, _, _ = simulate_transplanter(self.design, samples=8, dense=1024)
             self._carrier0 = float(np.abs(motion.centre[0, 0, 0]))
@@ -242,7 +242,7 @@ class TransplanterModel:
                 "travel_speed_m_s": self.travel0}.get(name, 0.0)
 
     def evaluate(self, deltas: np.ndarray) -> Evaluated:
-        from plantmech.workflows import evaluate_transplanter_population
+        from plantmech.objectives.transplanter_design import evaluate_transplanter_population
 
         deltas = np.atleast_2d(np.asarray(deltas, dtype=float))
         P = deltas.shape[0]
