@@ -1,4 +1,5 @@
-"""Inverse design of a first-order planetary train (trains/inverse.py, ``plantmech inverse``
+"""Inverse design of a first-order planetary train (objectives/planetary_inverse.py,
+``plantmech inverse``
 on a ``mechanism = "planetary"`` [trajectory] file).
 
 Independent expectations: a known train (an elliptic sun about its focus, A = 25 mm,
@@ -21,8 +22,8 @@ import pytest
 from plantmech.design import load_design
 from plantmech.geometry.trajectory import ClosedTrajectory
 from plantmech.interfaces.cli import main
+from plantmech.objectives.planetary_inverse import ROUND_TRIP_TOLERANCE_MM, first_order_inverse
 from plantmech.trains.curves import ellipse
-from plantmech.trains.inverse import ROUND_TRIP_TOLERANCE_MM, first_order_inverse
 from plantmech.trains.model import PairSpec, Train, forward
 from tests.conftest import EXAMPLES
 
@@ -155,7 +156,7 @@ def test_second_order_seeder_train_from_its_trajectory_follows_the_seeder_model(
     design's realized tip (mechanisms/seeder_inverse, a separate pipeline) at every carrier
     sample, and its pitch curves are the seeder's r1 and r3."""
     from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
-    from plantmech.trains.inverse import run_first_order
+    from plantmech.objectives.planetary_inverse import run_first_order
     from plantmech.trains.model import simulate
     from plantmech.trains.spec import build_from_design
 

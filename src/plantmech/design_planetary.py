@@ -249,7 +249,8 @@ class PlanetaryTrajectory(Trajectory):
     `follower_turns` but no pitch-curve table, and an `[arm]` without length or start angle:
     the trajectory's farthest and nearest radii fix the carrier arm (the pair's centre
     distance) and the arm (`arm`), the two-link chain the planet's angle along the carrier,
-    hence the ratio law and the sun's pitch curve (`trains.inverse`). `plantmech inverse`
+    hence the ratio law and the sun's pitch curve (`objectives.planetary_inverse`).
+    `plantmech inverse`
     writes design.toml: this file with the sun as `family = "radii"` (periodic spline),
     the centre distance, the arm and the start angles filled in, which `plantmech forward`
     runs; the round trip (its tip through every type-value point within 0.01 mm) is a

@@ -1,5 +1,6 @@
 """``plantmech inverse`` on a general planetary train (``mechanism = "planetary"`` with a
-[trajectory]): the first- or second-order inverse design of ``trains.inverse``, its round trip
+[trajectory]): the first- or second-order inverse design of
+``objectives.planetary_inverse``, its round trip
 through the forward model, design.toml (a planetary design file with the sun's pitch
 curve), summary.json, inverse.csv and a plot. The inverse command hands such a design here
 (one line in ``cli._inverse_body``). No physics here."""
@@ -21,8 +22,8 @@ def inverse_planetary(args, design, run) -> int:
     import tomli_w
 
     from plantmech.geometry.trajectory import TrajectoryError
+    from plantmech.objectives.planetary_inverse import InverseInputError, run_first_order
     from plantmech.outputs.files import write_csv, write_json
-    from plantmech.trains.inverse import InverseInputError, run_first_order
 
     out = run.path
     t0 = time.perf_counter()

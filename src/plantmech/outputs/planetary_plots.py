@@ -82,7 +82,8 @@ def plot_ratios(motion) -> Figure:
 
 
 def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
-    """A first-order inverse design (``trains.inverse``): the planned trajectory through its
+    """A first-order inverse design (``objectives.planetary_inverse``): the planned
+    trajectory through its
     type-value points (numbered), the reach circles rho = L + a and |L - a| when the
     lengths are known, the written design's forward tip path (``motion``, when feasible),
     and the sun's pitch curve at the start (mm)."""
