@@ -109,3 +109,51 @@ def test_the_simulated_cut_converges_to_the_envelope(cut):
     assert h96 < 0.006 and h24 < 0.025  # measured 18.1 and 4.5 um
     # the simulated cut leaves material between its positions, never removes more
     assert cut["simulated", 24][0].area > env.area - 1e-3
+
+
+def test_the_self_check_finds_a_space_left_uncut(cut):
+    """The envelope's self-check (A's outline at the motion's positions must stay out of
+    B's material) passes on the envelope mate and finds a tooth space filled back in."""
+    from plantmech.gears.envelope import MateMotion, _mate_overlap
+
+    pa, _pb, th, r, phib, a = _circle_pair()
+    spec = ToothSpec(module=M, backlash_mm=BACKLASH, cutter="rack")
+    tool = _generating_band(pa, spec, 0.0)
+    motion = MateMotion(pa, th, phib, a, False, periodic=True)
+    env = cut["envelope", 24][0]
+    assert _mate_overlap(tool, motion, env, M, 3.0) is None
+    # one space filled: the pitch circle's annulus sector about the +x axis
+    rp = M * ZB / 2
+    wedge = shapely.Polygon([(0, 0), (2 * rp, -0.3 * rp), (2 * rp, 0.3 * rp)])
+    filled = env.union(wedge.intersection(shapely.Point(0, 0).buffer(rp + M, 256)))
+    where = _mate_overlap(tool, motion, filled, M, 3.0)
+    assert where is not None
+    assert wedge.buffer(1e-6).contains(shapely.Point(where))
+
+
+def _generating_band(pa, spec, tooth_at):
+    """A's generating body as ``envelope_cut_made`` makes it: A cut with the addendum of
+    the dedendum and thicker teeth, within (dedendum + 0.35) m of its pitch curve."""
+    from plantmech.gears.teeth import cut_gear
+
+    tool = cut_gear(pa, replace(spec, addendum=spec.dedendum, backlash_mm=-spec.backlash_mm),
+                    internal=False, tooth_at=tooth_at)
+    band = shapely.buffer(shapely.Polygon(pa.xy).boundary, (spec.dedendum + 0.35) * M)
+    return shapely.intersection(tool, band)
+
+
+def test_a_failed_self_check_falls_back_to_the_simulated_cut(monkeypatch):
+    """When the arrangement leaves a space as material (here: every face classified as
+    not covered), the mate is cut by simulation and the reason is recorded."""
+    from plantmech.gears import envelope
+
+    monkeypatch.setattr(envelope, "_covered_by_mate",
+                        lambda tool, motion, reps, *a: np.zeros(len(reps), bool))
+    pa, pb, th, r, phib, a = _circle_pair()
+    spec = ToothSpec(module=M, backlash_mm=BACKLASH, cutter="rack")
+    gear, made = envelope_cut_made(pa, pb, th, r, phib, a, spec, 0.0, internal=False,
+                                   mate_envelope=True)
+    assert made["method"] == "simulated" and made["why"].startswith("self-check")
+    sim, made_sim = envelope_cut_made(pa, pb, th, r, phib, a, spec, 0.0, internal=False)
+    assert made_sim["method"] == "simulated"
+    assert gear.equals(sim)
