@@ -515,6 +515,10 @@ MATE_EDGE_MAX = 0.05  # x module: longer edges of A's outline get points in betw
 MATE_REFINE = 3  # regula falsi steps per root
 MATE_LINK_MAX = 0.05  # x module: longer links in B's frame get outline points in between
 MATE_LINK_ROUNDS = 10  # halvings of the outline's steps at most
+MATE_DANGLE_REACH = 1.5  # x module: A's outline this near a dangling root closes it
+MATE_DANGLE_DEPTH = 0.01  # x module: a dangling root is joined this far inside A
+MATE_CHECK_PER_PITCH = 24  # positions per pitch of the self-check (as the simulated cut)
+MATE_CHECK_DEPTH = 0.01  # x module: A may not reach deeper into B's material (mesh limit)
 
 
 class MateEnvelopeUnfit(Exception):
@@ -601,10 +605,11 @@ def _outline_chains(tool, keep, module: float):
     to the next in its chain (U,) bool)."""
     import shapely
 
-    tool = shapely.orient_polygons(tool) if hasattr(shapely, "orient_polygons") else \
-        shapely.geometry.polygon.orient(tool, 1.0)
-    rings = [np.asarray(tool.exterior.coords)[:-1]] + [np.asarray(r.coords)[:-1]
-                                                       for r in tool.interiors]
+    rings = []
+    for part in shapely.get_parts(tool):
+        part = shapely.geometry.polygon.orient(part, 1.0)
+        rings += [np.asarray(part.exterior.coords)[:-1]] + [np.asarray(r.coords)[:-1]
+                                                            for r in part.interiors]
     xs, ns, ids, links = [], [], [], []
     chain = 0
     for V in rings:
@@ -663,8 +668,10 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     halvings at most); links still longer are branch jumps, dropped.
 
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
-    contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, and each
-    root's |arc from its point| (R,), mm, for the caller's window check)."""
+    contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, each
+    root's |arc from its point| (R,), mm, for the caller's window check, the links as
+    pairs of root indices (M, 2), and each root's outline point and outward normal (R, 2),
+    A's frame)."""
     pa = motion.pitch_a
     P = motion.perimeter
     pitch = np.pi * module
@@ -739,7 +746,9 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
                 ok_ = (a_ >= 0) & (b_ >= 0)
                 seg_a.append(a_[ok_]), seg_b.append(b_[ok_])
         sa, sb = np.concatenate(seg_a), np.concatenate(seg_b)
-        pair = np.unique(np.sort(np.c_[sa, sb], axis=1), axis=0)  # each link once
+        lo_, hi_ = np.minimum(sa, sb), np.maximum(sa, sb)
+        key_ = np.unique(lo_.astype(np.int64) * len(q) + hi_)  # each link once
+        pair = np.c_[key_ // len(q), key_ % len(q)]
         pair = pair[pair[:, 0] != pair[:, 1]]
         if not motion.periodic:  # no link across the cycle's seam (B jumps there)
             pair = pair[np.abs(th[pair[:, 0]] - th[pair[:, 1]]) < np.pi]
@@ -775,7 +784,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         x, n, key, chain, link = x[o], n[o], key[o], chain[o], link[o]
         ui = inv_o[ui]
     segs = np.stack([q[pair[:, 0]], q[pair[:, 1]]], axis=1)
-    return segs, q, th, x, reach
+    return segs, q, th, x, reach, pair, x[ui], n[ui]
 
 
 def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float):
@@ -785,10 +794,14 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     not repeat, A's outline at the cycle's ends are noded and polygonized; a face inside
     the blank is removed when a point of it lies inside A at some position within the
     window of the envelope point nearest it (``MATE_GRID_PER_PITCH`` positions per pitch,
-    then 64 about the nearest approach). Returns the material left (shapely geometry, the
-    faces inside the blank not removed).
+    then 64 about the nearest approach). The generating body is A's band within ``depth``
+    (mm) of its pitch curve, as in the simulated cut. Where a linked curve ends inside the
+    blank, A's outline at that root's position closes it (``_dangle_closures``).
+    Returns the material left (shapely geometry, the faces inside the blank not removed).
     Raises MateEnvelopeUnfit when a root at the window's end lies in the blank (the window
-    does not hold the whole cut)."""
+    does not hold the whole cut) or when the self-check finds A's outline, at a position
+    of the motion (``MATE_CHECK_PER_PITCH`` per pitch), deeper than ``MATE_CHECK_DEPTH``
+    module inside the material left (a space the arrangement failed to close)."""
     import shapely
 
     pitch = np.pi * module
@@ -797,8 +810,14 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     # the blank (inside a ring the teeth stay in mesh far from the pitch point), up to a
     # quarter of A's perimeter
     window = MATE_WINDOW_PITCHES
+    # the generating body is A's band within ``depth`` of its pitch curve, as in the
+    # simulated cut (teeth._mate_simulated_sweep): its inner edge and the corners where
+    # A's outline leaves the band cut B too where a gouged tooth of A runs deeper
+    tool_band = shapely.intersection(tool, shapely.buffer(shapely.boundary(
+        shapely.Polygon(motion.pitch_a.xy)), depth))
     while True:
-        segs, q, th, x, reach = mate_envelope_lines(tool, motion, module, depth, window)
+        segs, q, th, x, reach, pair, xr, nr = mate_envelope_lines(tool_band, motion, module,
+                                                                  np.inf, window)
         far = reach > (window - 1.5 / MATE_GRID_PER_PITCH) * pitch
         if not (far.any() and shapely.contains_xy(blank, q[far, 0], q[far, 1]).any()):
             break
@@ -815,13 +834,12 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
             | shapely.contains_xy(grown, segs[:, 1, 0], segs[:, 1, 1]))
     geoms = [shapely.multilinestrings(shapely.linestrings(segs[near]))]
     geoms.append(shapely.boundary(blank))
-    tool_band = shapely.intersection(tool, shapely.buffer(shapely.boundary(
-        shapely.Polygon(motion.pitch_a.xy)), depth))
     if not motion.periodic:  # A's outline at the motion's two ends bounds the cut too
         for t_end in (motion.theta_a[0], motion.theta_a[-1]):
             b = shapely.boundary(tool_band)
             geoms.append(shapely.transform(b, lambda xy, t=t_end: motion.to_b(
                 xy, np.full(len(xy), t))))
+    geoms += _dangle_closures(tool_band, motion, q, th, pair, xr, nr, grown, module)
     noded = shapely.union_all(np.array(geoms, dtype=object))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
     faces = faces[shapely.area(faces) > 1e-10]
@@ -834,7 +852,91 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
                                         window)
     # every curve lies in the swept region (points of A's outline, or links between
     # nearby ones), so B's material is one face or a few: united, they are the gear
-    return shapely.union_all(faces[inside & ~covered])
+    material = shapely.union_all(faces[inside & ~covered])
+    # self-check: A's outline at the stations of the motion must stay out of B's material
+    # (a face the arrangement failed to close would have been kept as material whole)
+    deep = _mate_overlap(tool_band, motion, material, module, window)
+    if deep is not None:
+        raise MateEnvelopeUnfit(
+            f"self-check: the generating gear's outline reaches {MATE_CHECK_DEPTH:g} module "
+            f"into the envelope's material at ({deep[0]:.2f}, {deep[1]:.2f}) mm (B's frame): "
+            f"a tooth space the arrangement did not close")
+    return material
+
+
+def _mate_overlap(tool_band, motion: MateMotion, material, module: float, window: float,
+                  per_pitch: int = MATE_CHECK_PER_PITCH):
+    """Where A's outline (``tool_band``'s vertices, edges split to 0.05 module) at the
+    motion's positions (``per_pitch`` per pitch of arc on A, and as many per pitch of B's
+    turn relative to A at three modules from its centre) lies deeper than
+    ``MATE_CHECK_DEPTH`` module inside B's ``material``, within ``window`` pitches of arc
+    of the contact: the first such point (B's frame, mm), or None."""
+    import shapely
+
+    pitch = np.pi * module
+    inner = shapely.buffer(material, -MATE_CHECK_DEPTH * module, quad_segs=4)
+    if inner.is_empty:
+        return None
+    shapely.prepare(inner)
+    v = shapely.get_coordinates(shapely.segmentize(shapely.boundary(tool_band),
+                                                   MATE_EDGE_MAX * module))
+    sv = motion.arc(np.arctan2(v[:, 1], v[:, 0]))
+    order = np.argsort(sv)
+    v, sv = v[order], sv[order]
+    P = motion.perimeter
+    # stations: uniform in arc on A and in B's turn relative to A (fast spans get more)
+    th, ph = motion.theta_a, motion.phi_b
+    s_at = motion.arc(th)
+    s_at = s_at[0] + np.r_[0.0, np.cumsum(np.mod(np.diff(s_at) + P / 2, P) - P / 2)]
+    u = np.r_[0.0, np.cumsum(np.maximum(np.abs(np.diff(s_at)),
+                                        3 * module * np.abs(np.diff(ph) - np.diff(th))))]
+    count = int(np.ceil(u[-1] / pitch * per_pitch)) + 1
+    t = np.interp(np.linspace(0.0, u[-1], count), u, th)
+    s_t = np.interp(t, th, s_at)
+    W = window * pitch
+    lo = np.searchsorted(sv, np.mod(s_t - W, P))
+    hi = np.searchsorted(sv, np.mod(s_t + W, P))
+    n = np.mod(hi - lo, len(v))
+    n = np.where(2 * W >= P, len(v), n)
+    owner = np.repeat(np.arange(count), n)
+    idx = np.mod(np.repeat(lo, n) + np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n),
+                 len(v))
+    for chunk in np.array_split(np.arange(len(idx)), max(1, len(idx) // 500_000)):
+        q = motion.to_b(v[idx[chunk]], t[owner[chunk]])
+        hit = shapely.contains_xy(inner, q[:, 0], q[:, 1])
+        if hit.any():
+            return q[np.argmax(hit)]
+    return None
+
+
+def _dangle_closures(tool_band, motion: MateMotion, q, th, pair, xr, nr, grown,
+                     module: float):
+    """Curves that close the envelope where its linked curves end inside B's blank (a
+    root with one link: a branch jump dropped, a root pair merging at a tangency, or the
+    seam of a motion that does not repeat). Without them polygonize drops the dangling
+    curve and the tooth space it bounds merges with B's material face. At each dangling
+    root q (contact angle theta, A's outline point x, outward normal n): A's outline at
+    that position near x (within ``MATE_DANGLE_REACH`` module; it passes through q and
+    lies in the swept region, so it only subdivides faces) and a segment from q to the
+    point ``MATE_DANGLE_DEPTH`` module inside A there (it crosses that outline, however
+    tangent the envelope is to it). Neighbouring dangling ends' outlines cross each other,
+    closing the gap between them to within a scallop of the motion's step. Returns a list
+    of shapely geometries in B's frame."""
+    import shapely
+
+    deg = np.bincount(pair.ravel(), minlength=len(q)) if len(pair) else np.zeros(len(q), int)
+    d = np.flatnonzero((deg == 1) & shapely.contains_xy(grown, q[:, 0], q[:, 1]))
+    if not len(d):
+        return []
+    inner = motion.to_b(xr[d] - MATE_DANGLE_DEPTH * module * nr[d], th[d])
+    out = [shapely.multilinestrings(shapely.linestrings(np.stack([q[d], inner], axis=1)))]
+    discs = shapely.buffer(shapely.points(xr[d]), MATE_DANGLE_REACH * module, quad_segs=16)
+    local = shapely.intersection(shapely.boundary(tool_band), discs)
+    xy, idx = shapely.get_coordinates(local, return_index=True)
+    if len(xy):
+        local = shapely.set_coordinates(local.copy(), motion.to_b(xy, th[d][idx]))
+        out.append(shapely.union_all(local))
+    return out
 
 
 def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window):
@@ -853,14 +955,24 @@ def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window):
     W = window * pitch
     steps = int(2 * window * MATE_GRID_PER_PITCH) + 1
     off = np.linspace(-W, W, steps)
-    s = s0[:, None] + off[None, :]
-    t = _theta_in_cycle(motion, s)
-    xa = motion.to_a(np.broadcast_to(reps[:, None, :], t.shape + (2,)), t)
-    hit = shapely.contains_xy(tool, xa[..., 0].ravel(), xa[..., 1].ravel()).reshape(
-        t.shape).any(axis=1)
+    # first the positions within half a pitch of the nearest envelope point's (where a
+    # face of a space is mostly covered), then the whole window for the rest
+    hit = np.zeros(len(reps), bool)
+    near = np.abs(off) <= 0.5 * pitch
+    for cols, rows in ((off[near], np.arange(len(reps))), (off[~near], None)):
+        rows = np.flatnonzero(~hit) if rows is None else rows
+        if not len(rows):
+            break
+        t = _theta_in_cycle(motion, s0[rows, None] + cols[None, :])
+        xa = motion.to_a(np.broadcast_to(reps[rows, None, :], t.shape + (2,)), t)
+        hit[rows] = shapely.contains_xy(tool, xa[..., 0].ravel(), xa[..., 1].ravel()
+                                        ).reshape(t.shape).any(axis=1)
     miss = np.flatnonzero(~hit)
     if len(miss):
-        dist, _ = cKDTree(x).query(xa[miss].reshape(-1, 2))
+        t = _theta_in_cycle(motion, s0[miss, None] + off[None, :])
+        xa = motion.to_a(np.broadcast_to(reps[miss, None, :], t.shape + (2,)), t)
+        # (positions farther than a pitch from every outline point need no exact distance)
+        dist, _ = cKDTree(x).query(xa.reshape(-1, 2), distance_upper_bound=pitch)
         best = off[np.argmin(dist.reshape(len(miss), -1), axis=1)]
         fine = best[:, None] + np.linspace(-1.0, 1.0, 64)[None, :] * (off[1] - off[0])
         sf = s0[miss, None] + fine
