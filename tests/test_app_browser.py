@@ -129,6 +129,9 @@ def test_stage_labels_do_not_overlap(page):
     beside "carry"): their labels are placed in rows, every label drawn, no two boxes
     overlapping, all inside the plot."""
     load(page, "rice_transplanter")
+    # the previous test may end on this example: wait for this load's own answer
+    page.wait_for_function("window.__plantmech.result && window.__plantmech.result.stages_deg"
+                           " && !window.__plantmech.inflight", timeout=30000)
     stages = page.evaluate("Object.entries(window.__plantmech.result.stages_deg.arm_I)"
                            ".filter(([k, v]) => v).map(([k]) => k)")
     assert len(stages) >= 4
