@@ -160,16 +160,25 @@ def _run_transplanter(args, design, gears, out) -> dict:
     if not args.no_plots:
         from plantmech.outputs import verify_plots as vp
 
-        (vp.plot_khv_transmission_error if khv else vp.plot_transplanter_transmission_error)(
-            out / "transmission_error.png", contact)
-        vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
-        files += ["transmission_error.png", "tip_band.png"]
-        if loads is not None:
-            vp.plot_transplanter_loads(out / "loads.png", loads)
-            files.append("loads.png")
+        files = _arm_plots(out, contact, loads, vp.plot_khv_transmission_error if khv
+                           else vp.plot_transplanter_transmission_error)
     rec["files"] = files
     rec["_loads"] = loads
     return rec
+
+
+def _arm_plots(out: Path, contact, loads, plot_error) -> list[str]:
+    """The plots of a train whose arms the analysis follows (the transplanters and the
+    general train): transmission error (``plot_error``), tip band, loads."""
+    from plantmech.outputs import verify_plots as vp
+
+    plot_error(out / "transmission_error.png", contact)
+    vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
+    files = ["transmission_error.png", "tip_band.png"]
+    if loads is not None:
+        vp.plot_transplanter_loads(out / "loads.png", loads)
+        files.append("loads.png")
+    return files
 
 
 def _run_planetary(args, design, gears, out) -> dict:
@@ -193,12 +202,7 @@ def _run_planetary(args, design, gears, out) -> dict:
     if not args.no_plots:
         from plantmech.outputs import verify_plots as vp
 
-        vp.plot_train_transmission_error(out / "transmission_error.png", contact)
-        vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
-        files += ["transmission_error.png", "tip_band.png"]
-        if loads is not None:
-            vp.plot_transplanter_loads(out / "loads.png", loads)
-            files.append("loads.png")
+        files = _arm_plots(out, contact, loads, vp.plot_train_transmission_error)
     rec["files"] = files
     rec["_loads"] = loads
     return rec

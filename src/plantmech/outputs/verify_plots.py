@@ -180,15 +180,20 @@ def plot_khv_transmission_error(path: Path, c) -> None:
             ax.set_title(title, fontsize=10)
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7, loc="upper right")
-    ax = axes[-1]
-    for j in range(arms):
+    _attitude_bands(axes[-1], psi, c, "carrier angle (clockwise from the start) / deg")
+    _save(plt, fig, path)
+
+
+def _attitude_bands(ax, psi, c, xlabel: str) -> None:
+    """Every arm's attitude band through the whole train (deg): the planet's extreme extra
+    turns ``c.planet_lo`` / ``c.planet_hi`` (J, T) rad."""
+    for j in range(len(c.planet_lo)):
         ax.fill_between(psi, np.degrees(c.planet_lo[j]), np.degrees(c.planet_hi[j]),
                         alpha=0.4, label=f"arm {j + 1} attitude band (whole train)")
     ax.set_ylabel("arm attitude error / deg")
-    ax.set_xlabel("carrier angle (clockwise from the start) / deg")
+    ax.set_xlabel(xlabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
-    _save(plt, fig, path)
 
 
 def plot_train_transmission_error(path: Path, c) -> None:
@@ -207,14 +212,8 @@ def plot_train_transmission_error(path: Path, c) -> None:
                      "angle)", fontsize=10)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    ax = axes[-1]
-    for j in range(len(c.pairs)):
-        ax.fill_between(psi, np.degrees(c.planet_lo[j]), np.degrees(c.planet_hi[j]),
-                        alpha=0.4, label=f"arm {j + 1} attitude band (whole train)")
-    ax.set_ylabel("arm attitude error / deg")
-    ax.set_xlabel("carrier angle (from the start, in the carrier's sense) / deg")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+    _attitude_bands(axes[-1], psi, c, "carrier angle (from the start, in the carrier's sense)"
+                    " / deg")
     _save(plt, fig, path)
 
 
