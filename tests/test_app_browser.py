@@ -280,6 +280,9 @@ def test_a_general_planetary_train(page):
                            " && window.__plantmech.design.arm.length_mm === 190"
                            " && window.__plantmech.result.quality === 'full'", timeout=20000)
     assert float(check_value(page, "path_height_mm").split()[0]) > 239.1  # a longer arm
+    # the file frees no field for the optimizer: the page says so, nothing to start
+    page.wait_for_function("document.getElementById('opt-start').disabled", timeout=10000)
+    assert "[optimize.variables]" in page.locator("#opt-status").inner_text()
     page.click("#g-start")
     page.wait_for_function("window.__plantmech.teeth && window.__plantmech.teeth.gears"
                            " && 'idler1' in window.__plantmech.teeth.gears", timeout=120000)

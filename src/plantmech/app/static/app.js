@@ -728,6 +728,13 @@ async function refreshProblems() {
   const sel = $("opt-problem"); sel.innerHTML = "";
   for (const p of r.problems) { const o = document.createElement("option"); o.value = p.name; o.textContent = p.stages > 1 ? `${p.name} (${p.algorithm}, ${p.stages} stages, default ${p.generations} gen per stage × ${p.pop})` : `${p.name} (${p.algorithm}, default ${p.generations} gen × ${p.pop})`; sel.appendChild(o); }
   if (state.design.mechanism === "sugarcane_seeder") sel.value = state.design.train ? "seeder-layer2" : "seeder-layer1";
+  // a general train is optimized over the fields its file frees: without them there is
+  // nothing to run, and the page says so instead of offering a run that can only fail
+  const free = state.design.mechanism !== "planetary" || !!state.design.optimize;
+  const running = !$("opt-cancel").disabled;
+  if (!running) $("opt-start").disabled = !free;
+  if (!free && !running) $("opt-status").textContent = "this file frees no field: add [optimize.variables] (dotted paths with bounds) to optimize it";
+  else if (free && !running && $("opt-status").textContent.startsWith("this file frees no field")) $("opt-status").textContent = "";
 }
 
 function intField(id) { const t = $(id).value.trim(); const v = Number(t); return t === "" ? null : (Number.isInteger(v) ? v : t); }
