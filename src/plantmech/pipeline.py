@@ -226,7 +226,4 @@ def _planetary_parts(design):
     motion = simulate(build_from_design(design), design.samples)
     values = motion_objectives(motion, design.carrier.speed_deg_s)
     summary = planetary_summary(design, motion, values, checks(values, design.limits))
-    figures = [("trajectories.png", pp.plot_paths(motion, design.name)),
-               ("attitude_speed.png", pp.plot_attitude_speed(motion, design.carrier.speed_deg_s)),
-               ("ratios.png", pp.plot_ratios(motion))]
-    return summary, figures, planetary_animation(design, motion)
+    return summary, pp.forward_figures(design, motion), planetary_animation(design, motion)

@@ -277,9 +277,9 @@ def _transplanter(design, drag: bool) -> dict:
 def _planetary(design, drag: bool) -> dict:
     """A general planetary train: its forward motion (``trains``), the [limits] checks
     and, at full quality, every pair's pitch-curve manufacturability rules
-    (``objectives.planetary.design_evaluation``, as ``plantmech optimize --problem
-    planetary`` judges it)."""
-    from plantmech.objectives.planetary import checks, design_evaluation, motion_objectives
+    (``objectives.planetary.judged``, the rows ``plantmech optimize --problem planetary``
+    judges it by)."""
+    from plantmech.objectives.planetary import checks, judged, motion_objectives
     from plantmech.trains.model import simulate
     from plantmech.trains.spec import TrainSpecError, build_from_design
 
@@ -300,7 +300,7 @@ def _planetary(design, drag: bool) -> dict:
         found = [c.as_dict() for c in checks(values, d.limits)]
         out["pending"] = "the pitch curves' manufacturability follows on release"
     else:
-        found = design_evaluation(d)
+        found = judged([d], built, motion)[0]  # the motion drawn: built and run once
     out["checks"] = scene.checks_list(found)
     out["quality"] = "drag" if drag else "full"
     out["centre_distance_mm"] = [float(a) for a in built.centre_distances[0]]

@@ -39,10 +39,7 @@ def forward_planetary(args, design, run) -> int:
         from plantmech.outputs import planetary_plots as pp
         from plantmech.outputs.seeder_plots import save
 
-        figures = [("trajectories.png", pp.plot_paths(motion, design.name)),
-                   ("attitude_speed.png", pp.plot_attitude_speed(motion,
-                                                                 design.carrier.speed_deg_s)),
-                   ("ratios.png", pp.plot_ratios(motion))]
+        figures = pp.forward_figures(design, motion)
         written += [save(fig, out / name, dpi=120) for name, fig in figures]
     if getattr(args, "report", False):
         from plantmech.interfaces.report_cli import planetary_report

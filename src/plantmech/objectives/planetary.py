@@ -185,9 +185,6 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
     list that gets, per design in order, arm 1's (tip, tip rate, arm angle) over the
     carrier samples (complex mm, complex mm/rad, rad; None for a train that cannot be
     built)."""
-    from plantmech.gears.manufacturability import violation
-    from plantmech.objectives import relative_violation
-    from plantmech.trains.gearing import assess
     from plantmech.trains.model import simulate
     from plantmech.trains.spec import TrainSpecError, build_from_designs
 
@@ -201,11 +198,22 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
         half = len(designs) // 2  # find the refused ones; evaluate the rest together
         return (_evaluate_group(designs[:half], samples, motions)
                 + _evaluate_group(designs[half:], samples, motions))
-    first = designs[0]
     motion = simulate(built, samples)
     if motions is not None:
         motions.extend((motion.tip[i, 0], motion.tip_rate[i, 0], motion.arm_angle[i, 0])
                        for i in range(len(designs)))
+    return judged(designs, built, motion)
+
+
+def judged(designs: list, built, motion) -> list[list[dict]]:
+    """The rows of ``population_evaluation`` for designs already built (``built``) and
+    simulated (``motion``) together: their [limits] checks and each pair's pitch-curve
+    manufacturability rules (for a caller that keeps the motion, e.g. the app)."""
+    from plantmech.gears.manufacturability import violation
+    from plantmech.objectives import relative_violation
+    from plantmech.trains.gearing import assess
+
+    first = designs[0]
     values = motion_objectives(motion, first.carrier.speed_deg_s)
     verdicts, rules = assess(first, built)
     graded = [violation(v, rules) for v in verdicts]  # (P, 2) each

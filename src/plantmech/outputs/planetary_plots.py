@@ -51,6 +51,14 @@ def plot_paths(motion, title: str = "") -> Figure:
     return fig
 
 
+def forward_figures(design, motion) -> list[tuple[str, Figure]]:
+    """The plots of a planetary train's forward run, by file name (``forward`` writes
+    them, ``design`` and ``--report`` embed them)."""
+    return [("trajectories.png", plot_paths(motion, design.name)),
+            ("attitude_speed.png", plot_attitude_speed(motion, design.carrier.speed_deg_s)),
+            ("ratios.png", plot_ratios(motion))]
+
+
 def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
     """Arm angle (deg) and tip speed (m/s) of arm 1 over the carrier angle (deg)."""
     fig = Figure(figsize=(7.0, 5.0), layout="constrained")
@@ -107,9 +115,8 @@ def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
     if motion is not None:
         z = motion.tip[0, 0]
         ax.plot(z.real, z.imag, color="tab:red", lw=1.0, label="forward tip of design.toml")
-        sun = motion.built.drivers[0]
-        alpha = motion.driver_angles[0][0, 0, 0] + motion.carrier[0, 0, 0]
-        g = sun.r[0] * np.exp(1j * (sun.theta + alpha))
+        g = _gear_outline(motion.built.drivers[0], 0.0,
+                          motion.driver_angles[0][0, 0, 0] + motion.carrier[0, 0, 0])
         ax.plot(np.r_[g.real, g.real[0]], np.r_[g.imag, g.imag[0]], color="tab:gray", lw=0.8,
                 label="sun pitch curve")
     ax.plot([0], [0], "k+", ms=10)
