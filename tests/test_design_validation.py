@@ -86,6 +86,10 @@ def test_points_duplicates_spacing_collinear_and_bounds():
     doc = _doc()
     doc["trajectory"]["points"][9] = list(doc["trajectory"]["points"][2])
     _refused(doc, "q2 .* and q9 .* coincide")
+    doc = _doc()  # not consecutive, close but apart: said with the distance, not "coincide"
+    q2 = doc["trajectory"]["points"][2]
+    doc["trajectory"]["points"][9] = [q2[0] + 0.06, q2[1]]
+    _refused(doc, r"q2 .* and q9 .* are only 0\.06 mm apart \(less than 0\.1 mm\)")
     doc = _doc()
     p = doc["trajectory"]["points"]
     p[5] = [p[4][0] + 0.01, p[4][1]]

@@ -173,9 +173,10 @@ class Trajectory(_Strict):
         d[np.tril_indices(len(p))] = np.inf
         i, j = np.unravel_index(int(np.argmin(d)), d.shape)
         if d[i, j] < MIN_POINT_SPACING_MM:
+            what = "coincide" if d[i, j] == 0 else f"are only {d[i, j]:.3g} mm apart"
             raise ValueError(f"points {_point_label(i, p[i])} and {_point_label(j, p[j])} "
-                             "coincide: the tip cannot pass the same place twice as two "
-                             "type-value points")
+                             f"{what} (less than {MIN_POINT_SPACING_MM} mm): the tip cannot "
+                             "pass the same place twice as two type-value points")
         sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
         if sv[-1] <= 1e-3 * sv[0] or size == 0:
             raise ValueError("all type-value points lie on one line: a closed trajectory "
