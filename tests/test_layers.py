@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # on first use (importlib), never by an import statement
     ("package", ("plantmech",)),
     ("design", ("plantmech.design", "plantmech.design_planetary", "plantmech.design_reference",
-                "plantmech.starters")),
+                "plantmech.starters", "plantmech.units")),
     ("geometry", ("plantmech.geometry",)),
     ("gears", ("plantmech.gears",)),
     ("trains", ("plantmech.trains",)),
