@@ -436,10 +436,10 @@ class SeederLayer2(DesignProblem):
 
     def evaluate_batch(self, X):
         from plantmech.geometry.deviation import trajectory_deviation_batch
-        from plantmech.workflows import evaluate_seeder_population
+        from plantmech.objectives.seeder_design import evaluate_seeder_population
 
         if self._reference is None and self.design.train.sections_deg is None:
-            from plantmech.workflows import section_reference_psi
+            from plantmech.objectives.seeder_design import section_reference_psi
 
             self._reference = section_reference_psi(self.design)
         # one process: split over this machine's two cores a generation took as long
@@ -524,7 +524,7 @@ class SeederJoint(DesignProblem):
 
     def evaluate_batch(self, X):
         from plantmech.geometry.deviation import trajectory_deviation_batch
-        from plantmech.workflows import evaluate_seeder_population
+        from plantmech.objectives.seeder_design import evaluate_seeder_population
 
         rows = []
         for x, l1 in zip(X, self._layer1_rows(X), strict=True):
