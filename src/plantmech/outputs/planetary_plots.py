@@ -30,16 +30,21 @@ def plot_paths(motion, title: str = "") -> Figure:
     ax.plot([0, c0.real], [0, c0.imag], color="k", lw=1.5)
     ax.plot([c0.real, t0.real], [c0.imag, t0.imag], color="tab:red", lw=2,
             label="arm 1 at start")
+    _machine_plane(ax, title or "tip paths and the gears at the start")
+    return fig
+
+
+def _machine_plane(ax, title: str) -> None:
+    """Equal axes in mm, grid, legend, and the title wrapped (a design's name may be long:
+    not cut off at the figure's edge)."""
+    import textwrap
+
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    import textwrap
-
-    # a design's name may be long: wrapped, not cut off at the figure's edge
-    ax.set_title(textwrap.fill(title or "tip paths and the gears at the start", 60))
+    ax.set_title(textwrap.fill(title, 60))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    return fig
 
 
 def forward_figures(design, motion) -> list[tuple[str, Figure]]:
@@ -86,8 +91,6 @@ def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
     type-value points (numbered), the reach circles rho = L + a and |L - a| when the
     lengths are known, the written design's forward tip path (``motion``, when feasible),
     and the sun's pitch curve at the start (mm)."""
-    import textwrap
-
     fig = Figure(figsize=(6.4, 6.4), layout="constrained")
     ax = fig.add_subplot()
     u = np.linspace(0.0, traj.period, 2000)
@@ -113,10 +116,5 @@ def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
         ax.plot(np.r_[g.real, g.real[0]], np.r_[g.imag, g.imag[0]], color="tab:gray", lw=0.8,
                 label="sun pitch curve")
     ax.plot([0], [0], "k+", ms=10)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
-    ax.set_title(textwrap.fill(title or "first-order inverse design", 60))
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    _machine_plane(ax, title or "first-order inverse design")
     return fig
