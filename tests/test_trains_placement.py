@@ -192,3 +192,27 @@ def test_the_scene_the_animation_and_the_plot_draw_the_placed_gears(motions, cas
         z = p.outline()[0, 0]
         x, y = ln.get_data()
         assert np.abs(np.asarray(x)[:-1] + 1j * np.asarray(y)[:-1] - z).max() < 1e-9
+
+
+def test_p_designs_are_placed_as_p_single_designs():
+    """Population-first: three designs at once (per-design ellipses, phases, directions and
+    carrier starts) give each design's own placement (P = 1) to 1e-12."""
+    A, e = np.array([30.0, 28.0, 33.0]), np.array([0.2, 0.3, 0.1])
+    phase, direction, C0 = np.array([0.1, -0.4, 0.6]), np.array([0.0, 0.3, -0.2]), \
+        np.array([0.3, 0.0, -1.0])
+
+    def train(rows):
+        return Train([PairSpec("external", ellipse(A[rows], e[rows], 1024), phase=phase[rows],
+                               direction=direction[rows], follower_turns=1.0),
+                      PairSpec("external", None, direction=-direction[rows],
+                               follower_turns=1.0)],
+                     carrier0=C0[rows], carrier_sense=-1, arm_length=120.0, arms=2)
+
+    all3 = place_gears(simulate(build(train(slice(None))), 180))
+    for p in range(3):
+        one = place_gears(simulate(build(train(slice(p, p + 1))), 180))
+        assert [g.label for g in one] == [g.label for g in all3]
+        for g1, g3 in zip(one, all3, strict=True):
+            assert np.abs(g1.centre[0] - g3.centre[p]).max() < 1e-12
+            assert np.abs(g1.angle[0] - g3.angle[p]).max() < 1e-12
+            assert np.abs(g1.outline()[0] - g3.outline()[p]).max() < 1e-9
