@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # on first use (importlib), never by an import statement
     ("package", ("plantmech",)),
     ("design", ("plantmech.design", "plantmech.design_planetary", "plantmech.design_reference",
-                "plantmech.starters")),
+                "plantmech.starters", "plantmech.units")),
     ("geometry", ("plantmech.geometry",)),
     ("gears", ("plantmech.gears",)),
     ("trains", ("plantmech.trains",)),
@@ -48,20 +48,10 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
 RANK = {prefix: rank for rank, (_, prefixes) in enumerate(LAYERS) for prefix in prefixes}
 NAME = [name for name, _ in LAYERS]
 
-# (importer, imported module): upward imports kept on purpose, each with its reason.
-# Section location (workflows.section_reference_psi, locate_section_points, _section_angles)
-# is being unified with objectives/seeder_population.locate_sections in another branch of
-# issue 16, which moves it and evaluate_seeder_population (which locates the sections) out
-# of workflows.py; until then their two callers below import them from the jobs layer.
-_SECTIONS = "section location: moves out of workflows.py with its unification (issue 16)"
-ALLOWED: dict[tuple[str, str], str] = {
-    ("plantmech.optimize.problems", "plantmech.workflows.evaluate_seeder_population"):
-        _SECTIONS,
-    ("plantmech.optimize.problems", "plantmech.workflows.section_reference_psi"): _SECTIONS,
-    ("plantmech.studies.parameters", "plantmech.workflows.evaluate_seeder_population"):
-        _SECTIONS,
-    ("plantmech.studies.parameters", "plantmech.workflows.section_reference_psi"): _SECTIONS,
-}
+# (importer, imported module): upward imports kept on purpose, each with its reason. None
+# now: the seeder's section location and population evaluation moved from workflows.py to
+# objectives/seeder_design.py (issue 16); an entry added here must name its reason.
+ALLOWED: dict[tuple[str, str], str] = {}
 
 
 def module_name(path: Path, src: Path) -> str:

@@ -11,8 +11,11 @@ from plantmech.workflows import seeder_inverse_checks, seeder_inverse_checks_pop
 from .conftest import EXAMPLES
 
 
-@pytest.mark.parametrize("name", ["sugarcane_seeder.toml", "sugarcane_seeder_optimized.toml"])
+@pytest.mark.parametrize("name", ["sugarcane_seeder.toml", "sugarcane_seeder_optimized.toml",
+                                  "sugarcane_seeder_dwell.toml"])
 def test_population_checks_equal_single_design_checks(name):
+    """Every candidate's layer-1 checks equal the one-design path's (``seeder_inverse_checks``,
+    the inverse design P = 1), a toothless dwell's design (seed 000's sector over cd) too."""
     design = load_design(EXAMPLES / name)
     pts = np.asarray(design.trajectory.points)
     rng = np.random.default_rng(5)
@@ -36,14 +39,22 @@ def test_population_checks_equal_single_design_checks(name):
         assert c["ok"] == b["ok"][p].tolist()
         assert np.allclose(c["violation"], b["violation"][p], atol=1e-6)
         assert np.allclose(c["objectives"], b["objectives"][p], atol=2e-6)
+        assert np.allclose(c["pitch_tangent_angle"], b["pitch_tangent_angle"][p], atol=2e-6)
 
 
-def test_dwell_designs_are_refused():
-    design = load_design(EXAMPLES / "sugarcane_seeder.toml")
-    design.gear_train.dwell.enabled = True
+def test_a_dwell_design_is_evaluated_with_its_dwell():
+    """The population path takes a toothless dwell (it refused one before): the dwell
+    design's checks are its own, not those of the same trajectory without the sector."""
+    design = load_design(EXAMPLES / "sugarcane_seeder_dwell.toml")
     pts = np.asarray(design.trajectory.points)[None]
-    with pytest.raises(ValueError, match="dwell"):
-        seeder_inverse_checks_population(design, pts)
+    with_dwell = seeder_inverse_checks_population(design, pts, 360)
+    plain = design.model_copy(deep=True)
+    plain.gear_train.dwell.enabled = False
+    without = seeder_inverse_checks_population(plain, pts, 360)
+    assert with_dwell["infeasible"][0] == 0 and without["infeasible"][0] == 0
+    # the attitude over cd (the dwell's section) changes; Table 1 (the path) does not
+    assert np.array_equal(with_dwell["values"][0, :7], without["values"][0, :7])
+    assert not np.allclose(with_dwell["values"][0, 7:], without["values"][0, 7:], atol=1e-3)
 
 
 def test_attitude_of_a_known_law():

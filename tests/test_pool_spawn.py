@@ -28,9 +28,3 @@ def test_layer1_in_spawned_workers_matches_one_process(monkeypatch):
     np.testing.assert_array_equal(a.ok, b.ok)
     np.testing.assert_allclose(a.values, b.values, rtol=1e-12, equal_nan=True)
     np.testing.assert_allclose(a.G, b.G, rtol=1e-12)
-    # the per-design map (one task per candidate) under spawn too
-    rows = problems._map(problems._layer1_row, [(serial.decode(x), 360) for x in X[:4]], 2)
-    one = [problems._layer1_row((serial.decode(x), 360)) for x in X[:4]]
-    for r, o in zip(rows, one, strict=True):
-        np.testing.assert_allclose(np.asarray(r["values"], float), np.asarray(o["values"], float),
-                                   rtol=1e-12, equal_nan=True)

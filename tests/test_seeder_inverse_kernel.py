@@ -115,3 +115,35 @@ def test_the_kernel_modules_copies_of_np_mod_are_one_function_and_equal_np_mod()
         for f in copies:
             got = np.array([f(x, period) for x in a])
             assert np.array_equal(got, expected)
+
+
+def test_the_interval_head_finds_the_piece_as_searchsorted_does():
+    """``_interval`` (the piece and offset both spline evaluations of the kernel read, written
+    once) against an independent search: u wrapped into the period by floor, the piece i
+    with knots[i] <= u < knots[i + 1] (np.searchsorted), clipped to the last; at random
+    parameters, at every knot, below 0 and past the period. ``_point`` and
+    ``_point_and_derivatives`` give the same position there."""
+    from plantmech.geometry.trajectory_batch import TrajectoryBatch
+    from plantmech.mechanisms.seeder_inverse_kernel import (
+        _interval,
+        _point,
+        _point_and_derivatives,
+    )
+
+    pts = np.asarray(load_design(EXAMPLES / "sugarcane_seeder.toml").trajectory.points,
+                     dtype=float)
+    tb = TrajectoryBatch(pts[None])
+    knots, period, coef = tb.knots[0], float(tb.period[0]), tb.coef[0]
+    rng = np.random.default_rng(3)
+    us = np.concatenate([rng.uniform(-2 * period, 3 * period, 300), knots,
+                         knots - period, knots + period, [np.nextafter(period, 0.0)]])
+    for u in us:
+        w = u - period * np.floor(u / period)
+        i_ref = min(int(np.searchsorted(knots, w, side="right")) - 1, len(knots) - 2)
+        i, t = _interval(knots, period, u)
+        assert i == i_ref
+        assert t == w - knots[i_ref]
+        assert 0.0 <= t <= knots[i_ref + 1] - knots[i_ref] + 1e-12
+        x, y = _point(coef, knots, period, u)
+        v = _point_and_derivatives(coef, knots, period, u)
+        assert (x, y) == (v[0], v[1])

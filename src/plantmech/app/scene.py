@@ -348,16 +348,14 @@ def planetary_scene(design, motion, frames: int = 360, detail: int = 720) -> dic
     """Drawing data of a general planetary train (``mechanism = "planetary"``) from its
     forward motion (``trains.model.TrainMotion``, P = 1): every gear's pitch curve in its
     body frame (the built train's curves; ``trains.gearing.gear_names`` as roles, so the
-    cut teeth of ``plantmech gears`` land on them) at its shaft (the carrier frame turned
-    by the carrier) with its absolute rotation carrier + body angle alpha per frame; the
+    cut teeth of ``plantmech gears`` land on them) at its centre with its absolute
+    rotation per frame (``trains.placement.place_gears``); the
     carrier's line of shafts and the arm per arm; the tip paths. The sun is drawn once
     (every arm sees the same sun); an idler is the follower of the pair before."""
     from plantmech.trains.curves import TWO_PI
-    from plantmech.trains.gearing import gear_names
+    from plantmech.trains.placement import place_gears
 
     built = motion.built
-    names = gear_names(design)
-    pairs = built.train.pairs
     psi = motion.carrier_angle
     n = len(psi)
     k = frame_index(n, frames)
@@ -373,26 +371,15 @@ def planetary_scene(design, motion, frames: int = 360, detail: int = 720) -> dic
             return "internal"
         return "sun" if name == "sun" else ("planet" if name == "planet" else "middle")
 
+    gears = []
+    for p in place_gears(motion, k):  # every gear once (trains.placement)
+        g = _gear(p.label, body(p.curve), p.centre[0], p.angle[0], p.name, detail)
+        g["style"] = style(p.name, p.ring)
+        gears.append(g)
     shafts = built.shafts[0]
-    followers = built.followers
-    gears, links = [], []
+    links = []
     for j in range(J):
-        carrier = motion.carrier[0, j, k]
-        turn = _cis(carrier)
-        for i, spec in enumerate(pairs):
-            kind = spec.kind
-            drawn = []
-            first = i == 0 or spec.driver is not None or spec.follower is not None
-            if first and not (i == 0 and j > 0):  # the sun once; a compound / derived driver
-                drawn.append((names[i][0], built.drivers[i], shafts[i],
-                              motion.driver_angles[i][0, j, k], kind == "internal"))
-            drawn.append((names[i][1], followers[i], shafts[i + 1],
-                          motion.gear_angles[i + 1][0, j, k], kind == "internal_ring_follower"))
-            for name, curve, shaft, alpha, ring in drawn:
-                label = name if name == "sun" or J == 1 else f"{name} {j + 1}"
-                g = _gear(label, body(curve), shaft * turn, carrier + alpha, name, detail)
-                g["style"] = style(name, ring)
-                gears.append(g)
+        turn = _cis(motion.carrier[0, j, k])
         chain = shafts[None, :] * turn[:, None]  # (frames, K + 1): O and every shaft
         links.append({"name": f"carrier {j + 1}", "points": _xy(chain)})
         links.append({"name": f"arm {j + 1}",

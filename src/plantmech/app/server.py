@@ -312,6 +312,7 @@ def _planetary_parameters(design) -> list[dict]:
     bounds), else every number of its arm, carrier and pairs' curves with a box of
     +-25 % (angles +-45 deg) around the current value."""
     from plantmech.design_planetary import get_path
+    from plantmech.units import unit_of
 
     opt = getattr(design, "optimize", None)
     variables = dict(getattr(opt, "variables", None) or {})
@@ -319,7 +320,7 @@ def _planetary_parameters(design) -> list[dict]:
     if variables:
         for path, (lo, hi) in variables.items():
             value = float(get_path(design, path))
-            unit = "deg" if path.endswith("_deg") else ("mm" if path.endswith("_mm") else "")
+            unit = unit_of(path)
             out.append({"field": path, "label": path, "unit": unit, "value": value,
                         "min": float(lo), "max": float(hi)})
         return out
@@ -338,12 +339,12 @@ def _planetary_parameters(design) -> list[dict]:
             if key in ("arms", "lobes", "speed_deg_s"):
                 continue
             path = f"{prefix}.{key}"
-            if key.endswith("_deg"):
-                lo, hi, unit = value - 45.0, value + 45.0, "deg"
+            unit = unit_of(key)
+            if unit == "deg":
+                lo, hi = value - 45.0, value + 45.0
             else:
                 span = 0.25 * abs(value) or 1.0
                 lo, hi = value - span, value + span
-                unit = "mm" if key.endswith("_mm") else ""
             if key == "eccentricity":
                 lo, hi = max(lo, 0.0), min(hi, 0.95)
             out.append({"field": path, "label": f"{label} {key}",

@@ -72,16 +72,25 @@ def _on_inner(u, u_min, inner_len, period):
 
 
 @njit(cache=True, error_model="numpy")
-def _point(coef, knots, period, u):
-    """(x, y) of one row of a ``TrajectoryBatch`` at parameter u: its coefficients ``coef``
-    (N, 4, 2) (lowest power first), knots (N + 1), evaluated as ``TrajectoryBatch``
-    evaluates them (u wrapped by floor, Horner's rule)."""
-    n = coef.shape[0]
+def _interval(knots, period, u):
+    """(i, t): the cubic piece i of a ``TrajectoryBatch`` row holding parameter u (mm of
+    chord) and the offset t = u - knots[i] (mm) into it, as ``TrajectoryBatch`` finds them:
+    u wrapped into the period by floor, the piece clipped to the last (N pieces, knots
+    (N + 1))."""
+    n = knots.shape[0] - 1
     w = u - period * np.floor(u / period)
     i = _piece(knots, w)
     if i > n - 1:
         i = n - 1
-    t = w - knots[i]
+    return i, w - knots[i]
+
+
+@njit(cache=True, error_model="numpy")
+def _point(coef, knots, period, u):
+    """(x, y) of one row of a ``TrajectoryBatch`` at parameter u: its coefficients ``coef``
+    (N, 4, 2) (lowest power first), knots (N + 1), evaluated as ``TrajectoryBatch``
+    evaluates them (``_interval``, Horner's rule)."""
+    i, t = _interval(knots, period, u)
     x = coef[i, 0, 0] + t * (coef[i, 1, 0] + t * (coef[i, 2, 0] + t * coef[i, 3, 0]))
     y = coef[i, 0, 1] + t * (coef[i, 1, 1] + t * (coef[i, 2, 1] + t * coef[i, 3, 1]))
     return x, y
@@ -257,13 +266,8 @@ def invert_carrier(psi, u_dense, phi_dense, psi_dense, coef, knots, period, L1, 
 def _point_and_derivatives(coef, knots, period, u):
     """(x, y, x', y', x'', y'') of one row of a ``TrajectoryBatch`` at parameter u: its
     coefficients ``coef`` (N, 4, 2) (lowest power first), knots (N + 1), evaluated as
-    ``TrajectoryBatch`` evaluates them (u wrapped by floor, Horner's rule)."""
-    n = coef.shape[0]
-    w = u - period * np.floor(u / period)
-    i = _piece(knots, w)
-    if i > n - 1:
-        i = n - 1
-    t = w - knots[i]
+    ``TrajectoryBatch`` evaluates them (``_interval``, Horner's rule)."""
+    i, t = _interval(knots, period, u)
     out = np.empty(6)
     for a in range(2):
         c0, c1, c2, c3 = coef[i, 0, a], coef[i, 1, a], coef[i, 2, a], coef[i, 3, a]

@@ -88,6 +88,14 @@ class SeederInverseJob:
         return self.design.trajectory.sections.model_dump()
 
 
+class InfeasibleDesign(Exception):
+    """The inverse design behind a forward job is infeasible (see its diagnostics)."""
+
+    def __init__(self, job: SeederInverseJob):
+        super().__init__("the inverse design is infeasible")
+        self.job = job
+
+
 def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
     """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
     manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from plantmech.mechanisms.seeder_trains import inverse_design_of
+from plantmech.mechanisms.seeder_trains import inverse_design_of, inverse_settings
 
 if TYPE_CHECKING:
     from plantmech.design import SeederDesign
@@ -34,13 +34,14 @@ def inverse_speed_objectives(job) -> dict:
     of the realized train (the periodic spline's slopes over the uniform carrier angle
     psi, m/s at the design's carrier speed, deg/s clockwise), the static and dynamic
     (Eq. 17) speed v_A (m/s) per sample, the travel speed v_c (m/s; Eq. 18's zero-speed
-    seeding at e when the design gives none) and the three speed checks. The same
+    seeding at e when the design gives none) and the three speed checks, all from one
+    section table (``objectives.seeder.section_speeds``). The same
     evaluation as ``seeder_inverse_checks`` (the optimizer's layer 1), kept apart so the
     app can show the speed objectives live while a type-value point is dragged.
     ``job``: a ``workflows.SeederInverseJob`` (its design, result, sections and summary's
     attitude)."""
     from plantmech.geometry.periodic import periodic_spline_node_slopes
-    from plantmech.objectives.seeder import speed_by_section, speed_checks, zero_speed_travel
+    from plantmech.objectives.seeder import section_speeds, speed_checks
 
     res, d = job.result, job.design
     if not res.feasible or res.tip_realized is None:
@@ -49,11 +50,8 @@ def inverse_speed_objectives(job) -> dict:
     vel = periodic_spline_node_slopes(res.tip_realized, 2 * np.pi / len(psi)) * np.radians(
         d.operation.carrier_speed_deg_s) / 1000.0
     sec = {k: float(res.point_carrier_angle[i]) for k, i in job.sections.items()}
-    sowing = job.summary["attitude_deg"]["sowing_angle"]
-    zero = zero_speed_travel(psi, vel, sowing, sec["e"])
-    travel = (zero["zero_speed_travel_m_s"] if d.operation.travel_speed_m_s is None
-              else d.operation.travel_speed_m_s)
-    speeds = speed_by_section(psi, vel, travel, sec)
+    # one section table: the speeds and, with no travel speed given, Eq. 18's from its e
+    speeds, travel = section_speeds(psi, vel, sec, d.operation.travel_speed_m_s)
     return {"velocity_m_s": vel, "static_m_s": np.hypot(vel[:, 0], vel[:, 1]),
             "dynamic_m_s": np.hypot(vel[:, 0] - travel, vel[:, 1]), "travel_m_s": travel,
             "speeds": speeds, "checks": speed_checks(speeds, d.speed)}
@@ -157,8 +155,8 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
                                      pitch_margin_mm: float = 0.0) -> dict:
     """``seeder_inverse_checks`` for P candidate trajectories at once: the design with its
     type-value points replaced by each row of ``points`` (P, N, 2) mm. Inverse design
-    (``inverse_population``), Table 1, attitude and speeds as arrays over designs; the
-    design must have no toothless dwell (layer 1's trains). Returns names, units, limits
+    (``inverse_population``, with the design's toothless dwell if it has one), Table 1,
+    attitude and speeds as arrays over designs. Returns names, units, limits
     (lists) and values, ok, violation (P, 13), infeasible (P,) (the inverse design's
     error grading, 0 when feasible), objectives (P, 3)."""
     from plantmech.geometry.trajectory_batch import TrajectoryBatch
@@ -171,13 +169,13 @@ def seeder_inverse_checks_population(design: SeederDesign, points, samples: int 
     )
 
     gt = design.gear_train
-    if gt.dwell is not None and gt.dwell.enabled:
-        raise ValueError("the population inverse design has no toothless dwell: evaluate "
-                         "dwell designs one by one (seeder_inverse_checks)")
     sections = design.trajectory.sections.model_dump()
     curves = TrajectoryBatch(points)
+    # a toothless dwell as the one-design path places it (``inverse_settings``: the same
+    # type-value points for every row, on each row's own carrier law)
     inv = inverse_population(curves, samples, gt.a1_mm, gt.a2_mm, gt.split_exponent,
-                             gt.min_pitch_radius_mm + pitch_margin_mm)
+                             gt.min_pitch_radius_mm + pitch_margin_mm,
+                             dwell=inverse_settings(design).dwell)
     plan, _ = planning_values(curves, sections)
     psi = inv.psi
     att = attitude_values(psi, np.degrees(inv.arm_angle_realized), inv.point_carrier_angle,

@@ -159,13 +159,27 @@ def _speeds(row) -> dict:
             "min_speed_static_m_s": float(row[c("least_static")])}
 
 
+def section_speeds(psi, velocity, section_psi: dict[str, float],
+                   travel_m_s: float | None = None) -> tuple[dict, float]:
+    """Static and dynamic (Eq. 17) speed extremes (m/s) of the section-4.1 objectives
+    (seeding section de (peak), return section ef (minimum)) and the travel speed v_c (m/s)
+    they were taken at, from ONE section-table row: tip velocities (S, 2) m/s at carrier
+    angles psi (S,) rad, sections at ``section_psi`` rad (a letter missing: at e), the
+    machine travelling at ``travel_m_s`` m/s (None: zero-speed seeding at e, Eq. 18's
+    v_c = x_dot_A(e)). Returns (speeds, travel_m_s)."""
+    from plantmech.objectives.seeder_population import section_column
+
+    sec = np.array([section_psi.get(k, section_psi["e"]) for k in LETTERS], dtype=float)
+    row = _one(psi, None, velocity, sec, None if travel_m_s is None else float(travel_m_s))
+    return _speeds(row), float(row[section_column("travel")])
+
+
 def speed_by_section(psi, velocity, travel_m_s: float, section_psi: dict[str, float]) -> dict:
     """Static and dynamic (Eq. 17) speed extremes (m/s) of the section-4.1 objectives:
     seeding section de (peak) and return section ef (minimum), from tip velocities (S, 2)
     m/s at carrier angles psi (S,) rad, the machine travelling at ``travel_m_s`` m/s,
-    sections at ``section_psi`` rad (the section table for this one design)."""
-    sec = np.array([section_psi.get(k, section_psi["e"]) for k in LETTERS], dtype=float)
-    return _speeds(_one(psi, None, velocity, sec, float(travel_m_s)))
+    sections at ``section_psi`` rad (``section_speeds``' speeds)."""
+    return section_speeds(psi, velocity, section_psi, float(travel_m_s))[0]
 
 
 def section_objectives(psi, arm_deg, velocity, section_psi: dict[str, float],

@@ -40,6 +40,7 @@ class PlanetaryProblem(DesignProblem):
                              "\"train.pairs.0.driver.eccentricity\" = [0.1, 0.4] "
                              "(docs/design-file.md)")
         from plantmech.design_planetary import get_path, set_path
+        from plantmech.units import unit_of
 
         self.manufacturability = manufacturability
         self.samples = design.optimize.samples
@@ -47,9 +48,8 @@ class PlanetaryProblem(DesignProblem):
         for path, (lo, hi) in design.optimize.variables.items():
             def apply(d, val, path=path):
                 set_path(d, path, float(val))
-            unit = "deg" if path.endswith("_deg") else "mm" if path.endswith("_mm") else ""
             variables.append(Variable(path, float(get_path(design, path)), float(lo),
-                                      float(hi), unit, apply))
+                                      float(hi), unit_of(path), apply))
         self.row_names = [r["name"] for r in self._rows(design)]
         super().__init__(design, variables, n_constr=len(self.row_names))
 

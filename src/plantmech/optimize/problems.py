@@ -272,15 +272,6 @@ def _in_pool(workers: int, use):
         return use(_pool(workers))
 
 
-def _map(fn, items, workers: int):
-    """fn over items, in ``workers`` processes when there are enough items (small chunks:
-    candidates differ in cost)."""
-    if workers <= 1 or len(items) < 4:
-        return [fn(x) for x in items]
-    chunk = max(1, len(items) // (8 * workers))
-    return _in_pool(workers, lambda ex: list(ex.map(fn, items, chunksize=chunk)))
-
-
 def _split_map(fn, items):
     """fn over a few large items (one per process): the first here, the others in the
     pool at once, so no process waits for a task while another has two."""
@@ -294,13 +285,6 @@ def _split_map(fn, items):
 # layer 1 evaluates 360 samples per cycle: a pitch-radius dip narrower than a sample can
 # pass there and fail at full resolution (seen: 4.73 mm at 3600 samples against a 5 mm limit)
 LAYER1_PITCH_MARGIN_MM = 1.5
-
-
-def _layer1_row(args):
-    from plantmech.objectives.inverse_evaluation import seeder_inverse_checks
-
-    design, samples = args
-    return seeder_inverse_checks(design, samples, LAYER1_PITCH_MARGIN_MM)
 
 
 def _layer1_population(args):
@@ -366,17 +350,8 @@ class SeederLayer1(DesignProblem):
         """Every layer-1 check of the candidates X (P, n_var): names, units, limits and
         values, ok, violation (P, 13), infeasible (P,) (the inverse design's error
         grading), objectives (P, 3), pitch_tangent_angle (P, 2) deg. The population
-        inverse design split over the worker processes; one inverse design per candidate
-        for a dwell design."""
+        inverse design (a toothless dwell too) split over the worker processes."""
         X = np.atleast_2d(X)
-        gt = self.design.gear_train
-        if gt.dwell is not None and gt.dwell.enabled:
-            rows = _map(_layer1_row, [(self.decode(x), self.samples) for x in X],
-                        self.workers)
-            return dict({k: rows[0][k] for k in ("names", "units", "limits")},
-                        **{k: np.array([r[k] for r in rows], dtype=float if k != "ok"
-                                       else bool)
-                           for k in _LAYER1_ARRAYS})
         pts = self.points_of(X)
         parts = np.array_split(np.arange(len(pts)), min(self.workers, len(pts)))
         out = _split_map(_layer1_population, [(self.design, pts[k], self.samples)
@@ -461,10 +436,10 @@ class SeederLayer2(DesignProblem):
 
     def evaluate_batch(self, X):
         from plantmech.geometry.deviation import trajectory_deviation_batch
-        from plantmech.workflows import evaluate_seeder_population
+        from plantmech.objectives.seeder_design import evaluate_seeder_population
 
         if self._reference is None and self.design.train.sections_deg is None:
-            from plantmech.workflows import section_reference_psi
+            from plantmech.objectives.seeder_design import section_reference_psi
 
             self._reference = section_reference_psi(self.design)
         # one process: split over this machine's two cores a generation took as long
@@ -549,7 +524,7 @@ class SeederJoint(DesignProblem):
 
     def evaluate_batch(self, X):
         from plantmech.geometry.deviation import trajectory_deviation_batch
-        from plantmech.workflows import evaluate_seeder_population
+        from plantmech.objectives.seeder_design import evaluate_seeder_population
 
         rows = []
         for x, l1 in zip(X, self._layer1_rows(X), strict=True):

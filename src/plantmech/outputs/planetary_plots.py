@@ -9,11 +9,6 @@ from matplotlib.figure import Figure
 DEG = 180.0 / np.pi
 
 
-def _gear_outline(curve, centre: complex, angle: float) -> np.ndarray:
-    th = curve.theta
-    return centre + curve.r[0] * np.exp(1j * (th + angle))
-
-
 def plot_paths(motion, title: str = "") -> Figure:
     """Tip path of every arm, the planet axis' circle, and the gears of arm 1 at the start
     (pitch curves at their shafts, turned to their start angles)."""
@@ -24,31 +19,32 @@ def plot_paths(motion, title: str = "") -> Figure:
         ax.plot(z.real, z.imag, lw=1.4 if j == 0 else 0.8, label=f"arm {j + 1} tip path")
     c = motion.centre[0, 0]
     ax.plot(c.real, c.imag, ":", color="0.5", lw=0.8, label="planet axis")
-    built = motion.built
-    C0 = float(motion.carrier[0, 0, 0])
-    rot = np.exp(1j * C0)
-    for k, (spec, drv, fol) in enumerate(zip(built.train.pairs, built.drivers,
-                                             built.followers, strict=True)):
-        if k == 0 or spec.driver is not None or spec.follower is not None:  # not an idler
-            z = _gear_outline(drv, built.shafts[0, k], motion.driver_angles[k][0, 0, 0]) * rot
+    from plantmech.trains.placement import place_gears
+
+    for gear in place_gears(motion, [0]):  # every gear of arm 1 at the start, once
+        if gear.arm == 0:
+            z = gear.outline()[0, 0]  # on the curve's own grid
             ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray",
                     lw=0.8)
-        z = _gear_outline(fol, built.shafts[0, k + 1], motion.gear_angles[k + 1][0, 0, 0]) * rot
-        ax.plot(np.r_[z.real, z.real[0]], np.r_[z.imag, z.imag[0]], color="tab:gray", lw=0.8)
     t0, c0 = motion.tip[0, 0, 0], motion.centre[0, 0, 0]
     ax.plot([0, c0.real], [0, c0.imag], color="k", lw=1.5)
     ax.plot([c0.real, t0.real], [c0.imag, t0.imag], color="tab:red", lw=2,
             label="arm 1 at start")
+    _machine_plane(ax, title or "tip paths and the gears at the start")
+    return fig
+
+
+def _machine_plane(ax, title: str) -> None:
+    """Equal axes in mm, grid, legend, and the title wrapped (a design's name may be long:
+    not cut off at the figure's edge)."""
+    import textwrap
+
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    import textwrap
-
-    # a design's name may be long: wrapped, not cut off at the figure's edge
-    ax.set_title(textwrap.fill(title or "tip paths and the gears at the start", 60))
+    ax.set_title(textwrap.fill(title, 60))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    return fig
 
 
 def forward_figures(design, motion) -> list[tuple[str, Figure]]:
@@ -95,8 +91,6 @@ def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
     type-value points (numbered), the reach circles rho = L + a and |L - a| when the
     lengths are known, the written design's forward tip path (``motion``, when feasible),
     and the sun's pitch curve at the start (mm)."""
-    import textwrap
-
     fig = Figure(figsize=(6.4, 6.4), layout="constrained")
     ax = fig.add_subplot()
     u = np.linspace(0.0, traj.period, 2000)
@@ -115,15 +109,12 @@ def plot_inverse(traj, result, motion=None, title: str = "") -> Figure:
     if motion is not None:
         z = motion.tip[0, 0]
         ax.plot(z.real, z.imag, color="tab:red", lw=1.0, label="forward tip of design.toml")
-        g = _gear_outline(motion.built.drivers[0], 0.0,
-                          motion.driver_angles[0][0, 0, 0] + motion.carrier[0, 0, 0])
+        from plantmech.trains.placement import place_gears
+
+        sun = next(p for p in place_gears(motion, [0]) if p.name == "sun")
+        g = sun.outline()[0, 0]
         ax.plot(np.r_[g.real, g.real[0]], np.r_[g.imag, g.imag[0]], color="tab:gray", lw=0.8,
                 label="sun pitch curve")
     ax.plot([0], [0], "k+", ms=10)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
-    ax.set_title(textwrap.fill(title or "first-order inverse design", 60))
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    _machine_plane(ax, title or "first-order inverse design")
     return fig

@@ -152,10 +152,12 @@ def transplanter_animation(job, frames: int = FRAMES) -> Animation:
 
 def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
     """A general planetary train (``trains.model.TrainMotion``, P = 1) over one carrier
-    turn: every gear's pitch curve at its shaft and angle (the sun once), the carrier's
+    turn: every gear's pitch curve at its centre and angle (``trains.placement``: the sun
+    once, followers, idlers, compound and derived drivers of every arm), the carrier's
     line of shafts and the arm of every arm, the tips' paths."""
     from plantmech.outputs.transplanter_plots import COLOURS
     from plantmech.trains.curves import TWO_PI
+    from plantmech.trains.placement import place_gears
 
     built = motion.built
     k = _frame_index(motion.tip.shape[-1], frames)
@@ -164,24 +166,15 @@ def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
     def xy(z):
         return np.stack([np.real(z), np.imag(z)], axis=-1)
 
-    def body(curve):
-        return curve(th[None, :])[0][0] * np.exp(1j * th)
-
     links, joints, traces = [], [], []
     shafts = built.shafts[0]
-    pairs = built.train.pairs
+    placed = place_gears(motion, k)
     for j in range(motion.tip.shape[1]):
         c = COLOURS[j % len(COLOURS)]
         turn = np.exp(1j * motion.carrier[0, j, k])
-        for i in range(len(pairs)):
-            curves = [(built.followers[i], shafts[i + 1], motion.gear_angles[i + 1])]
-            if (i == 0 and j == 0) or (i > 0 and pairs[i].driver is not None):
-                curves.append((built.drivers[i], shafts[i], motion.driver_angles[i]))
-            for curve, shaft, alpha in curves:
-                rot = np.exp(1j * (motion.carrier[0, j, k] + alpha[0, j, k]))
-                pts = shaft * turn[:, None] + body(curve)[None, :] * rot[:, None]
-                links.append({"label": "", "color": "#6b7280", "width": 1,
-                              "points": xy(pts)})  # a pitch curve: no legend entry
+        for gear in (g for g in placed if g.arm == j):
+            links.append({"label": "", "color": "#6b7280", "width": 1,
+                          "points": xy(gear.outline(th)[0])})  # a pitch curve: no legend
         chain = np.c_[shafts[None, :] * turn[:, None], motion.tip[0, j, k]]
         links.append({"label": f"carrier and arm {j + 1}", "color": c, "width": 3,
                       "points": xy(chain)})

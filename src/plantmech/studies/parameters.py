@@ -3,8 +3,9 @@ variants at once.
 
 A study varies named parameters; every variant is the design with the parameters moved
 by ``deltas`` (P, K) (deviations from the nominal, in the parameter's unit) and is
-evaluated through the population APIs (``workflows.evaluate_seeder_population``,
-``workflows.evaluate_transplanter_population``): one chunk, one call, no loop per design.
+evaluated through the population APIs (``objectives.seeder_design.evaluate_seeder_population``,
+``objectives.transplanter_design.evaluate_transplanter_population``): one chunk, one call,
+no loop per design.
 
 Seeder (seed 000) tolerance model (docs/studies.md):
 
@@ -129,7 +130,10 @@ class SeederModel:
     mechanism = "sugarcane_seeder"
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720, dense: int = 2048):
-        from plantmech.workflows import evaluate_seeder_population, section_reference_psi
+        from plantmech.objectives.seeder_design import (
+            evaluate_seeder_population,
+            section_reference_psi,
+        )
 
         _check_names(names, SEEDER_PARAMETERS, "sugarcane_seeder")
         t = design.train
@@ -162,7 +166,7 @@ class SeederModel:
                 "travel_speed_m_s": self.travel0}.get(name, 0.0)
 
     def evaluate(self, deltas: np.ndarray) -> Evaluated:
-        from plantmech.workflows import evaluate_seeder_population
+        from plantmech.objectives.seeder_design import evaluate_seeder_population
 
         t = self.design.train
         deltas = np.atleast_2d(np.asarray(deltas, dtype=float))
