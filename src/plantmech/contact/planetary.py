@@ -166,23 +166,16 @@ def _combined(parts: list[tuple[float, np.ndarray, float]]) -> tuple[float, np.n
     return float(m), c, float(j)
 
 
-def _mesh_law_samples(law, spec, u0: float, n: int = 2048):
+def _mesh_law_samples(law, spec, u0: float, n: int = 2048, toothless=None):
     """The follower's body angle alpha_f (rad) as a function of its driver's alpha_d = u
-    over one driver turn from ``u0`` (the pitch-curve law of ``trains.model.simulate``,
-    sampled: u (n,), alpha_f (n,), slope = the follower's turns per driver turn with
-    their sense)."""
-    from plantmech.trains.model import _KIND_OFFSETS
+    over one driver turn from ``u0`` (``trains.model.mesh``, the pair mapping of
+    ``simulate``, with the pair's toothless arc if it has one: alpha_f is then constant
+    over it), sampled: u (n,), alpha_f (n,), slope = the follower's turns per driver turn
+    with their sense."""
+    from plantmech.trains.model import mesh
 
-    delta = float(np.ravel(spec.direction)[0])
-    eps_d, eps_f = _KIND_OFFSETS[spec.kind]
     u = u0 + TWO_PI * np.arange(n + 1) / n
-    theta_d = (delta + eps_d - u)[None, :]
-    if spec.follower is None:
-        F, _ = law.F(theta_d)
-        theta_f = law.sense * F
-    else:  # the law rolls on the given follower
-        theta_f = law.invert(law.sense * theta_d)
-    alpha_f = delta + eps_f - np.ravel(theta_f)
+    alpha_f = np.ravel(mesh(law, spec, u[None, :], toothless=toothless).follower_angle)
     return u[:-1], alpha_f[:-1], float((alpha_f[-1] - alpha_f[0]) / TWO_PI)
 
 
@@ -264,7 +257,8 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
                 angle_offset[i] = 0.0
         for k, (law, pspec) in enumerate(zip(built.laws, tr.pairs, strict=True)):
             d_alpha0 = float(motion.driver_angles[k][0, j, 0])
-            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0)
+            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0,
+                                                  toothless=built.toothless[k])
             V = PeriodicLaw(u, alpha_f, slope)
             # the driver's alpha from its shaft's body angle: theta_body - offset + phase
             # - theta_carrier (the sun: its absolute angle when fixed)
