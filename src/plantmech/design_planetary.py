@@ -138,7 +138,7 @@ class PairDwell(_Strict):
     the follower, which then rolls on ``sector_deg`` behind the carrier. The first pair
     only, with a fixed sun and the follower's pitch curve given (seed 000's gear 2): the sun
     is derived, its rolling arc the mate of one follower turn (360 - sector_deg deg of its
-    body) and its toothless arc the rest."""
+    body) and its toothless arc the rest (examples/planetary/sugarcane_table4.toml)."""
 
     start_deg: CarrierAngleDeg = Field(description="psi_s: carrier angle (deg, from the "
                                        "start, in the carrier's sense) where the follower "
@@ -188,7 +188,8 @@ class GearPair(_Strict):
         "the module is its pitch perimeter / (pi z), so the curve closes on whole teeth; "
         "default: the largest standard module leaving 20 teeth (or --module). An idler's "
         "pair (no driver table) takes the previous pair's module; a multiple of the "
-        "driver's lobes")
+        "driver's lobes. A pair with a dwell: the given follower's (the sun is then a "
+        "partial gear, toothless over its toothless arc)")
 
     @model_validator(mode="after")
     def _teeth_fit(self):
