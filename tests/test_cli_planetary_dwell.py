@@ -4,7 +4,7 @@ examples/planetary/sugarcane_table4.toml) against the dedicated seeder file
 mechanisms/seeder_forward's motion, the teeth of `plantmech gears` from the seeder's
 (mechanisms/gear_pairs: gear 2 cut from its lock point, the sun the partial gear), the
 pitch-curve checks of `plantmech design`, `study`, `forward --report`, the app's scene;
-`plantmech verify` refuses the dwell by name (exit 2)."""
+`plantmech verify` against contact/seeder.py's analysis of the dedicated file's gears."""
 
 from __future__ import annotations
 
@@ -100,12 +100,50 @@ def test_gears_cut_the_seeders_teeth(gears_dir):
         assert (out / f"{name}.dxf").exists()
 
 
-def test_verify_refuses_the_dwell_by_name(gears_dir, tmp_path, capsys):
+def test_verify_drives_the_dwell_as_the_seeders_contact_analysis(gears_dir, tmp_path,
+                                                                   capsys):
+    """`plantmech verify` through the dwell equals the dedicated seeder's contact analysis
+    (contact/seeder.py on the dedicated file's own gear files): each pair's transmission
+    error outside the dwell, gear 2 held by the sun's toothless arc (locked and jammed steps
+    through the dwell), the arm's attitude error and tip band. The loads through the dwell
+    (its impacts) are skipped with the field named."""
+    from plantmech.contact.outlines import read_gear_dxf
+    from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
+
     out, _ = gears_dir
-    assert main(["verify", str(PLANETARY), "--gears", str(out), "--out",
-                 str(tmp_path / "v"), "--no-loads"]) == 2
-    assert "train.pairs.0.dwell" in capsys.readouterr().err
-    assert not (tmp_path / "v" / "verification.json").exists()
+    ded_dir = tmp_path / "ded"
+    assert main(["gears", str(DEDICATED), "--out", str(ded_dir)]) == 4
+    design = load_design(DEDICATED)
+    gears = {n: read_gear_dxf(ded_dir / f"{n}.dxf", n) for n in ("gear2", "sun", "gear3",
+                                                                  "planet")}
+    limits = {"transmission_error_deg": 0.5, "attitude_error_deg": 1.0, "tip_band_mm": 5.0}
+    contact = analyse_seeder(seeder_train(design), gears, steps=720)
+    ref = seeder_record(contact, seeder_train(design), limits)
+    v = tmp_path / "v"
+    assert main(["verify", str(PLANETARY), "--gears", str(out), "--out", str(v)]) == 4
+    rec = json.loads((v / "verification.json").read_text())
+    assert "train.pairs.0.dwell" in rec["loads"]["skipped"]
+    for ours, theirs in zip(rec["pairs"], ref["pairs"], strict=True):
+        assert ours["transmission_error_deg"]["max_abs_mid"] == pytest.approx(
+            theirs["transmission_error_deg"]["max_abs_mid"], abs=1e-3)
+        assert ours["contact_lost_steps"] == theirs["contact_lost_steps"]
+        assert ours["interference_steps"] == theirs["interference_steps"]
+    for key in ("steps", "locked_steps", "jammed_steps"):
+        assert rec["dwell"][key] == ref["dwell"][key], key
+    assert rec["dwell"]["carrier_angle_deg"] == ref["dwell"]["carrier_angle_deg"]
+    arm, chained = rec["arms"][0], ref["chained"]
+    assert arm["arm_attitude_error_deg"]["max_abs"] == pytest.approx(
+        chained["arm_attitude_error_deg"]["max_abs"], abs=1e-3)
+    assert arm["tip_band_mm"]["max"] == pytest.approx(chained["tip_band_mm"]["max"], abs=0.01)
+    # the seeder chains gear 2's play at 0 where it has none (a jam or no contact in the
+    # dwell); the general train's chain (as the transplanters') counts those steps as the
+    # arm not held
+    d = ref["dwell"]
+    assert arm["arm_not_held_steps"] == chained["arm_not_held_steps"] + d["steps"] \
+        - d["locked_steps"]
+    checks = {c["name"]: c for c in rec["checks"]}
+    assert checks["dwell: arm held (locked steps)"]["ok"] is False  # 49 of 90, as the seeder
+    assert "gear1 held" in capsys.readouterr().out
 
 
 def test_design_judges_the_pitch_curves_as_the_seeder(tmp_path):
