@@ -56,6 +56,7 @@ def test_circular_gear_rolls_the_meshing_angle_and_stops_in_the_dwell(sense):
     expected = m.gear_angles[1][0, 0, 0] + sense * ratio * meshing_angle(psi, start, sector)
     assert np.abs(m.gear_angles[1][0, 0] - expected).max() < 1e-9
     assert np.all(m.gear_rates[1][0, 0][held] == 0.0)
+    assert np.array_equal(m.meshes[0][0, 0], ~held)  # where the teeth mesh
     assert np.allclose(m.gear_rates[1][0, 0][~held], sense * ratio, atol=1e-9)
     # the arm on gear 2 is carried rigidly by the carrier through the dwell
     assert np.allclose(m.arm_rate[0, 0][held], sense, atol=1e-12)

@@ -170,6 +170,9 @@ class TrainMotion:
     arm_rate: np.ndarray  # d beta / d psi
     tip_rate: np.ndarray  # d tip / d psi (mm/rad)
     built: BuiltTrain = field(repr=False, default=None)
+    #: per pair (P, J, S) bool: where its teeth mesh (False on a toothless dwell, where its
+    #: follower is held and the contact radii are the lock's), None without a dwell
+    meshes: list = field(default_factory=list)
 
     def velocity(self, carrier_speed_deg_s: float) -> np.ndarray:
         """Tip velocity (complex, m/s) at the carrier speed (deg/s, in the carrier's
@@ -403,7 +406,7 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
     rate = np.full((P, J, samples), (k - 1) * s)
-    angles, rates, contacts, driver_angles = [alpha], [rate], [], []
+    angles, rates, contacts, driver_angles, meshes = [alpha], [rate], [], [], []
     for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
         if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
             alpha = alpha + _column(spec.phase, P)[:, :, None]
@@ -412,6 +415,7 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
         driver_angles.append(alpha)
         m = mesh(law, spec, alpha, rate, built.toothless[i] if built.toothless else None)
         contacts.append((m.driver_radius, m.follower_radius))
+        meshes.append(m.meshes)
         alpha, rate = m.follower_angle, m.follower_rate
         angles.append(alpha)
         rates.append(rate)
@@ -424,7 +428,8 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     beta_rate = s + rate
     tip_rate = 1j * s * centre + 1j * L * beta_rate * np.exp(1j * beta)
     return TrainMotion(psi, np.broadcast_to(carrier, (P, J, samples)), angles, rates,
-                       driver_angles, contacts, centre, tip, beta, beta_rate, tip_rate, built)
+                       driver_angles, contacts, centre, tip, beta, beta_rate, tip_rate, built,
+                       meshes)
 
 
 def forward(train: Train, samples: int = 3600) -> TrainMotion:
