@@ -291,8 +291,10 @@ def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None
         gd = shape_from_polar(rolled, t, r, r1, r2, internal=ring_d)
         gf = shape_from_polar(mate, t, rho, kappa * r1, kappa * r2, dphi, ddphi,
                               internal=ring_f)
-        # t spans one driver turn, q follower turns: the follower's own perimeter
-        gf = replace(gf, perimeter=gf.perimeter / law.follower_turns)
+        # t spans one driver turn, q follower turns: the follower's own perimeter; with a
+        # toothless dwell the derived sun carries its teeth on the rolling arc t spans
+        if built.train.pairs[k].dwell is None:
+            gf = replace(gf, perimeter=gf.perimeter / law.follower_turns)
         diff = None
         if ring_d or ring_f:
             ring, planet = (gd, gf) if ring_d else (gf, gd)
