@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from plantmech.design import load_design
 from plantmech.trains.model import simulate
@@ -51,6 +52,30 @@ def test_seeder_file_equals_seeder_forward_to_1e6():
     # gears 2-3 turn clockwise relative to the carrier at d psi_2 / d psi = r1 / r2
     assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
     assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
+
+
+def test_table4_file_with_its_dwell_equals_seeder_forward_to_1e6():
+    """Seed 000's Table 4 train (examples/sugarcane_table4.toml: centre distances that
+    close the printed radii, so the shaft of gears 2-3 sits off the carrier line, and the
+    sun's toothless sector over cd, 45 deg from carrier angle 74.75 deg) as a planetary file
+    with the first pair's dwell equals mechanisms/seeder_forward.simulate to 1e-6 mm / rad:
+    tip, arm angle, tip rate, both stage rates (0 in the dwell)."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.workflows import train_from_design as seeder_train
+
+    tr, _ = seeder_train(load_design(EXAMPLES / "sugarcane_table4.toml"))
+    assert tr.dwell_start is not None and abs(tr.a1 + tr.a2 - tr.L1) > 1.0  # off the line
+    d, m = _motion("sugarcane_table4.toml")
+    ref = seeder_simulate(tr, d.samples)
+    assert d.train.pairs[0].dwell.sector_deg == pytest.approx(np.degrees(tr.dwell_theta1))
+    assert np.abs(m.built.shafts[0, -1] - tr.L1) < 1e-9  # the planet at L1 on the line
+    assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-6  # rad
+    assert np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max() < 1e-6
+    assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
+    assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
+    assert np.array_equal(m.gear_rates[1][0, 0] == 0.0, ref.in_dwell)
+    assert ref.in_dwell.sum() == 450  # 45 deg of 3600 samples per turn
 
 
 def test_differential_file_equals_seed_001_model_to_1e6():

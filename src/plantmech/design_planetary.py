@@ -18,6 +18,7 @@ from plantmech.design import (
     MAX_POINTS,
     MECHANISMS,
     AngleDeg,
+    CarrierAngleDeg,
     Interp,
     Manufacturing,
     PositiveMM,
@@ -130,6 +131,30 @@ PitchCurve = Annotated[EllipseCurve | EccentricCurve | FourierCurve | RadiiCurve
                        Field(discriminator="family")]
 
 
+class PairDwell(_Strict):
+    """A toothless dwell of the pair (seed 000's sector over cd, Eq. 5), in carrier angles:
+    while the carrier turns ``sector_deg`` from ``start_deg`` the follower (and every gear
+    after it) does not turn relative to the carrier; the driver's toothless arc passes
+    the follower, which then rolls on ``sector_deg`` behind the carrier. The first pair
+    only, with a fixed sun and the follower's pitch curve given (seed 000's gear 2): the sun
+    is derived, its rolling arc the mate of one follower turn (360 - sector_deg deg of its
+    body) and its toothless arc the rest (examples/planetary/sugarcane_table4.toml)."""
+
+    start_deg: CarrierAngleDeg = Field(description="psi_s: carrier angle (deg, from the "
+                                       "start, in the carrier's sense) where the follower "
+                                       "stops")
+    sector_deg: Annotated[float, Strict(), Field(gt=0, lt=360, allow_inf_nan=False)] = Field(
+        description="theta_1: carrier turn during the stop (deg)")
+
+    @model_validator(mode="after")
+    def _inside(self):
+        if self.start_deg + self.sector_deg > 360.0:
+            raise ValueError(f"the dwell ({self.start_deg:g} + {self.sector_deg:g} deg) runs "
+                             "past the end of the carrier turn; shift the start angle "
+                             "(the cycle starts at carrier angle 0)")
+        return self
+
+
 class GearPair(_Strict):
     """One pair of the chain: a driver and the follower it rolls (the follower's pitch
     curve follows from rolling; it drives the next pair unless that pair gives a driver)."""
@@ -154,13 +179,17 @@ class GearPair(_Strict):
     follower_turns: Annotated[float, Strict(), Field(gt=0, le=12, allow_inf_nan=False)] = (
         Field(1.0, description="q: follower turns per driver turn relative to the carrier "
               "(the pair closes when the rolled ratio's mean is q)"))
+    dwell: PairDwell | None = Field(
+        None, description="a toothless dwell of this pair (the first pair only, a fixed sun "
+        "and a given follower; seed 000's sector)")
     teeth: Annotated[int, Strict()] | None = Field(
         None, ge=6, le=500, description="z: tooth count of the pair's driver (the sun, a "
         "compound gear, or the derived driver of a given follower) for `plantmech gears`: "
         "the module is its pitch perimeter / (pi z), so the curve closes on whole teeth; "
         "default: the largest standard module leaving 20 teeth (or --module). An idler's "
         "pair (no driver table) takes the previous pair's module; a multiple of the "
-        "driver's lobes")
+        "driver's lobes. A pair with a dwell: the given follower's (the sun is then a "
+        "partial gear, toothless over its toothless arc)")
 
     @model_validator(mode="after")
     def _teeth_fit(self):
@@ -208,6 +237,20 @@ class PlanetaryTrain(_Strict):
             if p.driver is not None and p.follower is not None:
                 raise ValueError(f"pairs.{k}: give driver or follower, not both (the other "
                                  "follows from rolling)")
+            if p.dwell is not None and k:
+                raise ValueError(f"pairs.{k}.dwell: a toothless dwell is supported on the "
+                                 "first pair (the sun's) only: a later driver does not turn "
+                                 "uniformly relative to the carrier")
+            if p.dwell is not None and p.follower is None:
+                raise ValueError(f"pairs.{k}.dwell: give the follower's pitch curve "
+                                 f"(pairs.{k}.follower, seed 000's gear 2) instead of the "
+                                 "sun's: the sun is then derived, its rolling arc the mate of "
+                                 "one follower turn and its toothless arc the rest")
+            if p.dwell is not None and self.sun_speed_ratio != 0:
+                raise ValueError(f"pairs.{k}.dwell: a toothless dwell needs a fixed sun "
+                                 f"(sun_speed_ratio = 0, got {self.sun_speed_ratio:g}): a "
+                                 "turning sun brings its toothless arc round at another "
+                                 "carrier angle every turn")
             if k and p.driver is None and p.follower is None and p.teeth is not None:
                 raise ValueError(f"pairs.{k}.teeth: this pair's driver is the previous "
                                  "follower (an idler), whose teeth follow from the pair "

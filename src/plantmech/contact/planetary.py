@@ -19,6 +19,13 @@ the follower carried along by the pair's instantaneous ratio sense r_d / r_f, an
 follower's ends are the extremes of the two. An idler or a compound shaft hands its ends
 on to the next pair. The last follower's ends are the arm's attitude error and, with the
 arm length, its tip band.
+
+A toothless dwell (``trains.model``; seed 000's sector): the cut sun is the partial gear of
+``trains.gearing`` in its own frame (contact angle 0 at the follower's lock), turned into the
+train's (``_toothless_sun``); the first pair's record leaves the dwell's steps out and the
+``dwell`` record (as ``contact/seeder.py``'s) says where the follower is held by the sun's
+teeth at the ends of the toothless arc (locked) or jams against them. The loads through a
+dwell are not computed (its ends are impacts of the rigid model).
 """
 
 from __future__ import annotations
@@ -45,6 +52,7 @@ class PlanetaryContact:
     tip_nominal: np.ndarray  # (J, T, 2) mm
     tip_lo: np.ndarray
     tip_hi: np.ndarray
+    dwell: np.ndarray | None = None  # (J, T): the first pair's toothless dwell (seed 000)
 
 
 def gear_file_names(design) -> list[str]:
@@ -78,6 +86,7 @@ def analyse_planetary(design, gears: dict[str, GearOutline], steps: int = 720
 
     built = built_train(design)
     motion = simulate(built, samples=steps)
+    sun_frame, dwell = _toothless_sun(built, motion)
     names = gear_names(design)
     shafts = built.shafts[0]
     centres = [(float(z.real), float(z.imag)) for z in shafts]
@@ -90,7 +99,7 @@ def analyse_planetary(design, gears: dict[str, GearOutline], steps: int = 720
         per_pair = []
         for k, law in enumerate(built.laws):
             driver, driven = gears[names[k][0]], gears[names[k][1]]
-            q_d = motion.driver_angles[k][0, j]
+            q_d = motion.driver_angles[k][0, j] + (sun_frame if k == 0 else 0.0)
             q_f = motion.gear_angles[k + 1][0, j]
             r_d, r_f = (r[0, j] for r in motion.contact_radii[k])
             ratio = law.sense * r_d / r_f  # d alpha_f / d alpha_d at the contact
@@ -122,7 +131,57 @@ def analyse_planetary(design, gears: dict[str, GearOutline], steps: int = 720
     nominal, tip_lo, tip_hi = (np.stack([z[:, i].real, z[:, i].imag], axis=-1)
                                for i in range(3))
     return PlanetaryContact(motion.carrier_angle, names, records, np.asarray(lo_all),
-                            np.asarray(hi_all), nominal, tip_lo, tip_hi)
+                            np.asarray(hi_all), nominal, tip_lo, tip_hi, dwell)
+
+
+def _dwell_record(c: PlanetaryContact, j: int, psi_deg, spans) -> dict:
+    """Arm j through the first pair's toothless dwell, as the seeder's record
+    (``contact/seeder.py``): the steps its follower is held (locked: a free play both ways
+    against the sun), the play, and where a sun tooth at an end of the toothless arc jams
+    it."""
+    fp, held = c.pairs[j][0], c.dwell[j]
+    driver, driven = c.names[0]
+    free = np.degrees(fp.hi - fp.lo)[held]
+    idx = np.flatnonzero(held)
+    return {
+        "arm": j + 1, "held_gear": driven,
+        "carrier_angle_deg": [float(psi_deg[idx[0]]), float(psi_deg[idx[-1]])],
+        "steps": int(held.sum()), "locked_steps": int(np.isfinite(free).sum()),
+        "free_play_deg": {"max": float(np.nanmax(free)) if np.isfinite(free).any()
+                          else None},
+        "what_holds_the_arm": f"the {driver}'s toothless arc (turned down to its root) faces "
+                              f"{driven}, which is cut with teeth all round: {driven} is held "
+                              f"only where a {driver} tooth at an end of the arc touches it "
+                              "(locked steps)",
+        "jammed_steps": int((fp.jammed & held).sum()),
+        "jammed": spans(psi_deg, fp.jammed & held, lambda i: {
+            f"{driven}_body_angle_deg": round(float(np.degrees(fp.mesh_driven_angle[i])), 2),
+            "tooth": int(fp.mesh_driven_tooth[i])})}
+
+
+def _toothless_sun(built, motion) -> tuple[float, np.ndarray | None]:
+    """(the sun outline's frame turn (rad), the dwell steps (J, T) or None). Without a dwell
+    the sun is cut in the train's frame (0). With one (the first pair: a fixed sun, a given
+    follower, ``trains.model``) ``plantmech gears`` cuts the follower from its lock point
+    and the sun as its partial mate (``trains.gearing``), whose contact angle 0 touches the
+    follower's lock: for a clockwise carrier that is where the sun's rolling arc resumes,
+    theta_1 past its lock contact theta_L, for a counter-clockwise one the lock itself; so a
+    point of the cut sun at angle phi lies at body angle phi + theta_L - theta_1 (resp.
+    phi + theta_L) of the train's sun."""
+    gap = built.toothless[0] if built.toothless else None
+    if gap is None:
+        return 0.0, None
+    spec = built.train.pairs[0]
+    if spec.kind != "external":
+        raise ValueError(f"field 'train.pairs.0.dwell': a toothless dwell on an {spec.kind} "
+                         "pair is not cut by 'plantmech gears' yet, so not driven either")
+    law = built.laws[0]
+    theta_lock = float(np.ravel(spec.direction)[0]) + law.driver_direction \
+        - float(gap.lock[0, 0, 0])
+    width = float(gap.width[0, 0, 0])
+    frame = theta_lock - (width if built.train.carrier_sense < 0 else 0.0)
+    _, meshes = gap.meshing(motion.driver_angles[0][:1])
+    return frame, ~meshes[0]
 
 
 def planetary_record(c: PlanetaryContact, limits: dict) -> dict:
@@ -130,24 +189,37 @@ def planetary_record(c: PlanetaryContact, limits: dict) -> dict:
     every arm through the train (attitude error, tip band) and the checks against
     ``limits`` (keys transmission_error_deg, attitude_error_deg, tip_band_mm), as the
     transplanters' records."""
-    from plantmech.contact.seeder import _pair_record
+    from plantmech.contact.seeder import _pair_record, _spans
     from plantmech.contact.transplanter import arm_record, chain_checks
+    from plantmech.objectives import Check
 
     psi_deg = np.degrees(c.psi)
     none = np.zeros(len(psi_deg), dtype=bool)
     arms = len(c.pairs)
-    pairs, chained = [], []
+    pairs, chained, dwells = [], [], []
     for j in range(arms):
         for k, fp in enumerate(c.pairs[j]):
             driver, driven = c.names[k]
             label = f"{driver} -> {driven}" + (f" (arm {j + 1})" if arms > 1 else "")
-            pairs.append(_pair_record(label, fp, psi_deg, none, driven, driver))
+            skip = c.dwell[j] if k == 0 and c.dwell is not None else none
+            pairs.append(_pair_record(label, fp, psi_deg, skip, driven, driver))
         chained.append(arm_record(j, c, psi_deg))
+        if c.dwell is not None and c.dwell[j].any():
+            dwells.append(_dwell_record(c, j, psi_deg, _spans))
     rec = {"steps": len(c.psi), "step_deg": float(360.0 / len(c.psi)), "pairs": pairs,
            "arms": chained}
     te = [p["transmission_error_deg"]["max_abs_mid"] for p in pairs]
     te_max = None if None in te else max(te)
     checks = chain_checks(pairs, chained, limits, te_max, "pairs")
+    if dwells:
+        # the seeder's record (contact/seeder.py) for arm 1, every arm's counts summed
+        rec["dwell"] = dict(dwells[0], arms=dwells,
+                            locked_steps=sum(d["locked_steps"] for d in dwells),
+                            steps=sum(d["steps"] for d in dwells),
+                            jammed_steps=sum(d["jammed_steps"] for d in dwells))
+        d = rec["dwell"]
+        checks.append(Check("dwell: arm held (locked steps)", float(d["locked_steps"]),
+                            f"= {d['steps']}", d["locked_steps"] == d["steps"], "steps"))
     rec["limits"] = limits
     rec["checks"] = [ch.as_dict() for ch in checks]
     rec["ok"] = all(ch.ok for ch in checks)
@@ -166,23 +238,16 @@ def _combined(parts: list[tuple[float, np.ndarray, float]]) -> tuple[float, np.n
     return float(m), c, float(j)
 
 
-def _mesh_law_samples(law, spec, u0: float, n: int = 2048):
+def _mesh_law_samples(law, spec, u0: float, n: int = 2048, toothless=None):
     """The follower's body angle alpha_f (rad) as a function of its driver's alpha_d = u
-    over one driver turn from ``u0`` (the pitch-curve law of ``trains.model.simulate``,
-    sampled: u (n,), alpha_f (n,), slope = the follower's turns per driver turn with
-    their sense)."""
-    from plantmech.trains.model import _KIND_OFFSETS
+    over one driver turn from ``u0`` (``trains.model.mesh``, the pair mapping of
+    ``simulate``, with the pair's toothless arc if it has one: alpha_f is then constant
+    over it), sampled: u (n,), alpha_f (n,), slope = the follower's turns per driver turn
+    with their sense."""
+    from plantmech.trains.model import mesh
 
-    delta = float(np.ravel(spec.direction)[0])
-    eps_d, eps_f = _KIND_OFFSETS[spec.kind]
     u = u0 + TWO_PI * np.arange(n + 1) / n
-    theta_d = (delta + eps_d - u)[None, :]
-    if spec.follower is None:
-        F, _ = law.F(theta_d)
-        theta_f = law.sense * F
-    else:  # the law rolls on the given follower
-        theta_f = law.invert(law.sense * theta_d)
-    alpha_f = delta + eps_f - np.ravel(theta_f)
+    alpha_f = np.ravel(mesh(law, spec, u[None, :], toothless=toothless).follower_angle)
     return u[:-1], alpha_f[:-1], float((alpha_f[-1] - alpha_f[0]) / TWO_PI)
 
 
@@ -210,6 +275,11 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     from plantmech.trains.model import simulate
 
     built = built_train(design)
+    if built.toothless and built.toothless[0] is not None:
+        raise ValueError("field 'train.pairs.0.dwell': the loads through a toothless dwell "
+                         "(the follower's speed jumps at its ends, impacts of the rigid model) "
+                         "are not computed for a planetary train yet; the dedicated seeder "
+                         "file (mechanism = \"sugarcane_seeder\", [train.dwell]) computes them")
     motion = simulate(built, samples=samples)
     tr = built.train
     names = gear_names(design)
@@ -264,7 +334,8 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
                 angle_offset[i] = 0.0
         for k, (law, pspec) in enumerate(zip(built.laws, tr.pairs, strict=True)):
             d_alpha0 = float(motion.driver_angles[k][0, j, 0])
-            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0)
+            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0,
+                                                  toothless=built.toothless[k])
             V = PeriodicLaw(u, alpha_f, slope)
             # the driver's alpha from its shaft's body angle: theta_body - offset + phase
             # - theta_carrier (the sun: its absolute angle when fixed)

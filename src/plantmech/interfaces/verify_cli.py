@@ -266,12 +266,13 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
                               if k not in ("carrier_angle_deg", "steps")))
     if "dwell" in rec:
         d = rec["dwell"]
+        gear = d.get("held_gear", "gear 2")  # a planetary train's record names its gear
         print(f"  dwell at carrier {d['carrier_angle_deg'][0]:.1f}-"
-              f"{d['carrier_angle_deg'][1]:.1f} deg: gear 2 held {d['locked_steps']} of "
+              f"{d['carrier_angle_deg'][1]:.1f} deg: {gear} held {d['locked_steps']} of "
               f"{d['steps']} steps, jammed {d['jammed_steps']} steps"
               + "".join(f", at carrier {j['carrier_angle_deg'][0]:.1f}-"
-                        f"{j['carrier_angle_deg'][1]:.1f} deg (gear 2 tooth "
-                        f"{j['gear2_tooth']})" for j in d["jammed"][:3]))
+                        f"{j['carrier_angle_deg'][1]:.1f} deg ({gear} tooth "
+                        f"{j.get('gear2_tooth', j.get('tooth'))})" for j in d["jammed"][:3]))
     if loads is not None:
         tq = loads["input_torque_N_m"]
         per_input = "".join(f", {k} {v['min']:.2f} to {v['max']:.2f}" for k, v in tq.items()

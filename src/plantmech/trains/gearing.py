@@ -129,6 +129,9 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
     names = gear_names(design)
     perims = [(_perimeter(built.drivers[k], samples), _perimeter(built.followers[k], samples))
               for k in range(len(pairs))]
+    # the gear that carries whole teeth all round: the driver, or with a toothless dwell
+    # the given follower (seed 000's gear 2; the sun is a partial gear)
+    whole = [perims[k][1] if p.dwell is not None else perims[k][0] for k, p in enumerate(pairs)]
     chosen: dict[int, tuple[float, str]] = {}
     out = []
     for k, p in enumerate(pairs):
@@ -139,7 +142,7 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
             multiple = _lobes(spec)
             if abs(q - round(q)) < 1e-9:
                 multiple = multiple * round(q) // math.gcd(multiple, round(q))
-            driver_perimeter = perims[k][0]
+            driver_perimeter = whole[k]
             if p.teeth is not None and module is None:
                 source = f"train.pairs.{k}.teeth"
                 if p.teeth % multiple:
@@ -157,7 +160,8 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
             chosen[g] = (m, source)
         m, source = chosen[g]
         check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
-        a_perimeter = perims[k][1] if _RING_FIRST[p.kind] else perims[k][0]
+        a_perimeter = perims[k][1] if _RING_FIRST[p.kind] or p.dwell is not None \
+            else perims[k][0]
         out.append({"module_mm": float(m), "teeth_a": int(round(a_perimeter / (np.pi * m))),
                     "teeth_driver": int(round(perims[k][0] / (np.pi * m))), "source": source,
                     "perimeter_a_mm": float(a_perimeter)})
@@ -191,7 +195,9 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         spec = ToothSpec(module=modules[k]["module_mm"], backlash_mm=backlash, method=method,
                          **(tooth or {}))
         a = float(built.laws[k].a[0])
-        if p.kind == "internal_ring_follower":
+        if p.dwell is not None:
+            gp = _toothless_pair(built, k, names[k], spec, samples, rules)
+        elif p.kind == "internal_ring_follower":
             if idler or feeds_idler:
                 raise ValueError(f"{field}.kind: a ring follower next to an idler is not cut "
                                  "by 'plantmech gears' yet (give the ring's driver its own "
@@ -221,6 +227,32 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         gp.module_source = modules[k]["source"]
         out.append((gp, spec))
     return out
+
+
+def _toothless_pair(built, k: int, names: tuple[str, str], spec, samples: int, rules):
+    """The pair of a toothless dwell (seed 000's sun and gear 2), cut as the seeder's
+    (``mechanisms.gear_pairs``): gear A is the given follower over one turn of its body
+    from its lock point (its body angle at the contact where the dwell starts), B the sun,
+    the partial gear ``gears.teeth.make_pair`` makes of a mate that turns less than once
+    (its toothless arc, the one the contact never visits, left uncut). Named
+    "<follower>_<sun>"; A's frame is the follower's body frame, B's contact angle 0
+    touches A at the lock."""
+    from plantmech.gears.teeth import make_pair
+
+    p = built.train.pairs[k]
+    if p.kind != "external":
+        raise ValueError(f"train.pairs.{k}.dwell: a toothless dwell on an {p.kind} pair is not "
+                         "cut by 'plantmech gears' yet (an external pair is, as seed 000's)")
+    law, gap = built.laws[k], built.toothless[k]
+    delta = float(np.ravel(p.direction)[0])
+    theta_lock = delta + law.driver_direction - float(gap.lock[0, 0, 0])  # the sun's
+    start = float(law.invert(np.array([[law.sense * theta_lock]]))[0, 0])  # gear A's
+    th = start + np.linspace(0.0, TWO_PI, samples)
+    r = built.followers[k](th[None, :])[0][0]
+    a = float(law.a[0])
+    return make_pair(f"{names[1]}_{names[0]}", th, r, a, spec, samples=samples,
+                     bore_a=_bore(float(r.min()), spec, rules),
+                     bore_b=_bore(float((a - r).min()), spec, rules))
 
 
 def _second_derivative(curve: Curve) -> np.ndarray:
@@ -253,11 +285,16 @@ def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None
         dphi = r / rho
         ddphi = c * a * r1 / rho**2
         ring_d, ring_f = law.kind == "internal", law.kind == "internal_ring_follower"
-        gd = shape_from_polar(names[k][0], t, r, r1, r2, internal=ring_d)
-        gf = shape_from_polar(names[k][1], t, rho, kappa * r1, kappa * r2, dphi, ddphi,
+        # the law's driver is the pair's given follower when it gives one (seed 000's gear 2)
+        rolled, mate = names[k][::-1] if built.train.pairs[k].follower is not None \
+            else names[k]
+        gd = shape_from_polar(rolled, t, r, r1, r2, internal=ring_d)
+        gf = shape_from_polar(mate, t, rho, kappa * r1, kappa * r2, dphi, ddphi,
                               internal=ring_f)
-        # t spans one driver turn, q follower turns: the follower's own perimeter
-        gf = replace(gf, perimeter=gf.perimeter / law.follower_turns)
+        # t spans one driver turn, q follower turns: the follower's own perimeter; with a
+        # toothless dwell the derived sun carries its teeth on the rolling arc t spans
+        if built.train.pairs[k].dwell is None:
+            gf = replace(gf, perimeter=gf.perimeter / law.follower_turns)
         diff = None
         if ring_d or ring_f:
             ring, planet = (gd, gf) if ring_d else (gf, gd)

@@ -27,6 +27,16 @@ Frames and angles (radians inside, docs/architecture.md "Train model"):
   or a new gear on the previous follower's shaft), and ``phase`` is the follower's body
   angle at the contact at the start (it sets the derived driver's orientation).
 
+A pair may carry a toothless dwell (``PairSpec.dwell``, seed 000's sector over cd, Eq. 5):
+from carrier angle psi_s for a sector theta_1 of carrier turn its follower (and everything
+after it) does not turn relative to the carrier while the driver's toothless arc passes;
+after it the pair rolls on theta_1 behind the carrier. Supported where it is the seeder's:
+the first pair, a fixed sun (it turns exactly theta_1 relative to the carrier through the
+dwell) and a given follower (gear 2; the sun is derived: its rolling arc is the mate of one
+follower turn, 360 - theta_1 deg, and its toothless arc the rest). ``mesh`` maps a driver's
+body angle to its follower's through the law (and the toothless arc): ``simulate`` and the
+tooth-contact loads (``contact.planetary``) call it.
+
 The planet's absolute angle is C + alpha_planet; the arm (length L, mm) leaves the
 planet's axis at the arm angle beta = planet angle + (beta0 - planet angle of arm 0 at
 psi = 0), beta0 = ``arm_angle`` (rad, absolute at the start). Tip = centre + L e^{i beta};
@@ -41,7 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plantmech.trains.curves import TWO_PI, Curve, _column
-from plantmech.trains.pairs import PairError, PairLaw, pair_law
+from plantmech.trains.pairs import _KIND, PairError, PairLaw, pair_law
 
 
 @dataclass
@@ -53,7 +63,9 @@ class PairSpec:
     centres driver -> follower in the carrier frame. ``follower_turns``: q, the
     follower's turns per driver turn. ``follower`` (instead of ``driver``): the
     follower's pitch curve is given and the driver derived; ``phase`` is then the
-    follower's body angle (rad) at the contact at the start."""
+    follower's body angle (rad) at the contact at the start. ``dwell``: (psi_s, theta_1)
+    (rad, scalars or (P,)): the carrier angle where the toothless dwell starts and the
+    carrier turn it spans (seed 000's theta_1; module docstring)."""
 
     kind: str = "external"
     driver: Curve | None = None
@@ -63,6 +75,7 @@ class PairSpec:
     direction: float | np.ndarray = 0.0
     follower_turns: float = 1.0
     name: str = "pair"
+    dwell: tuple | None = None  # (psi_s, theta_1) rad, scalars or (P,): the toothless dwell
 
 
 @dataclass
@@ -84,8 +97,39 @@ class Train:
 
 
 @dataclass
+class Toothless:
+    """A pair's toothless dwell in its driver's terms: the driver's body angle ``lock``
+    (rad, (P, 1, 1), relative to arm 0's carrier line) where the follower locks, the
+    driver's turn ``width`` (rad, (P, 1, 1)) while its toothless arc passes (theta_1 for a
+    fixed sun) and ``sense`` (+1 / -1): the driver's direction of turn relative to the
+    carrier. The dwell is a region of the driver's body, so every arm meets it."""
+
+    lock: np.ndarray
+    width: np.ndarray
+    sense: float
+
+    def meshing(self, alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(alpha_m, meshes) at driver body angles ``alpha`` (rad, (P, ...)): the angle the
+        pair has rolled through (the toothless arcs passed squeezed out: alpha_m is held at
+        the lock over the arc and ``width`` behind alpha after it, in every turn; before
+        the first lock alpha_m = alpha) and whether the teeth mesh there (False on the
+        toothless arc, seed 000's in_dwell)."""
+        lock = self.lock.reshape((-1,) + (1,) * (np.ndim(alpha) - 1))
+        width = self.width.reshape(lock.shape)
+        t = self.sense * (alpha - lock)  # the driver's travel from the lock
+        turns = np.floor(t / TWO_PI)
+        v = t - TWO_PI * turns  # [0, 2 pi): the toothless arc is [0, width)
+        meshes = v >= width
+        rolled = turns * (TWO_PI - width) + np.where(meshes, v - width, 0.0)
+        return lock + self.sense * rolled, meshes
+
+
+@dataclass
 class BuiltTrain:
-    """The pairs' laws and the gear curves of P trains (``build``)."""
+    """The pairs' laws and the gear curves of P trains (``build``). A pair's driver
+    curve is its body as it turns: a derived sun with a toothless dwell is its rolling arc
+    (the mate of one follower turn) and, over its toothless arc, the circular arc at the
+    lock radius (``toothless[k]`` says where)."""
 
     train: Train
     laws: list[PairLaw]
@@ -93,6 +137,7 @@ class BuiltTrain:
     known_followers: list[Curve | None]  # follower curves computed so far (None: not yet)
     shafts: np.ndarray  # (P, K + 1) complex shaft positions in the carrier frame (mm)
     designs: int
+    toothless: list[Toothless | None] = field(default_factory=list)  # per pair
 
     @property
     def centre_distances(self) -> np.ndarray:
@@ -125,6 +170,9 @@ class TrainMotion:
     arm_rate: np.ndarray  # d beta / d psi
     tip_rate: np.ndarray  # d tip / d psi (mm/rad)
     built: BuiltTrain = field(repr=False, default=None)
+    #: per pair (P, J, S) bool: where its teeth mesh (False on a toothless dwell, where its
+    #: follower is held and the contact radii are the lock's), None without a dwell
+    meshes: list = field(default_factory=list)
 
     def velocity(self, carrier_speed_deg_s: float) -> np.ndarray:
         """Tip velocity (complex, m/s) at the carrier speed (deg/s, in the carrier's
@@ -167,18 +215,34 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
                             f"follower_turns < 1 (got {q:g})")
     P = designs or max(c.designs for p in train.pairs for c in (p.driver, p.follower)
                        if c is not None)
-    laws, drivers, followers = [], [], []
+    dwells = [_dwell_of(train, k, spec, P) for k, spec in enumerate(train.pairs)]
+    laws, drivers, followers, toothless = [], [], [], []
     shafts = [np.zeros(P, dtype=complex)]
     previous: Curve | None = None
     for k, spec in enumerate(train.pairs):
+        gap = None
         if spec.follower is not None:
             given = _per_design(spec.follower, P)
-            law = pair_law(SWAPPED[spec.kind], given, 1.0 / spec.follower_turns,
+            turns = 1.0 / spec.follower_turns
+            if dwells[k] is not None:  # the sun rolls 360 - theta_1 deg per follower turn
+                turns = (1.0 - dwells[k][1] / TWO_PI) / spec.follower_turns
+            law = pair_law(SWAPPED[spec.kind], given, turns,
                            spec.centre_distance, tolerance=train.closure_tolerance,
                            min_radius=train.min_radius,
                            name=f"{spec.name} (rolled on its given follower, which is the "
-                           "'driver' of this message)")
-            driver, follower = law.mate(f"{spec.name} driver"), given
+                           "'driver' of this message"
+                           + (", its driver rolling 360 deg less the dwell's sector)"
+                              if dwells[k] is not None else ")"),
+                           periodic_mate=dwells[k] is None)
+            if dwells[k] is None:
+                driver = law.mate(f"{spec.name} driver")
+            else:
+                start, sector = dwells[k]
+                lock = _derived_driver_angle(spec, law, P) - float(train.carrier_sense) * \
+                    start[:, None, None]
+                gap = Toothless(lock, sector[:, None, None], -float(train.carrier_sense))
+                driver = _toothless_driver(law, spec, gap, P)
+            follower = given
         else:
             driver = previous if spec.driver is None else _per_design(spec.driver, P)
             law = pair_law(spec.kind, driver, spec.follower_turns, spec.centre_distance,
@@ -190,10 +254,66 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
         laws.append(law)
         drivers.append(driver)
         followers.append(follower)
+        toothless.append(gap)
         delta = np.broadcast_to(np.asarray(spec.direction, dtype=float), (P,))
         shafts.append(shafts[-1] + law.a * np.exp(1j * delta))
         previous = follower
-    return BuiltTrain(train, laws, drivers, followers, np.stack(shafts, axis=1), P)
+    return BuiltTrain(train, laws, drivers, followers, np.stack(shafts, axis=1), P, toothless)
+
+
+def _dwell_of(train: Train, k: int, spec: PairSpec, P: int):
+    """(psi_s, theta_1) (P,) rad of pair k's toothless dwell, or None; PairError naming
+    the pair where the dwell is not the seeder's (module docstring) or does not fit in one
+    carrier turn."""
+    if spec.dwell is None:
+        return None
+    where = f"{spec.name}.dwell"
+    if k > 0:
+        raise PairError(f"{where}: a toothless dwell is supported on the first pair (the "
+                        "sun's) only: a later driver does not turn uniformly relative to the "
+                        "carrier, so its toothless arc would not be the carrier's sector")
+    if float(train.sun_speed_ratio) != 0.0:
+        raise PairError(f"{where}: a toothless dwell needs a fixed sun (sun_speed_ratio = 0; "
+                        f"got {float(train.sun_speed_ratio):g}): a turning sun would bring its "
+                        "toothless arc round at another carrier angle every turn")
+    if spec.follower is None:
+        raise PairError(f"{where}: give the follower's pitch curve (the pair's 'follower' "
+                        "table, seed 000's gear 2) instead of the sun's: the sun is then "
+                        "derived, its rolling arc the mate of one follower turn and its "
+                        "toothless arc the rest")
+    start, sector = (np.broadcast_to(np.asarray(v, dtype=float), (P,)).astype(float)
+                     for v in spec.dwell)
+    bad = ~((sector > 0) & (sector < TWO_PI) & (start >= 0) & (start + sector <= TWO_PI)
+            & np.isfinite(start) & np.isfinite(sector))
+    if bad.any():
+        d = int(np.argmax(bad))
+        raise PairError(f"{where}: the dwell from carrier angle {np.degrees(start[d]):.6g} "
+                        f"deg over a sector of {np.degrees(sector[d]):.6g} deg does not lie "
+                        "inside one carrier turn (0 <= start, 0 < sector, start + sector <= "
+                        "360 deg)" + (f" (design {d})" if P > 1 else ""))
+    return start, sector
+
+
+def _toothless_driver(law: PairLaw, spec: PairSpec, gap: Toothless, P: int) -> Curve:
+    """The derived driver (the sun) of a pair with a toothless dwell, on the given
+    follower's grid of body angles (its frame: the law's, theta_d = sense F(theta_f)):
+    from the lock, the toothless arc (the driver turns ``gap.width`` while the follower
+    is held), drawn as the circular arc at the lock radius, then the rolling arc, the mate
+    of one follower turn (r = kappa r_f + c a at theta_f = F^-1(sense theta_m))."""
+    n = law.g.shape[1]
+    theta = TWO_PI * np.arange(n) / n
+    delta = _column(spec.direction, P)
+    eps_d = _KIND_OFFSETS[spec.kind][0]
+    theta_lock = delta + eps_d - gap.lock[:, :, 0]  # (P, 1) body angle at the lock
+    travel = np.mod(-gap.sense * (theta[None, :] - theta_lock), TWO_PI)  # past the lock
+    rolling = travel >= gap.width[:, :, 0]
+    theta_m = theta_lock - gap.sense * np.where(rolling, travel - gap.width[:, :, 0], 0.0)
+    theta_f = law.invert(np.broadcast_to(law.sense * theta_m, (P, n)))
+    r_f, dr_f = law.driver(theta_f)
+    g = r_f / law.follower_radius(r_f)
+    _, kappa, _, _, _ = _KIND[law.kind]
+    return Curve(law.follower_radius(r_f), np.where(rolling, kappa * dr_f / (law.sense * g),
+                                                    0.0), f"{spec.name} driver")
 
 
 def _derived_driver_angle(spec: PairSpec, law: PairLaw, P: int) -> np.ndarray:
@@ -209,6 +329,61 @@ def _derived_driver_angle(spec: PairSpec, law: PairLaw, P: int) -> np.ndarray:
 #: contact direction offsets from delta (driver, follower) of each physical kind
 _KIND_OFFSETS = {"external": (0.0, np.pi), "internal": (0.0, 0.0),
                  "internal_ring_follower": (np.pi, np.pi)}
+
+
+@dataclass
+class PairMesh:
+    """A pair's follower at its driver's body angles (``mesh``): body angle alpha_f and its
+    rate d alpha_f / d psi (rad, rad/rad; None when no driver rate was given), the pitch
+    radii at the contact (mm; on a toothless arc those where the follower locked), and
+    where the teeth mesh (None without a toothless dwell)."""
+
+    follower_angle: np.ndarray
+    follower_rate: np.ndarray | None
+    driver_radius: np.ndarray
+    follower_radius: np.ndarray
+    meshes: np.ndarray | None = None
+
+
+def mesh(law: PairLaw, spec: PairSpec, driver_angle: np.ndarray, driver_rate=None,
+         toothless: Toothless | None = None) -> PairMesh:
+    """The follower of pair ``spec`` (its ``law``) at driver body angles alpha_d
+    (``driver_angle``, rad relative to the carrier line, shape (P|1, ...)): the contact at
+    driver body angle theta_d = delta + eps_d - alpha_d lies at follower body angle
+    theta_f = sense F(theta_d) (a given follower: theta_d = sense F(theta_f), inverted), so
+    alpha_f = delta + eps_f - theta_f, and d alpha_f / d psi = sense g d alpha_d / d psi
+    (a given follower: sense / g) from ``driver_rate`` (d alpha_d / d psi, same shape).
+    ``toothless``: the pair's dwell; the law then reads the driver's meshing angle
+    (``Toothless.meshing``) and the follower's rate is 0 on the toothless arc. The one
+    pair mapping of the model: ``simulate`` and ``contact.planetary`` call it."""
+    P = law.a.shape[0]
+    alpha = np.asarray(driver_angle, dtype=float)
+    shape = (max(P, alpha.shape[0]),) + alpha.shape[1:]
+    meshes = None
+    if toothless is not None:
+        alpha, meshes = toothless.meshing(alpha)
+        if driver_rate is not None:
+            driver_rate = np.where(meshes, driver_rate, 0.0)
+    delta = _column(spec.direction, P).reshape((-1,) + (1,) * (alpha.ndim - 1))
+    eps_d, eps_f = _KIND_OFFSETS[spec.kind]
+    theta_d = (delta + eps_d - alpha).reshape(P, -1)
+    rate = None
+    if spec.follower is None:
+        F, g = law.F(theta_d)
+        r_d = law.driver(theta_d)[0]
+        r_f = law.follower_radius(r_d)
+        theta_f = law.sense * F
+        if driver_rate is not None:
+            rate = law.sense * g.reshape(shape) * driver_rate
+    else:  # the law rolls on the follower: theta_d = sense F(theta_f)
+        theta_f = law.invert(law.sense * theta_d)
+        F, g = law.F(theta_f)
+        r_f = law.driver(theta_f)[0]
+        r_d = law.follower_radius(r_f)
+        if driver_rate is not None:
+            rate = law.sense * driver_rate / g.reshape(shape)
+    return PairMesh(delta + eps_f - theta_f.reshape(shape), rate, r_d.reshape(shape),
+                    r_f.reshape(shape), meshes)
 
 
 def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
@@ -231,30 +406,17 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
     rate = np.full((P, J, samples), (k - 1) * s)
-    angles, rates, contacts, driver_angles = [alpha], [rate], [], []
+    angles, rates, contacts, driver_angles, meshes = [alpha], [rate], [], [], []
     for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
         if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
             alpha = alpha + _column(spec.phase, P)[:, :, None]
         elif i > 0 and spec.follower is not None:  # a derived gear on the shaft
             alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
         driver_angles.append(alpha)
-        delta = _column(spec.direction, P)[:, :, None]
-        eps_d, eps_f = _KIND_OFFSETS[spec.kind]
-        theta_d = (delta + eps_d - alpha).reshape(P, -1)
-        if spec.follower is None:
-            F, g = law.F(theta_d)
-            r_d = law.driver(theta_d)[0]
-            r_f = law.follower_radius(r_d)
-            theta_f = law.sense * F
-            rate = law.sense * g.reshape(P, J, samples) * rate
-        else:  # the law rolls on the follower: theta_d = sense F(theta_f)
-            theta_f = law.invert(law.sense * theta_d)
-            F, g = law.F(theta_f)
-            r_f = law.driver(theta_f)[0]
-            r_d = law.follower_radius(r_f)
-            rate = law.sense * rate / g.reshape(P, J, samples)
-        contacts.append((r_d.reshape(P, J, samples), r_f.reshape(P, J, samples)))
-        alpha = delta + eps_f - theta_f.reshape(P, J, samples)
+        m = mesh(law, spec, alpha, rate, built.toothless[i] if built.toothless else None)
+        contacts.append((m.driver_radius, m.follower_radius))
+        meshes.append(m.meshes)
+        alpha, rate = m.follower_angle, m.follower_rate
         angles.append(alpha)
         rates.append(rate)
     centre = built.shafts[:, -1, None, None] * np.exp(1j * carrier)
@@ -266,7 +428,8 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     beta_rate = s + rate
     tip_rate = 1j * s * centre + 1j * L * beta_rate * np.exp(1j * beta)
     return TrainMotion(psi, np.broadcast_to(carrier, (P, J, samples)), angles, rates,
-                       driver_angles, contacts, centre, tip, beta, beta_rate, tip_rate, built)
+                       driver_angles, contacts, centre, tip, beta, beta_rate, tip_rate, built,
+                       meshes)
 
 
 def forward(train: Train, samples: int = 3600) -> TrainMotion:
@@ -274,4 +437,5 @@ def forward(train: Train, samples: int = 3600) -> TrainMotion:
     return simulate(build(train), samples)
 
 
-__all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "build", "simulate", "forward"]
+__all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "Toothless", "PairMesh", "mesh",
+           "build", "simulate", "forward"]

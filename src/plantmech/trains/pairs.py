@@ -53,24 +53,30 @@ def _ratio(kind: str, r: np.ndarray, a: np.ndarray) -> np.ndarray:
     return r / (kappa * r + c * a)
 
 
-def solve_centre_distance(kind: str, r: np.ndarray, follower_turns: float) -> np.ndarray:
+def _turns(follower_turns, P: int) -> np.ndarray:
+    """q as a (P,) array (a scalar shared by the designs, or one per design)."""
+    return np.broadcast_to(np.asarray(follower_turns, dtype=float), (P,)).astype(float)
+
+
+def solve_centre_distance(kind: str, r: np.ndarray, follower_turns) -> np.ndarray:
     """Centre distance a (P,) mm with mean(g) = q over one driver turn for driver radii r
     (P, N) sampled uniformly (the periodic running integral's end value is exactly the
-    mean times 2 pi). The mean ratio is monotone in a on the admissible interval, so the
-    root is unique: bisection, then Newton. Raises PairError when no a can close it."""
-    q = float(follower_turns)
+    mean times 2 pi); q scalar or (P,). The mean ratio is monotone in a on the admissible
+    interval, so the root is unique: bisection, then Newton. Raises PairError when no a
+    can close it."""
+    q = _turns(follower_turns, r.shape[0])
     rmin, rmax = r.min(axis=1), r.max(axis=1)
     if kind == "external":
         lo, hi = rmax * (1 + 1e-12), rmax * (1 + 1 / q) * (1 + 1e-9)
     elif kind == "internal":
-        if q <= 1:
+        if np.any(q <= 1):
             raise PairError(f"an internal pair whose driver is the ring turns the follower "
-                            f"faster than the ring (q > 1); follower_turns = {q:g}")
+                            f"faster than the ring (q > 1); follower_turns = {q.min():g}")
         lo, hi = np.zeros_like(rmin), rmin * (1 - 1e-12)
     else:
-        if q >= 1:
+        if np.any(q >= 1):
             raise PairError(f"a ring follower turns slower than its driver (q < 1); "
-                            f"follower_turns = {q:g}")
+                            f"follower_turns = {q.max():g}")
         lo, hi = np.zeros_like(rmin), rmax * (1 - q) / q * (1 + 1e-9)
 
     def excess(a):
@@ -108,7 +114,7 @@ class PairLaw:
     dg: np.ndarray
     Fp: np.ndarray
     q_e: np.ndarray
-    follower_turns: float
+    follower_turns: float | np.ndarray
     name: str = "pair"
 
     @property
@@ -174,22 +180,26 @@ class PairLaw:
         return Curve(self.follower_radius(r_d), kappa * dr_d / (self.sense * g), name)
 
 
-def pair_law(kind: str, driver: Curve, follower_turns: float, centre_distance=None,
+def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
              tolerance: float = np.radians(0.01), min_radius: float = 0.0,
-             name: str = "pair") -> PairLaw:
+             name: str = "pair", periodic_mate: bool = True) -> PairLaw:
     """Transmission law of P pairs whose driver is ``driver`` (P designs).
 
     ``centre_distance`` (mm, scalar or (P,)) None: solved so the follower turns
     ``follower_turns`` times per driver turn; given: the pair must close within
     ``tolerance`` (rad per driver turn) or PairError says the centre distance that
     closes it. The follower's radius must stay above ``min_radius`` (mm), and the driver's
-    pitch curve must repeat every 1 / q turn (else the follower's curve would not close)."""
+    pitch curve must repeat every 1 / q turn (else the follower's curve would not close).
+    ``follower_turns`` q: a scalar or one per design (P,). ``periodic_mate`` False: the
+    mate is not a closed gear rolled all round (a toothless sector: ``trains.model``'s
+    dwell), so the driver's repetition every 1 / q turn is not asked."""
     if kind not in KINDS:
         raise PairError(f"{name}: unknown kind {kind!r} (expected one of {', '.join(KINDS)})")
-    q = float(follower_turns)
-    if not q > 0:
-        raise PairError(f"{name}: follower_turns must be positive, got {q:g}")
     P, N = driver.r.shape
+    scalar = np.ndim(follower_turns) == 0
+    q = _turns(follower_turns, P)
+    if not np.all(q > 0):
+        raise PairError(f"{name}: follower_turns must be positive, got {q.min():g}")
     driver.check_positive(min_radius)
     try:
         solved = solve_centre_distance(kind, driver.r, q)
@@ -217,21 +227,23 @@ def pair_law(kind: str, driver: Curve, follower_turns: float, centre_distance=No
     F = periodic_spline_running_integral(g.T, h).T  # (P, N + 1)
     q_e = F[:, -1] / TWO_PI
     Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
-    law = PairLaw(kind, driver, a, g, dg, Fp, q_e, q, name)
+    law = PairLaw(kind, driver, a, g, dg, Fp, q_e, float(q[0]) if scalar else q, name)
     err = np.abs(law.closure_error)
     if centre_distance is not None and np.any(err > tolerance):
         d = int(np.argmax(err))
         raise PairError(f"{name}: the pair does not close: per driver turn the follower "
-                        f"turns {360 * q_e[d]:.4f} deg, {360 * q:g} needed, at centre "
+                        f"turns {360 * q_e[d]:.4f} deg, {360 * q[d]:.6g} needed, at centre "
                         f"distance {a[d]:.4f} mm; it closes at {solved[d]:.4f} mm (leave "
                         "centre_distance_mm out to solve it)"
                         + (f" (design {d})" if P > 1 else ""))
+    if not periodic_mate:
+        return law
     th = TWO_PI * np.arange(N) / N
-    gap = np.abs(driver(th[None, :] + TWO_PI / q)[0] - driver.r).max(axis=1)
+    gap = np.abs(driver(th[None, :] + TWO_PI / q[:, None])[0] - driver.r).max(axis=1)
     if np.any(gap > 1e-6 * driver.r.max(axis=1)):
         d = int(np.argmax(gap))
-        raise PairError(f"{name}: the follower turns {q:g} times per driver turn, but the "
-                        f"driver's pitch curve does not repeat every {360 / q:g} deg "
+        raise PairError(f"{name}: the follower turns {q[d]:g} times per driver turn, but the "
+                        f"driver's pitch curve does not repeat every {360 / q[d]:g} deg "
                         f"(differs by up to {gap[d]:.4g} mm): the follower's pitch curve "
                         "would not close")
     return law

@@ -70,11 +70,13 @@ def train_from_design(design) -> Train:
             except CurveError as exc:
                 raise TrainSpecError(str(exc)) from None
             phase = np.radians(spec.phase_deg)
+        dwell = None if p.dwell is None else (np.radians(p.dwell.start_deg),
+                                               np.radians(p.dwell.sector_deg))
         pairs.append(PairSpec(kind=p.kind, driver=curves.get("driver"), phase=phase,
                               follower=curves.get("follower"),
                               centre_distance=p.centre_distance_mm,
                               direction=np.radians(p.direction_deg),
-                              follower_turns=p.follower_turns, name=field))
+                              follower_turns=p.follower_turns, name=field, dwell=dwell))
     c = design.carrier
     return Train(pairs, carrier0=np.radians(c.initial_angle_deg),
                  carrier_sense=-1 if c.direction == "clockwise" else 1,
@@ -101,12 +103,14 @@ def _curve_structure(spec):
 def structure_key(design) -> tuple:
     """The structure P planetary designs must share to be one population (``Train``):
     pair kinds, which pairs give a driver or a follower table and of which family,
-    follower turns, whether a centre distance is given, the sun speed ratio, the grid, the
-    carrier's sense and arms, and the rules (limits, cutting). Designs differing only in
-    numbers (radii, eccentricities, phases, centre distances, arm, carrier start) share it."""
+    follower turns, whether a centre distance or a dwell is given, the sun speed ratio,
+    the grid, the carrier's sense and arms, and the rules (limits, cutting). Designs
+    differing only in numbers (radii, eccentricities, phases, centre distances, dwell
+    angles, arm, carrier start) share it."""
     t = design.train
     pairs = tuple((p.kind, _curve_structure(p.driver), _curve_structure(p.follower),
-                   p.follower_turns, p.centre_distance_mm is None) for p in t.pairs)
+                   p.follower_turns, p.centre_distance_mm is None, p.dwell is None)
+                  for p in t.pairs)
     return (pairs, t.sun_speed_ratio, t.grid, t.min_pitch_radius_mm, t.closure_tolerance_deg,
             design.carrier.direction, design.carrier.arms, design.carrier.speed_deg_s,
             design.limits.model_dump_json(), design.manufacturing.model_dump_json())
@@ -158,12 +162,15 @@ def train_from_designs(designs: list) -> Train:
                 raise TrainSpecError(str(exc)) from None
             phase = np.radians([s.phase_deg for s in specs])
         given = [d.train.pairs[k].centre_distance_mm for d in designs]
+        dwell = None if p.dwell is None else (
+            np.radians([d.train.pairs[k].dwell.start_deg for d in designs]),
+            np.radians([d.train.pairs[k].dwell.sector_deg for d in designs]))
         pairs.append(PairSpec(kind=p.kind, driver=curves.get("driver"), phase=phase,
                               follower=curves.get("follower"),
                               centre_distance=None if given[0] is None else np.array(given),
                               direction=np.radians([d.train.pairs[k].direction_deg
                                                     for d in designs]),
-                              follower_turns=p.follower_turns, name=field))
+                              follower_turns=p.follower_turns, name=field, dwell=dwell))
     c = first.carrier
     return Train(pairs, carrier0=np.radians([d.carrier.initial_angle_deg for d in designs]),
                  carrier_sense=-1 if c.direction == "clockwise" else 1,
