@@ -197,3 +197,49 @@ pop = 8
     best = load_design(out / "best_1.toml")
     rows = {r["name"]: r for r in design_evaluation(best)}
     assert rows["path_height_mm"]["ok"] and rows["path_height_mm"]["value"] > 270.0
+
+
+def test_variants_outside_the_file_rules_are_counted_not_a_traceback(tmp_path, capsys):
+    """A tolerance wide enough that some variants break a field rule (the ellipses'
+    eccentricity must lie in [0, 0.8]): those variants cannot be built, so they count as
+    not met and stay out of the tip-path band; band.csv has no NaN; the number the summary
+    gives is the number of sampled eccentricities outside [0, 0.8] (counted here from the
+    samples); before, band.csv refused its NaN with a traceback."""
+    import numpy as np
+
+    from plantmech.studies.engine import read_results
+
+    tol = _write(tmp_path / "t.toml", """kind = "tolerance"
+samples = 40
+chunk = 20
+cycle_samples = 180
+[parameters."train.pairs.0.driver.eccentricity"]
+distribution = "uniform"
+plus_minus = 0.9
+""")
+    out = tmp_path / "tol"
+    assert main(["study", ELLIPTIC, "--spec", tol, "--out", str(out), "--workers", "1",
+                 "--quiet", "--no-plots"]) == 0
+    io = capsys.readouterr()
+    s = json.loads((out / "summary.json").read_text())
+    e = 0.18 + read_results(out)["d_train.pairs.0.driver.eccentricity"]
+    outside = int(((e < 0) | (e > 0.8)).sum())
+    assert 0 < outside < 40 and s["variants_not_moved"] == outside
+    assert f"{outside} of 40 variants could not be built" in io.out
+    band = np.loadtxt(out / "band.csv", delimiter=",", skiprows=1)
+    assert np.isfinite(band).all() and len(band) == 180
+    assert s["probability_all_ok"] <= 1 - outside / 40
+
+
+def test_a_band_with_no_variant_that_moved_is_an_input_error(monkeypatch):
+    import numpy as np
+    import pytest
+
+    from plantmech.studies import runner
+    from plantmech.studies.parameters import StudyInputError
+
+    empty = {"sum": np.zeros(4), "sumsq": np.zeros(4), "min": np.full(4, np.inf),
+             "max": np.full(4, -np.inf), "count": np.array([0]), "variants": np.array([7])}
+    monkeypatch.setattr(runner, "read_extras", lambda out: [empty, empty])
+    with pytest.raises(StudyInputError, match="none of the 14 variants"):
+        runner.band_statistics(Path("."))

@@ -210,6 +210,10 @@ def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:
     print(f"tolerance study: {s['samples']} samples; P(every objective met) = "
           f"{s['probability_all_ok']:.4f}; P(the {len(s['nominal_met'])} objectives the "
           f"nominal design meets all still met) = {s['probability_nominal_met_kept']:.4f}")
+    if s.get("variants_not_moved"):
+        print(f"  {s['variants_not_moved']} of {s['samples']} variants could not be built or "
+              "moved (a field outside what the design file accepts): counted as not met, "
+              "left out of the tip-path band")
     for o in s["objectives"]:
         top = o["sensitivity"]["ranking"][0]
         print(f"  {o['name']:<36} nominal {o['nominal']:>10.4f} {o['unit']:<4} "

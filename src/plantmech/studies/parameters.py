@@ -409,8 +409,15 @@ def chunk_outputs(model, deltas: np.ndarray) -> tuple[dict, dict]:
     cols["attitude_error_deg"] = np.abs(dang).max(axis=1)
     for k, v in ev.extra.items():
         cols[k] = v[1:]
-    band = {"sum": en.sum(axis=0), "sumsq": (en * en).sum(axis=0), "min": en.min(axis=0),
-            "max": en.max(axis=0), "count": np.array([P])}
+    # a variant the model could not build or move (a refused field, a pair that does not
+    # close) has no motion: the band is over the variants that moved, and says how many
+    moved = np.isfinite(en).all(axis=1)
+    em = en[moved]
+    S = en.shape[1]
+    band = {"sum": em.sum(axis=0), "sumsq": (em * em).sum(axis=0),
+            "min": em.min(axis=0) if len(em) else np.full(S, np.inf),
+            "max": em.max(axis=0) if len(em) else np.full(S, -np.inf),
+            "count": np.array([int(moved.sum())]), "variants": np.array([P])}
     return cols, band
 
 

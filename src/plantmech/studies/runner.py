@@ -14,7 +14,13 @@ import numpy as np
 
 from plantmech.studies import distributions as dist
 from plantmech.studies.engine import RunStats, claim_out_dir, read_extras, read_results, run_chunks
-from plantmech.studies.parameters import OUTPUT_UNITS, chunk_outputs, make_model, path_normal
+from plantmech.studies.parameters import (
+    OUTPUT_UNITS,
+    StudyInputError,
+    chunk_outputs,
+    make_model,
+    path_normal,
+)
 from plantmech.studies.spec import SweepSpec, ToleranceSpec
 
 
@@ -155,11 +161,16 @@ def first_order(model, stds: np.ndarray, rel_step: float = 0.01) -> dict:
 def band_statistics(out: Path) -> dict:
     bands = read_extras(out)
     n = sum(int(b["count"][0]) for b in bands)
+    total = sum(int(b.get("variants", b["count"])[0]) for b in bands)
+    if n == 0:
+        raise StudyInputError(f"none of the {total} variants could be built and moved: the "
+                              "deviations take every variant outside what the design "
+                              "file accepts (smaller deviations, or another nominal)")
     s = sum(b["sum"] for b in bands)
     s2 = sum(b["sumsq"] for b in bands)
     mean = s / n
     var = np.maximum(s2 / n - mean**2, 0.0) * n / max(n - 1, 1)
-    return {"count": n, "mean": mean, "std": np.sqrt(var),
+    return {"count": n, "variants": total, "mean": mean, "std": np.sqrt(var),
             "min": np.min([b["min"] for b in bands], axis=0),
             "max": np.max([b["max"] for b in bands], axis=0)}
 
@@ -171,6 +182,13 @@ def tolerance_summary(model, spec: ToleranceSpec, out: Path) -> dict:
     dists = list(spec.parameters.values())
     stds = np.array([dist.std(d) for d in dists])
     fo = first_order(model, stds)
+    stuck = [n for n, g in zip(names, fo["grad_normal"], strict=True)
+             if not np.isfinite(g).all()]
+    if stuck:
+        raise StudyInputError(
+            f"parameter {stuck[0]!r}: a step of 1 % of its standard deviation from the "
+            "nominal cannot be built or moved, so its first-order sensitivity is not "
+            "computable: the nominal design lies on the edge of what the file accepts")
     nominal = fo["nominal"]
     X = np.stack([data[f"d_{n}"] for n in names], axis=1)
     objectives = []
@@ -213,6 +231,7 @@ def tolerance_summary(model, spec: ToleranceSpec, out: Path) -> dict:
         "parameters": [{"name": n, **d.model_dump(exclude_none=True), "std": float(s),
                         "nominal": float(model.nominal(n))}
                        for n, d, s in zip(names, dists, stds, strict=True)],
+        "variants_not_moved": band["variants"] - band["count"],
         "probability_all_ok": float(all_ok.mean()),
         "probability_all_ok_95": wilson(int(all_ok.sum()), N),
         "nominal_met": [fo["names"][k] for k in met_nominal],
