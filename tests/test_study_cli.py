@@ -243,3 +243,21 @@ def test_a_band_with_no_variant_that_moved_is_an_input_error(monkeypatch):
     monkeypatch.setattr(runner, "read_extras", lambda out: [empty, empty])
     with pytest.raises(StudyInputError, match="none of the 14 variants"):
         runner.band_statistics(Path("."))
+
+
+def test_a_sweep_past_a_field_rule_says_how_many_variants_were_not_built(tmp_path, capsys):
+    spec = _write(tmp_path / "w.toml", """kind = "sweep"
+method = "grid"
+chunk = 3
+cycle_samples = 180
+[parameters."train.pairs.0.driver.eccentricity"]
+low = 0.1
+high = 0.95
+levels = 3
+""")
+    out = tmp_path / "sw"
+    assert main(["study", ELLIPTIC, "--spec", spec, "--out", str(out), "--workers", "1",
+                 "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["variants_not_moved"] == 1  # e = 0.95 > 0.8; 0.1 and 0.525 are built
+    assert "1 could not be built" in capsys.readouterr().out and (out / "sweep.png").exists()

@@ -142,7 +142,10 @@ def _report(args, spec, design, out: Path, outcome) -> int:
             plot_sweep(out / "sweep.png", read_results(out), s)
             written.append(out / "sweep.png")
         print(f"sweep: {s['samples']} designs, every objective met by "
-              f"{100 * s['fraction_all_ok']:.1f} %")
+              f"{100 * s['fraction_all_ok']:.1f} %"
+              + (f"; {s['variants_not_moved']} could not be built or moved (a field outside "
+                 "what the design file accepts: red x in sweep.png)"
+                 if s.get("variants_not_moved") else ""))
         code = EXIT_OK
     else:
         if not args.no_plots:

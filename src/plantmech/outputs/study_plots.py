@@ -227,7 +227,7 @@ def plot_sweep(path: Path, data: dict, summary: dict) -> None:
     objs = [o["name"] for o in summary["objectives"]]
     limits = summary.get("limits", {})
     fig, axes = plt.subplots(len(objs), len(params), squeeze=False,
-                             figsize=(3.4 * len(params), 2.2 * len(objs)))
+                             figsize=(max(3.4 * len(params), 5.0), 2.2 * len(objs)))
     for i, o in enumerate(objs):
         ok = np.asarray(data[f"{o}__ok"], bool)
         for j, p in enumerate(params):
@@ -235,6 +235,12 @@ def plot_sweep(path: Path, data: dict, summary: dict) -> None:
             x, y = np.asarray(data[p]), np.asarray(data[o])
             ax.scatter(x[~ok], y[~ok], s=4, color="0.6")
             ax.scatter(x[ok], y[ok], s=4, color="tab:blue")
+            built = np.isfinite(np.asarray(data.get("path_deviation_mm", y), float))
+            if (~built).any():  # variants that could not be built: marked on the x axis
+                ax.scatter(x[~built], np.full((~built).sum(), 0.03), s=14, marker="x",
+                           color="tab:red", transform=ax.get_xaxis_transform(), clip_on=False)
+                pad = 0.05 * max(float(np.ptp(x)), 1e-12)
+                ax.set_xlim(float(x.min()) - pad, float(x.max()) + pad)
             lo, hi = limit_bounds(limits.get(o, ""))
             for bnd in (lo, hi):
                 if bnd is not None:
@@ -244,8 +250,8 @@ def plot_sweep(path: Path, data: dict, summary: dict) -> None:
             if j == 0:
                 ax.set_ylabel(o, fontsize=7)
             ax.tick_params(labelsize=6)
-    fig.suptitle("Sweep: objectives vs parameters (blue: met, grey: not met, red: limit)",
-                 fontsize=10)
+    fig.suptitle("Sweep: objectives vs parameters\n(blue: met, grey: not met, red line: "
+                 "limit, red x: variant not built)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)

@@ -282,5 +282,6 @@ def sweep_summary(model, spec: SweepSpec, out: Path) -> dict:
         "objectives": [{"name": o, "fraction_ok": float(data[f"{o}__ok"].mean()),
                         **describe(data[o])} for o in obj],
         "fraction_all_ok": float(all_ok.mean()),
+        "variants_not_moved": int((~np.isfinite(data["path_deviation_mm"])).sum()),
         "first_design_meeting_all": best,
     }
