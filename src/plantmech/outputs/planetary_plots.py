@@ -72,12 +72,25 @@ def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
 
 
 def plot_ratios(motion) -> Figure:
-    """Each pair's transmission ratio r_driver / r_follower over the carrier angle."""
+    """Each pair's transmission ratio r_driver / r_follower over the carrier angle; on a
+    toothless dwell (the pair's teeth out of mesh, its follower held) no ratio is drawn
+    and the span is shaded."""
     fig = Figure(figsize=(7.0, 3.6), layout="constrained")
     ax = fig.add_subplot()
     psi = motion.carrier_angle * DEG
+    meshes = list(motion.meshes or []) + [None] * len(motion.contact_radii)
+    shaded = False
     for k, (rd, rf) in enumerate(motion.contact_radii):
-        ax.plot(psi, rd[0, 0] / rf[0, 0], label=f"pair {k + 1}")
+        ratio = rd[0, 0] / rf[0, 0]
+        if meshes[k] is not None:
+            held = ~np.asarray(meshes[k][0, 0], bool)
+            ratio = np.where(held, np.nan, ratio)
+            edges = np.flatnonzero(np.diff(np.r_[0, held.astype(int), 0]))
+            for a, b in zip(edges[::2], edges[1::2], strict=True):
+                ax.axvspan(psi[a], psi[b - 1], color="0.85", zorder=0,
+                           label=None if shaded else "toothless dwell: follower held")
+                shaded = True
+        ax.plot(psi, ratio, label=f"pair {k + 1}")
     ax.set_xlabel("carrier angle (deg)")
     ax.set_ylabel("ratio r_driver / r_follower (-)")
     ax.grid(alpha=0.3)
