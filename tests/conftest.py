@@ -73,3 +73,12 @@ def table2_points():
 
     d = load_design(EXAMPLES / "sugarcane_table2_as_printed.toml")
     return np.asarray(d.trajectory.points)
+
+
+def write_toml(tmp_path, doc: dict, name: str = "d.toml") -> str:
+    """Write ``doc`` (a design file's table) as TOML into ``tmp_path / name``; its path."""
+    import tomli_w
+
+    p = tmp_path / name
+    p.write_text(tomli_w.dumps(doc), encoding="utf-8")
+    return str(p)

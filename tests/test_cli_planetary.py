@@ -15,6 +15,7 @@ import pytest
 from plantmech.design import DesignError, load_design
 from plantmech.interfaces.cli import main
 from tests.conftest import EXAMPLES
+from tests.conftest import write_toml as _write
 
 EXAMPLE = EXAMPLES / "rotary_transplanter_elliptic.toml"
 
@@ -23,12 +24,6 @@ def _doc() -> dict:
     return tomllib.loads(EXAMPLE.read_text())
 
 
-def _write(tmp_path, doc) -> str:
-    import tomli_w
-
-    p = tmp_path / "d.toml"
-    p.write_text(tomli_w.dumps(doc))
-    return str(p)
 
 
 def test_elliptic_example_runs_and_writes_everything(tmp_path, capsys):

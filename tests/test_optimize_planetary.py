@@ -13,6 +13,7 @@ import pytest
 from plantmech.design import DesignError, load_design
 from plantmech.interfaces.cli import main
 from tests.conftest import EXAMPLES
+from tests.conftest import write_toml as _write
 
 EXAMPLE = EXAMPLES / "rotary_transplanter_elliptic.toml"
 VARIABLES = {"train.pairs.0.driver.eccentricity": [0.1, 0.4], "arm.length_mm": [140.0, 200.0]}
@@ -25,12 +26,6 @@ def _doc(height_min: float = 270.0) -> dict:
     return d
 
 
-def _write(tmp_path, doc) -> str:
-    import tomli_w
-
-    p = tmp_path / "d.toml"
-    p.write_text(tomli_w.dumps(doc))
-    return str(p)
 
 
 def test_a_small_run_meets_a_limit_the_start_misses(tmp_path, capsys):

@@ -26,6 +26,7 @@ from plantmech.objectives.planetary_inverse import ROUND_TRIP_TOLERANCE_MM, firs
 from plantmech.trains.curves import ellipse
 from plantmech.trains.model import PairSpec, Train, forward
 from tests.conftest import EXAMPLES
+from tests.conftest import write_toml as _write
 
 EXAMPLE = EXAMPLES / "planetary" / "first_order_inverse.toml"
 A, E, L, SUN_PHASE = 25.0, 0.2, 20.0, 90.0
@@ -107,12 +108,6 @@ def _doc() -> dict:
     return tomllib.loads(EXAMPLE.read_text())
 
 
-def _write(tmp_path, doc) -> str:
-    import tomli_w
-
-    p = tmp_path / "d.toml"
-    p.write_text(tomli_w.dumps(doc))
-    return str(p)
 
 
 @pytest.mark.parametrize("change, field", [

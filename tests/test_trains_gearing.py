@@ -16,6 +16,7 @@ from scipy.special import ellipe
 from plantmech.design import DesignError, load_design
 from plantmech.interfaces.cli import main
 from tests.conftest import EXAMPLES
+from tests.conftest import write_toml as _write
 
 EXAMPLE = EXAMPLES / "rotary_transplanter_elliptic.toml"
 A, E = 25.0, 0.18  # the example's ellipses (mm, -)
@@ -25,12 +26,6 @@ def _doc() -> dict:
     return tomllib.loads(EXAMPLE.read_text())
 
 
-def _write(tmp_path, doc, name="d.toml") -> str:
-    import tomli_w
-
-    p = tmp_path / name
-    p.write_text(tomli_w.dumps(doc))
-    return str(p)
 
 
 @pytest.fixture(scope="module")
