@@ -25,6 +25,7 @@ from plantmech.design import (
     Range,
     Samples,
     Text,
+    TrainDwell,
     Trajectory,
     _check_polar_points,
     _Strict,
@@ -131,7 +132,7 @@ PitchCurve = Annotated[EllipseCurve | EccentricCurve | FourierCurve | RadiiCurve
                        Field(discriminator="family")]
 
 
-class PairDwell(_Strict):
+class PairDwell(TrainDwell):
     """A toothless dwell of the pair (seed 000's sector over cd, Eq. 5), in carrier angles:
     while the carrier turns ``sector_deg`` from ``start_deg`` the follower (and every gear
     after it) does not turn relative to the carrier; the driver's toothless arc passes
@@ -143,16 +144,6 @@ class PairDwell(_Strict):
     start_deg: CarrierAngleDeg = Field(description="psi_s: carrier angle (deg, from the "
                                        "start, in the carrier's sense) where the follower "
                                        "stops")
-    sector_deg: Annotated[float, Strict(), Field(gt=0, lt=360, allow_inf_nan=False)] = Field(
-        description="theta_1: carrier turn during the stop (deg)")
-
-    @model_validator(mode="after")
-    def _inside(self):
-        if self.start_deg + self.sector_deg > 360.0:
-            raise ValueError(f"the dwell ({self.start_deg:g} + {self.sector_deg:g} deg) runs "
-                             "past the end of the carrier turn; shift the start angle "
-                             "(the cycle starts at carrier angle 0)")
-        return self
 
 
 class GearPair(_Strict):
