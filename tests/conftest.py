@@ -82,3 +82,20 @@ def write_toml(tmp_path, doc: dict, name: str = "d.toml") -> str:
     p = tmp_path / name
     p.write_text(tomli_w.dumps(doc), encoding="utf-8")
     return str(p)
+
+
+def assert_file_refused(doc: dict, field: str, tmp_path, capsys) -> None:
+    """A design file's table ``doc`` is refused naming ``field`` (a regex): by load_design
+    (DesignError) and by ``plantmech forward`` (exit 2, the field in stderr, no output)."""
+    import re
+
+    from plantmech.design import DesignError, load_design
+    from plantmech.interfaces.cli import main
+
+    with pytest.raises(DesignError) as exc:
+        load_design(doc, name="t.toml")
+    assert re.search(field, str(exc.value)), str(exc.value)
+    out = tmp_path / "o"
+    assert main(["forward", write_toml(tmp_path, doc), "--out", str(out)]) == 2
+    assert not out.exists()
+    assert re.search(field, capsys.readouterr().err)
