@@ -279,9 +279,9 @@ def _judge_against_simulated(gear, sim, tool, motion, blank):
 
 
 def test_manufacturable_transplanters_planet_is_made_by_the_envelope():
-    """The internal mate whose envelope curves at 4.5 pitches of window were lost in the
-    noding (it fell back to the simulated cut): noded on a 1e-5 mm grid, the tangencies'
-    chords refined, it passes its self-check and is made by the envelope (the default);
+    """The internal mate whose envelope curves were lost in the noding (it fell back to
+    the simulated cut): noded on a 1e-5 mm grid, the tangencies' chords refined, it
+    passes its self-check and is made by the envelope (the default);
     within 0.05 mm of the simulated cut (measured 0.019 mm), every difference accounted
     for, the same teeth on its outline."""
     from plantmech.gears.outline import fold_backs, teeth_on_outline

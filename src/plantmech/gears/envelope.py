@@ -509,7 +509,12 @@ def _in_cutter_frame(pitch, tooth, centres, q, sig, internal):
 # away when a point of it lies inside A's outline at some position of the motion.
 
 MATE_GRID_PER_PITCH = 48  # arc samples per pitch bracketing the roots (and classifying)
-MATE_WINDOW_PITCHES = 3.0  # the window of arc about each point (the simulated cut's reach)
+# the window of arc about each point: the simulated cut's farthest reach (A's pieces of one
+# pitch whose middles lie within 3 pitches of the contact), fixed. Not widened to hold the
+# whole cut: inside a ring, teeth far from the pitch point foul, and a mate cut over A's
+# whole reach would be trimmed there, hiding that interference from the mesh check
+# (docs/validation.md, the published transplanter at module 1)
+MATE_WINDOW_PITCHES = 3.5
 MATE_CORNER_STEP = np.radians(2.0)  # normal directions swept at a vertex, at most this apart
 MATE_EDGE_MAX = 0.05  # x module: longer edges of A's outline get points in between
 MATE_REFINE = 3  # regula falsi steps per root
@@ -671,10 +676,8 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     module in B's frame the outline points between are refined (``MATE_LINK_ROUNDS``
     halvings at most); links still longer are branch jumps, dropped.
 
-    ``blank`` (shapely polygon, B's frame, prepared), when given: the window is widened by
-    half while a root of the outline's points at its end lies in the blank (inside a ring
-    the teeth stay in mesh far from the pitch point), up to a quarter of A's perimeter
-    (beyond: MateEnvelopeUnfit); the links are made at the window found.
+    ``blank`` (shapely polygon, B's frame, prepared), when given: only the links that can
+    reach it are refined.
 
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
     contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, each
@@ -714,18 +717,8 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     if blank is not None:  # only the links that can reach the blank are refined
         reach_blank = shapely.buffer(blank, MATE_REFINE_NEAR * module, quad_segs=4)
         shapely.prepare(reach_blank)
-    while True:
-        G = int(np.ceil(window * pitch / h))
-        ui, s_r, th, q, reach = roots(x, n)
-        if blank is None:
-            break
-        far = reach > (window - 1.5 / MATE_GRID_PER_PITCH) * pitch
-        if not (far.any() and shapely.contains_xy(blank, q[far, 0], q[far, 1]).any()):
-            break
-        if 1.5 * window * pitch > P / 4:
-            raise MateEnvelopeUnfit(f"a tooth of the generating gear still cuts the blank "
-                                    f"{window:.3g} pitches of arc from the contact")
-        window *= 1.5
+    G = int(np.ceil(window * pitch / h))
+    ui, s_r, th, q, reach = roots(x, n)
     tol = MATE_LINK_MAX * module
     for rnd in range(MATE_LINK_ROUNDS + 1):
         U = len(x)
@@ -802,8 +795,7 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     (mm) of its pitch curve, as in the simulated cut. Where a linked curve ends inside the
     blank, A's outline at that root's position closes it (``_dangle_closures``).
     Returns the material left (shapely geometry, the faces inside the blank not removed).
-    Raises MateEnvelopeUnfit when a root at the window's end lies in the blank (the window
-    does not hold the whole cut) or when the self-check finds A's outline, at a position
+    Raises MateEnvelopeUnfit when the self-check finds A's outline, at a position
     of the motion (``MATE_CHECK_PER_PITCH`` per pitch), deeper than ``MATE_CHECK_DEPTH``
     module inside the material left (a space the arrangement failed to close)."""
     import shapely
@@ -815,7 +807,9 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     # A's outline leaves the band cut B too where a gouged tooth of A runs deeper
     tool_band = shapely.intersection(tool, shapely.buffer(shapely.boundary(
         shapely.Polygon(motion.pitch_a.xy)), depth))
-    # the window of arc about each point: widened while a root at its end lies in the blank
+    # the window of arc about each point: the simulated cut's reach (MATE_WINDOW_PITCHES);
+    # where an envelope curve ends at it inside the blank, A's outline at that position
+    # closes it (_dangle_closures), as the simulated cut's last piece does
     segs, q, th, x, reach, pair, xr, nr, window = mate_envelope_lines(
         tool_band, motion, module, np.inf, MATE_WINDOW_PITCHES, blank=blank)
     # only the links that can reach the blank matter (the rest lie in the swept region
