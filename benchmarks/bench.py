@@ -315,9 +315,10 @@ def main() -> None:
     t1 = time.perf_counter()
     m = mesh_check(pair, 360)
     t2 = time.perf_counter()
-    print(f"teeth: toothed transplanter ring (80 teeth) and planet (20, cut by the ring) "
-          f"generated in {t1 - t0:.2f} s, mesh-checked over a cycle (360 steps) in "
-          f"{t2 - t1:.2f} s (interference {m['max_interference_mm']:.4f} mm)")
+    print(f"teeth: toothed transplanter ring (80 teeth) and planet (20, cut by the ring: "
+          f"{pair.made_b['method']}) generated in {t1 - t0:.2f} s, mesh-checked over a "
+          f"cycle (360 steps) in {t2 - t1:.2f} s (interference "
+          f"{m['max_interference_mm']:.4f} mm)")
     figure("teeth_toothed_transplanter_generate_s", t1 - t0, "s", mesh_check_s=t2 - t1)
 
     # layer-1 evaluation rate (inverse design + every layer-1 check, one process)

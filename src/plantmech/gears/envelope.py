@@ -413,7 +413,7 @@ def shaper_space_polygons(pitch, spec, centres, blank, internal: bool = False):
                                                               + [ends[k, 0], ends[k, 1]])))
         near = shapely.intersection(edge, shapely.buffer(box, m))
         geoms.append(near)
-        noded = shapely.union_all(np.array(geoms, dtype=object))
+        noded = shapely.union_all(np.array(geoms, dtype=object), grid_size=MATE_NODING_GRID)
         faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
         faces = faces[shapely.area(faces) > 1e-10]
         faces_all.append(faces)
@@ -509,15 +509,24 @@ def _in_cutter_frame(pitch, tooth, centres, q, sig, internal):
 # away when a point of it lies inside A's outline at some position of the motion.
 
 MATE_GRID_PER_PITCH = 48  # arc samples per pitch bracketing the roots (and classifying)
-MATE_WINDOW_PITCHES = 3.0  # the window of arc about each point (the simulated cut's reach)
+# the window of arc about each point: the simulated cut's farthest reach (A's pieces of one
+# pitch whose middles lie within 3 pitches of the contact), fixed. Not widened to hold the
+# whole cut: inside a ring, teeth far from the pitch point foul, and a mate cut over A's
+# whole reach would be trimmed there, hiding that interference from the mesh check
+# (docs/validation.md, the published transplanter at module 1)
+MATE_WINDOW_PITCHES = 3.5
 MATE_CORNER_STEP = np.radians(2.0)  # normal directions swept at a vertex, at most this apart
 MATE_EDGE_MAX = 0.05  # x module: longer edges of A's outline get points in between
 MATE_REFINE = 3  # regula falsi steps per root
 MATE_LINK_MAX = 0.05  # x module: longer links in B's frame get outline points in between
 MATE_LINK_ROUNDS = 10  # halvings of the outline's steps at most
+MATE_REFINE_NEAR = 0.2  # x module: a link is refined when longer, or with an end this near B
 MATE_DANGLE_REACH = 1.5  # x module: A's outline this near a dangling root closes it
 MATE_DANGLE_DEPTH = 0.01  # x module: a dangling root is joined this far inside A
 MATE_CHECK_PER_PITCH = 24  # positions per pitch of the self-check (as the simulated cut)
+MATE_NODING_GRID = 1e-5  # mm: the curves are noded snapped to this grid (snap-rounding)
+MATE_SIMPLIFY = 2e-4  # mm: the envelope's chains are simplified within this before noding
+MATE_SLIVER = 1e-3  # mm: faces narrower than this (2 area / perimeter) are cut unclassified
 MATE_CHECK_DEPTH = 0.01  # x module: A may not reach deeper into B's material (mesh limit)
 
 
@@ -657,7 +666,7 @@ def _outline_chains(tool, keep, module: float):
 
 
 def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
-                        window: float = MATE_WINDOW_PITCHES):
+                        window: float = MATE_WINDOW_PITCHES, blank=None):
     """The envelope of ``tool`` (A's generating outline, shapely polygon in A's frame, mm)
     in B's frame under ``motion`` (MateMotion): every root of every outline point within
     ``depth`` (mm) of A's pitch curve (radially), within ``window`` pitches of arc of it,
@@ -667,11 +676,16 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     module in B's frame the outline points between are refined (``MATE_LINK_ROUNDS``
     halvings at most); links still longer are branch jumps, dropped.
 
+    ``blank`` (shapely polygon, B's frame, prepared), when given: only the links that can
+    reach it are refined.
+
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
     contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, each
     root's |arc from its point| (R,), mm, for the caller's window check, the links as
     pairs of root indices (M, 2), and each root's outline point and outward normal (R, 2),
     A's frame)."""
+    import shapely
+
     pa = motion.pitch_a
     P = motion.perimeter
     pitch = np.pi * module
@@ -679,7 +693,6 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     Ns = int(np.ceil(P / h))
     h = P / Ns
     Pg = pa.at(np.arange(Ns) * h)[0]
-    G = int(np.ceil(window * pitch / h))
 
     def keep(xy):
         arc = motion.arc(np.arctan2(xy[:, 1], xy[:, 0]))
@@ -688,68 +701,35 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
 
     def roots(x, n):
         """(entry index, arc, theta, B point, reach) of every root of the points x."""
+        from plantmech.gears.envelope_kernels import mate_roots
+
         s_x = motion.arc(np.arctan2(x[:, 1], x[:, 0]))
-        i0 = np.round(s_x / h).astype(int)
-        idx = np.mod(i0[:, None] + np.arange(-G, G + 1)[None, :], Ns)  # (U, 2G+1)
-        gx, gy = Pg[idx, 0], Pg[idx, 1]
-        g = n[:, 0, None] * (gy - x[:, 1, None]) - n[:, 1, None] * (gx - x[:, 0, None])
-        g[g == 0.0] = 1e-300
-        ui, gi = np.nonzero(np.signbit(g[:, :-1]) != np.signbit(g[:, 1:]))
-        s_lo = (i0[ui] + gi - G) * h  # regula falsi in the bracket [s_lo, s_lo + h]
-        s_hi = s_lo + h
-        g_lo, g_hi = g[ui, gi], g[ui, gi + 1]
-        xr, nr = x[ui], n[ui]
-        for _ in range(MATE_REFINE):
-            s_m = s_lo - g_lo * (s_hi - s_lo) / (g_hi - g_lo)
-            dm = pa.at(s_m)[0] - xr
-            g_m = nr[:, 0] * dm[:, 1] - nr[:, 1] * dm[:, 0]
-            lo_side = np.signbit(g_m) == np.signbit(g_lo)
-            s_lo, g_lo = np.where(lo_side, s_m, s_lo), np.where(lo_side, g_m, g_lo)
-            s_hi, g_hi = np.where(lo_side, s_hi, s_m), np.where(lo_side, g_hi, g_m)
-        s_r = s_lo - g_lo * (s_hi - s_lo) / (g_hi - g_lo)
+        i0 = np.round(s_x / h).astype(np.int64)
+        ui, s_r = mate_roots(np.ascontiguousarray(x), np.ascontiguousarray(n), i0, Pg, G, h,
+                             pa.xy, MATE_REFINE)
         th = motion.theta(s_r)
-        return ui, s_r, th, motion.to_b(xr, th), np.abs(s_r - s_x[ui])
+        return ui, s_r, th, motion.to_b(x[ui], th), np.abs(s_r - s_x[ui])
+
+    from plantmech.gears.envelope_kernels import mate_links
 
     x, n, chain, link = _outline_chains(tool, keep, module)
     key = np.arange(len(x), dtype=float)
+    if blank is not None:  # only the links that can reach the blank are refined
+        reach_blank = shapely.buffer(blank, MATE_REFINE_NEAR * module, quad_segs=4)
+        shapely.prepare(reach_blank)
+    G = int(np.ceil(window * pitch / h))
     ui, s_r, th, q, reach = roots(x, n)
     tol = MATE_LINK_MAX * module
     for rnd in range(MATE_LINK_ROUNDS + 1):
         U = len(x)
-        order = np.argsort(ui, kind="stable")  # roots grouped by entry, by arc inside
-        order = order[np.lexsort((s_r[order], ui[order]))]
+        # roots grouped by entry (each entry's roots come in increasing arc from the kernel)
+        order = np.argsort(ui, kind="stable")
         ui, s_r, th, q, reach = ui[order], s_r[order], th[order], q[order], reach[order]
         nxt = np.r_[np.arange(1, U), 0]
         same = link & (chain[nxt] == chain)
         R = np.bincount(ui, minlength=U)
         first = np.r_[0, np.cumsum(R)[:-1]]
-        Rm = max(int(R.max()) if U else 0, 1)
-        slot = np.full((U, Rm), -1)
-        slot[ui, np.arange(len(ui)) - first[ui]] = np.arange(len(ui))
-        sr_pad = np.where(slot >= 0, s_r[np.maximum(slot, 0)], np.nan)
-        seg_a, seg_b = [], []
-        for src, dst in ((np.arange(U), nxt), (nxt, np.arange(U))):
-            a_s, b_s = sr_pad[src], sr_pad[dst]  # (U, Rm)
-            # arcs of two entries' roots are unwrapped about different points
-            diff = np.abs(np.mod(a_s[:, :, None] - b_s[:, None, :] + P / 2, P) - P / 2)
-            diff = np.where(np.isnan(diff), np.inf, diff)
-            j = np.argmin(diff, axis=2)
-            best = np.take_along_axis(diff, j[..., None], axis=2)[..., 0]
-            good = same[:, None] & (best < pitch) & (slot[src] >= 0)
-            seg_a.append(slot[src][good])
-            seg_b.append(np.take_along_axis(slot[dst], j, axis=1)[good])
-        change = same & (R != R[nxt])
-        for who in (np.arange(U), nxt):
-            w = who[change]
-            for i in range(Rm - 1):
-                a_, b_ = slot[w, i], slot[w, i + 1]
-                ok_ = (a_ >= 0) & (b_ >= 0)
-                seg_a.append(a_[ok_]), seg_b.append(b_[ok_])
-        sa, sb = np.concatenate(seg_a), np.concatenate(seg_b)
-        lo_, hi_ = np.minimum(sa, sb), np.maximum(sa, sb)
-        key_ = np.unique(lo_.astype(np.int64) * len(q) + hi_)  # each link once
-        pair = np.c_[key_ // len(q), key_ % len(q)]
-        pair = pair[pair[:, 0] != pair[:, 1]]
+        pair, change = mate_links(first, R, nxt, same, s_r, P, pitch)
         if not motion.periodic:  # no link across the cycle's seam (B jumps there)
             pair = pair[np.abs(th[pair[:, 0]] - th[pair[:, 1]]) < np.pi]
         ln = np.hypot(*(q[pair[:, 1]] - q[pair[:, 0]]).T)
@@ -758,9 +738,26 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         long_ = ln > tol
         e0, e1 = ui[pair[long_, 0]], ui[pair[long_, 1]]
         lo = np.where(e1 == nxt[e0], e0, np.where(e0 == nxt[e1], e1, -1))
+        if blank is not None:  # only where the curve can reach B's blank
+            ends = pair[long_]
+            near_ = (ln[long_] > MATE_REFINE_NEAR * module) | shapely.contains_xy(
+                reach_blank, q[ends[:, 0], 0], q[ends[:, 0], 1]) | shapely.contains_xy(
+                reach_blank, q[ends[:, 1], 0], q[ends[:, 1], 1])
+            lo = np.where(near_, lo, -1)
+            # a tangency between entries u and nxt[u]: refined when a root of either is
+            # near the blank
+            cand = np.flatnonzero((change | np.roll(change, 1))[ui])
+            rel = np.zeros(U, bool)
+            rel[ui[cand[shapely.contains_xy(reach_blank, q[cand, 0], q[cand, 1])]]] = True
+            change = change & (rel | rel[nxt])
         need = np.zeros(U, bool)
         need[lo[lo >= 0]] = True
-        need |= change & (rnd < MATE_LINK_ROUNDS // 2)
+        # a long link between two roots of one entry (a tangency's chord): refine between
+        # that entry and the neighbour whose count differs
+        e = e0[e0 == e1]
+        need[e[change[e]]] = True
+        e = np.mod(e - 1, U)
+        need[e[change[e]]] = True
         need &= same
         if rnd == MATE_LINK_ROUNDS or not need.any():
             pair = pair[~long_]
@@ -784,7 +781,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         x, n, key, chain, link = x[o], n[o], key[o], chain[o], link[o]
         ui = inv_o[ui]
     segs = np.stack([q[pair[:, 0]], q[pair[:, 1]]], axis=1)
-    return segs, q, th, x, reach, pair, x[ui], n[ui]
+    return segs, q, th, x, reach, pair, x[ui], n[ui], window
 
 
 def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float):
@@ -798,33 +795,23 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     (mm) of its pitch curve, as in the simulated cut. Where a linked curve ends inside the
     blank, A's outline at that root's position closes it (``_dangle_closures``).
     Returns the material left (shapely geometry, the faces inside the blank not removed).
-    Raises MateEnvelopeUnfit when a root at the window's end lies in the blank (the window
-    does not hold the whole cut) or when the self-check finds A's outline, at a position
+    Raises MateEnvelopeUnfit when the self-check finds A's outline, at a position
     of the motion (``MATE_CHECK_PER_PITCH`` per pitch), deeper than ``MATE_CHECK_DEPTH``
     module inside the material left (a space the arrangement failed to close)."""
     import shapely
 
     pitch = np.pi * module
     shapely.prepare(blank)
-    # the window of arc about each point: widened by half while a root at its end lies in
-    # the blank (inside a ring the teeth stay in mesh far from the pitch point), up to a
-    # quarter of A's perimeter
-    window = MATE_WINDOW_PITCHES
     # the generating body is A's band within ``depth`` of its pitch curve, as in the
     # simulated cut (teeth._mate_simulated_sweep): its inner edge and the corners where
     # A's outline leaves the band cut B too where a gouged tooth of A runs deeper
     tool_band = shapely.intersection(tool, shapely.buffer(shapely.boundary(
         shapely.Polygon(motion.pitch_a.xy)), depth))
-    while True:
-        segs, q, th, x, reach, pair, xr, nr = mate_envelope_lines(tool_band, motion, module,
-                                                                  np.inf, window)
-        far = reach > (window - 1.5 / MATE_GRID_PER_PITCH) * pitch
-        if not (far.any() and shapely.contains_xy(blank, q[far, 0], q[far, 1]).any()):
-            break
-        if 1.5 * window * pitch > motion.perimeter / 4:
-            raise MateEnvelopeUnfit(f"a tooth of the generating gear still cuts the blank "
-                                    f"{window:.3g} pitches of arc from the contact")
-        window *= 1.5
+    # the window of arc about each point: the simulated cut's reach (MATE_WINDOW_PITCHES);
+    # where an envelope curve ends at it inside the blank, A's outline at that position
+    # closes it (_dangle_closures), as the simulated cut's last piece does
+    segs, q, th, x, reach, pair, xr, nr, window = mate_envelope_lines(
+        tool_band, motion, module, np.inf, MATE_WINDOW_PITCHES, blank=blank)
     # only the links that can reach the blank matter (the rest lie in the swept region
     # outside it)
     reach_len = float(np.hypot(*(segs[:, 1] - segs[:, 0]).T).max()) if len(segs) else 0.0
@@ -832,7 +819,7 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     shapely.prepare(grown)
     near = (shapely.contains_xy(grown, segs[:, 0, 0], segs[:, 0, 1])
             | shapely.contains_xy(grown, segs[:, 1, 0], segs[:, 1, 1]))
-    geoms = [shapely.multilinestrings(shapely.linestrings(segs[near]))]
+    geoms = [_curves(q, pair[near])]
     geoms.append(shapely.boundary(blank))
     if not motion.periodic:  # A's outline at the motion's two ends bounds the cut too
         for t_end in (motion.theta_a[0], motion.theta_a[-1]):
@@ -840,13 +827,18 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
             geoms.append(shapely.transform(b, lambda xy, t=t_end: motion.to_b(
                 xy, np.full(len(xy), t))))
     geoms += _dangle_closures(tool_band, motion, q, th, pair, xr, nr, grown, module)
-    noded = shapely.union_all(np.array(geoms, dtype=object))
+    noded = shapely.union_all(np.array(geoms, dtype=object), grid_size=MATE_NODING_GRID)
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
     faces = faces[shapely.area(faces) > 1e-10]
     rep = shapely.get_coordinates(shapely.point_on_surface(faces))
     inside = shapely.contains_xy(blank, rep[:, 0], rep[:, 1])
-    sel = np.flatnonzero(inside)
-    covered = np.zeros(len(faces), bool)
+    # most faces are slivers between curves within a micrometre of each other (the
+    # envelopes of neighbouring outline points, the closures along them): narrower than
+    # MATE_SLIVER they are cut away unclassified (a slit that narrow is closed again by
+    # the outline cleaning, outline.clean_outline, which fills gaps under 4 um)
+    wide = 2.0 * shapely.area(faces) > MATE_SLIVER * shapely.length(faces)
+    sel = np.flatnonzero(inside & wide)
+    covered = ~wide
     if len(sel):
         covered[sel] = _covered_by_mate(tool_band, motion, rep[sel], q, th, x, pitch,
                                         window)
@@ -862,6 +854,23 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
             f"into the envelope's material at ({deep[0]:.2f}, {deep[1]:.2f}) mm (B's frame): "
             f"a tooth space the arrangement did not close")
     return material
+
+
+def _curves(q, pair):
+    """The links ``pair`` (M, 2) between the points ``q`` (mm) as one multilinestring of
+    chains (each run of links through points of degree two one linestring), simplified
+    within ``MATE_SIMPLIFY`` mm: noding a few thousand chains is several times faster than
+    noding each link on its own."""
+    import shapely
+
+    from plantmech.gears.envelope_kernels import link_chains
+
+    if not len(pair):
+        return shapely.MultiLineString()
+    nodes, line = link_chains(np.ascontiguousarray(pair, dtype=np.int64), len(q))
+    lines = shapely.linestrings(q[nodes], indices=line)
+    return shapely.simplify(shapely.multilinestrings(lines), MATE_SIMPLIFY,
+                            preserve_topology=False)
 
 
 def _mate_overlap(tool_band, motion: MateMotion, material, module: float, window: float,
