@@ -570,9 +570,12 @@ def build_parser() -> argparse.ArgumentParser:
                        "clearance; up to 3); default: the design's manufacturing.dedendum "
                        "(1.25)")
     gears.add_argument("--teeth", choices=("envelope", "simulated"), default="envelope",
-                       help="how rack-cut teeth are generated: from the envelope condition of "
-                       "the meshing equation (default, fast, smooth outlines) or by simulated "
-                       "cutting (the reference); shaper-cut gears are always simulated")
+                       help="how teeth are generated: from the envelope condition of the "
+                       "meshing equation (default: rack- and shaper-cut gears and the mates of "
+                       "external pairs; a planet cut by its ring is still simulated, and any "
+                       "envelope that fails its self-check falls back to simulation, said in "
+                       "verification.json) or by simulated cutting of every gear (the "
+                       "reference)")
     gears.add_argument("--step", action="store_true",
                        help="also write STEP solids (needs plantmech[step]; seconds per gear)")
     add_report_option(gears)
