@@ -228,6 +228,8 @@ def plot_sweep(path: Path, data: dict, summary: dict) -> None:
     limits = summary.get("limits", {})
     fig, axes = plt.subplots(len(objs), len(params), squeeze=False,
                              figsize=(max(3.4 * len(params), 5.0), 2.2 * len(objs)))
+    # variants that could not be built have no motion: marked on the x axis
+    built = np.isfinite(np.asarray(data["path_deviation_mm"], float))
     for i, o in enumerate(objs):
         ok = np.asarray(data[f"{o}__ok"], bool)
         for j, p in enumerate(params):
@@ -235,8 +237,7 @@ def plot_sweep(path: Path, data: dict, summary: dict) -> None:
             x, y = np.asarray(data[p]), np.asarray(data[o])
             ax.scatter(x[~ok], y[~ok], s=4, color="0.6")
             ax.scatter(x[ok], y[ok], s=4, color="tab:blue")
-            built = np.isfinite(np.asarray(data.get("path_deviation_mm", y), float))
-            if (~built).any():  # variants that could not be built: marked on the x axis
+            if (~built).any():
                 ax.scatter(x[~built], np.full((~built).sum(), 0.03), s=14, marker="x",
                            color="tab:red", transform=ax.get_xaxis_transform(), clip_on=False)
                 pad = 0.05 * max(float(np.ptp(x)), 1e-12)
