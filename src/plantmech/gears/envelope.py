@@ -680,8 +680,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     reach it are refined.
 
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
-    contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, each
-    root's |arc from its point| (R,), mm, for the caller's window check, the links as
+    contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, the links as
     pairs of root indices (M, 2), and each root's outline point and outward normal (R, 2),
     A's frame)."""
     import shapely
@@ -700,7 +699,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         return np.abs(np.hypot(*xy.T) - np.hypot(*p.T)) <= depth
 
     def roots(x, n):
-        """(entry index, arc, theta, B point, reach) of every root of the points x."""
+        """(entry index, arc, theta, B point) of every root of the points x."""
         from plantmech.gears.envelope_kernels import mate_roots
 
         s_x = motion.arc(np.arctan2(x[:, 1], x[:, 0]))
@@ -708,7 +707,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         ui, s_r = mate_roots(np.ascontiguousarray(x), np.ascontiguousarray(n), i0, Pg, G, h,
                              pa.xy, MATE_REFINE)
         th = motion.theta(s_r)
-        return ui, s_r, th, motion.to_b(x[ui], th), np.abs(s_r - s_x[ui])
+        return ui, s_r, th, motion.to_b(x[ui], th)
 
     from plantmech.gears.envelope_kernels import mate_links
 
@@ -718,13 +717,13 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         reach_blank = shapely.buffer(blank, MATE_REFINE_NEAR * module, quad_segs=4)
         shapely.prepare(reach_blank)
     G = int(np.ceil(window * pitch / h))
-    ui, s_r, th, q, reach = roots(x, n)
+    ui, s_r, th, q = roots(x, n)
     tol = MATE_LINK_MAX * module
     for rnd in range(MATE_LINK_ROUNDS + 1):
         U = len(x)
         # roots grouped by entry (each entry's roots come in increasing arc from the kernel)
         order = np.argsort(ui, kind="stable")
-        ui, s_r, th, q, reach = ui[order], s_r[order], th[order], q[order], reach[order]
+        ui, s_r, th, q = ui[order], s_r[order], th[order], q[order]
         nxt = np.r_[np.arange(1, U), 0]
         same = link & (chain[nxt] == chain)
         R = np.bincount(ui, minlength=U)
@@ -768,10 +767,9 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         nm = n[k] + n[k1]
         nm /= np.hypot(*nm.T)[:, None]
         km = np.where(k1 > k, 0.5 * (key[k] + key[k1]), key[k] + 0.5)
-        new_ui, new_s, new_th, new_q, new_reach = roots(xm, nm)
+        new_ui, new_s, new_th, new_q = roots(xm, nm)
         ui = np.r_[ui, new_ui + U]
-        s_r, th, q, reach = (np.r_[s_r, new_s], np.r_[th, new_th], np.r_[q, new_q],
-                             np.r_[reach, new_reach])
+        s_r, th, q = np.r_[s_r, new_s], np.r_[th, new_th], np.r_[q, new_q]
         x, n, key = np.r_[x, xm], np.r_[n, nm], np.r_[key, km]
         chain, link = np.r_[chain, chain[k]], np.r_[link, np.ones(len(k), bool)]
         # entries in outline order again (within each chain, by key)
@@ -781,7 +779,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         x, n, key, chain, link = x[o], n[o], key[o], chain[o], link[o]
         ui = inv_o[ui]
     segs = np.stack([q[pair[:, 0]], q[pair[:, 1]]], axis=1)
-    return segs, q, th, x, reach, pair, x[ui], n[ui], window
+    return segs, q, th, x, pair, x[ui], n[ui]
 
 
 def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float):
@@ -810,8 +808,9 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     # the window of arc about each point: the simulated cut's reach (MATE_WINDOW_PITCHES);
     # where an envelope curve ends at it inside the blank, A's outline at that position
     # closes it (_dangle_closures), as the simulated cut's last piece does
-    segs, q, th, x, reach, pair, xr, nr, window = mate_envelope_lines(
-        tool_band, motion, module, np.inf, MATE_WINDOW_PITCHES, blank=blank)
+    window = MATE_WINDOW_PITCHES
+    segs, q, th, x, pair, xr, nr = mate_envelope_lines(tool_band, motion, module, np.inf,
+                                                       window, blank=blank)
     # only the links that can reach the blank matter (the rest lie in the swept region
     # outside it)
     reach_len = float(np.hypot(*(segs[:, 1] - segs[:, 0]).T).max()) if len(segs) else 0.0
