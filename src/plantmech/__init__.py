@@ -39,9 +39,10 @@ _EXPORTS = {
     "run_seeder_forward": ("plantmech.workflows", "run_seeder_forward"),
     "run_transplanter": ("plantmech.workflows", "run_transplanter"),
     "run_gears": ("plantmech.workflows", "run_gears"),
-    "InfeasibleDesign": ("plantmech.workflows", "InfeasibleDesign"),
-    "evaluate_seeder_population": ("plantmech.workflows", "evaluate_seeder_population"),
-    "evaluate_transplanter_population": ("plantmech.workflows",
+    "InfeasibleDesign": ("plantmech.objectives.inverse_evaluation", "InfeasibleDesign"),
+    "evaluate_seeder_population": ("plantmech.objectives.seeder_design",
+                                   "evaluate_seeder_population"),
+    "evaluate_transplanter_population": ("plantmech.objectives.transplanter_design",
                                          "evaluate_transplanter_population"),
     # not "optimize": that is the subpackage plantmech.optimize, whose import would shadow it
     "run_optimization": ("plantmech.optimize.jobs", "optimize"),
