@@ -62,3 +62,73 @@ def test_circular_train_torque_is_gravity_alone(gravity):
     force = np.abs(t2) / (a / 2 * 1e-3)
     assert np.abs(s["tooth_force_gear3_planet_N"] - force).max() < 0.01 * force.max()
     assert res["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
+
+
+def test_dwell_impacts_accounting_across_the_turns_start():
+    """``loads.dwell_impacts`` on a made-up turn with two impacts, one 0.2 deg after the
+    turn's start (its window closes through the turn's last step): kinetic energy 1 J
+    jumping +2 J at 0.2 deg and -2 J at 45 deg, potential 0.5 sin(psi) J, the drive's work
+    the energy change plus 0.3 J and 0.1 J lost at the impacts. Expected: each jump, the
+    drive's work across the 1 deg windows (the energy change there plus the loss), the
+    loss itself, and an exact balance between the impacts."""
+    from plantmech.contact.loads import dwell_impacts
+
+    n, omega = 360, np.radians(360.0)
+    psi = np.radians(np.arange(n, dtype=float))
+    t = psi / omega
+    c1, c2 = np.radians(0.2), np.radians(45.0)
+    ke = 1.0 + 2.0 * ((psi >= c1) & (psi < c2))
+    pe = 0.5 * np.sin(psi)
+    change = ke + pe - (ke[0] + pe[0])
+    work = change + 0.3 * (psi >= c1) + 0.1 * (psi >= c2)
+    power = 0.5 * np.cos(psi) * omega  # the smooth part's rate (the closing step's)
+    torque = np.zeros(n)
+    torque[[0, 45]] = [50.0, -70.0]
+    res = {"psi": psi, "t": t, "kinetic": ke, "work": work, "energy_change": change,
+           "power": power, "input_torques": [torque], "error": 1.0}
+    span = float(np.ptp(change))
+    impacts, err = dwell_impacts(res, [c2, c1 + 2 * np.pi], span)
+    first, second = impacts
+    assert first["carrier_angle_deg"] == pytest.approx(0.2)
+    assert first["kinetic_energy_jump_J"] == pytest.approx(2.0)
+    # from 359 deg (1.2 deg before) to 2 deg (1.8 deg after)
+    e_change = 2.0 + 0.5 * (np.sin(np.radians(2.0)) - np.sin(np.radians(359.0)))
+    assert first["energy_change_J"] == pytest.approx(e_change, abs=1e-12)
+    assert first["drive_work_J"] == pytest.approx(e_change + 0.3, abs=1e-6)
+    assert first["dissipated_J"] == pytest.approx(0.3, abs=1e-6)
+    assert first["peak_input_torque_N_m"] == 50.0
+    assert second["kinetic_energy_jump_J"] == pytest.approx(-2.0)
+    assert second["dissipated_J"] == pytest.approx(0.1, abs=1e-12)
+    assert second["peak_input_torque_N_m"] == 70.0
+    assert err == pytest.approx(0.0, abs=1e-12)
+    # without cuts: the whole turn's figure
+    assert dwell_impacts(res, [], span) == ([], 1.0)
+
+
+def test_seeder_file_frames_are_the_general_trains():
+    """The dedicated seeder's gear-file frames on the shaft and the arm
+    (``contact.seeder.file_frames``, as ``analyse_seeder`` poses the outlines), which place
+    gear 3's and the planet's centroids in the loads' bodies, against the general train
+    model's (``trains``: gear 1b's phase on gear 1's shaft, the planet's body angle less
+    the arm's) for Table 4: the same to 1e-9 rad. The loads used to take gear 3's frame as
+    gear 2's (74.41 deg off) and the planet's centroid on the arm line."""
+    from plantmech.contact.seeder import file_frames, seeder_train
+    from plantmech.design import load_design
+    from plantmech.trains.gearing import built_train
+    from plantmech.trains.model import simulate as simulate_train
+    from tests.conftest import EXAMPLES
+
+    train = seeder_train(load_design(EXAMPLES / "sugarcane_table4.toml"))
+    frames = file_frames(train, simulate(train, samples=720))
+    m = simulate_train(built_train(load_design(EXAMPLES / "planetary" / "sugarcane_table4.toml")),
+                       samples=720)
+    phase = m.driver_angles[1][0, 0, 0] - m.gear_angles[1][0, 0, 0]
+    planet = m.carrier[0, 0, 0] + m.gear_angles[2][0, 0, 0] - m.arm_angle[0, 0, 0]
+
+    def same(a, b):
+        return abs(np.angle(np.exp(1j * (a - b)))) < 1e-9
+
+    assert same(frames["gear3_minus_gear2"], phase)
+    assert same(frames["planet_minus_arm"], planet)
+    assert same(frames["gear2"], m.gear_angles[1][0, 0, 0])
+    assert abs(np.degrees(np.angle(np.exp(1j * frames["gear3_minus_gear2"]))) - 74.408) < 1e-3

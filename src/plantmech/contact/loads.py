@@ -21,12 +21,15 @@ transmission error (micro-radians to tenths of a degree) is reported by the cont
 analysis and not differentiated twice here.
 
 Masses: gears from their outlines (plate of the face width and density: area, centroid,
-polar moment), the arm as a slender rod L2 long, the payload (cane / seedling) a point
-mass at the tip. The carrier is balanced and turns at constant speed: its inertia does no
-work, so its kinetic energy is left out of the balance (its 1 kg and 0.1 kg m^2 only keep
-the solver's mass matrix regular). The check: the drive's work W(t) = integral of torque
-x carrier speed equals the change of kinetic + potential energy at every step (< 1 % of the energy's
-range over the turn, or of the mean kinetic energy if that is larger).
+polar moment), each centroid placed in the frame its gear file is cut in
+(``contact.seeder.file_frames``: gear 3's file frame is turned from gear 2's on their
+shaft, the planet's from the arm's), the arm as a slender rod L2 long, the payload (cane /
+seedling) a point mass at the tip. The carrier is balanced and turns at constant speed:
+its inertia does no work, so its kinetic energy is left out of the balance (its 1 kg and
+0.1 kg m^2 only keep the solver's mass matrix regular). The check: the drive's work W(t) =
+integral of torque x carrier speed equals the change of kinetic + potential energy at
+every step (< 1 % of the energy's range over the turn, or of the mean kinetic energy if
+that is larger).
 """
 
 from __future__ import annotations
@@ -295,8 +298,68 @@ def solve_loads(bodies: list[Body], drives: list[int], laws: list[MeshLaw], spec
         forces[law.name] = np.abs(tq) / r
     return {
         "t": t, "psi": psi, "input_torques": taus, "mesh_torques": mesh,
-        "tooth_forces": forces, "work": work, "energy_change": change, "kinetic": ke,
+        "tooth_forces": forces, "work": work, "power": power, "energy_change": change,
+        "kinetic": ke,
         "error": err, "version": exu.config.Version()}
+
+
+def dwell_impacts(res: dict, cuts: list[float], span: float, window_deg: float = 1.0
+                  ) -> tuple[list[dict], float]:
+    """A toothless dwell's ends are impacts of the rigid model (the held gear's speed
+    relative to the carrier jumps): (one record per impact at the carrier angles ``cuts``
+    (rad, in the carrier's sense from the start): the kinetic-energy jump, the kinetic +
+    potential energy's change, the drive's work and what the work leaves over (dissipated)
+    (J) from ``window_deg`` before to as far after it, the peak input torque (N m) over
+    that window; the energy balance's largest error between the impacts, a
+    fraction of ``span`` (J)). ``res``: ``solve_loads``'s result (one turn, periodic: a
+    window across the turn's start is closed through its last step). Without cuts: the
+    balance over the whole turn (``res["error"]``)."""
+    if not cuts:
+        return [], float(res["error"])
+    psi, ke = res["psi"], res["kinetic"]
+    work, change = res["work"], res["energy_change"]
+    tau = sum(res["input_torques"])
+    n = len(psi)
+    # the work of the step closing the turn (last sample -> the first, one turn on)
+    closing = 0.5 * (res["power"][-1] + res["power"][0]) * (res["t"][1] - res["t"][0])
+    win = np.radians(window_deg)
+    cuts = sorted(float(np.mod(c, TWO_PI)) for c in cuts)
+    near = np.zeros(n, dtype=bool)
+    impacts = []
+    for c in cuts:
+        d = np.angle(np.exp(1j * (psi - c)))  # (-pi, pi]: signed distance from the impact
+        near |= np.abs(d) < win
+        before = int(np.flatnonzero(d < -win)[np.argmax(d[d < -win])])
+        after = int(np.flatnonzero(d > win)[np.argmin(d[d > win])])
+        if after > before:
+            w = work[after] - work[before]
+            span_idx = np.arange(before, after + 1)
+        else:  # across the turn's start
+            w = work[-1] - work[before] + closing + work[after]
+            span_idx = np.r_[np.arange(before, n), np.arange(0, after + 1)]
+        de = float(change[after] - change[before])
+        impacts.append({"carrier_angle_deg": round(float(np.degrees(c)), 9),
+                        "kinetic_energy_jump_J": float(ke[after] - ke[before]),
+                        "energy_change_J": de,
+                        "drive_work_J": float(w),
+                        # the integrator's damping of the unresolved jump (the smooth
+                        # law's exact motion keeps work = energy change)
+                        "dissipated_J": float(w) - de,
+                        "peak_input_torque_N_m": float(np.abs(tau[span_idx]).max())})
+    seg = np.zeros(n, dtype=int)
+    for c in cuts:
+        seg += psi >= c
+    seg[seg == len(cuts)] = 0  # the turn wraps around
+    err = 0.0
+    for k in np.unique(seg):
+        idx = np.flatnonzero((seg == k) & ~near)
+        if len(idx) < 2:
+            continue
+        # within a run the drive's work and the energy change move together
+        for r in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
+            dev = (work[r] - work[r[0]]) - (change[r] - change[r[0]])
+            err = max(err, float(np.abs(dev).max()) / span)
+    return impacts, err
 
 
 def _laws(nominal):
@@ -315,6 +378,8 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
     """Input torque (N m), mesh torques and tangential tooth forces (N) over one carrier
     turn (``steps`` time steps), and the energy balance: the seeder's three bodies and two
     meshes handed to ``solve_loads`` (the engine of the transplanters' loads too)."""
+    from plantmech.contact.seeder import file_frames
+    from plantmech.contact.transplanter_loads import _arm_body
     from plantmech.mechanisms.seeder_forward import shaft_offset
 
     # the gear 2-3 shaft on the carrier: off the carrier line by this angle at O (CCW side,
@@ -328,17 +393,15 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
     props = {n: polygon_mass_properties(gears[n].rings, thick, spec.density_kg_m3)
              for n in ("gear2", "gear3", "planet")}
     (ma, ca, ja), (mb, cb, jb) = props["gear2"], props["gear3"]
+    # gears 2 and 3 are cut each in its own mesh frame (``contact/seeder.py``: the contact
+    # at body angle gear2_contact0 faces O, gear3_contact0 faces the planet axis at the
+    # start): on their common shaft gear 3's file frame is turned from gear 2's by the
+    # angle between those two directions less the contacts' difference
+    frames = file_frames(train, nominal)
+    cb = _rot(frames["gear3_minus_gear2"]) @ cb
     m23 = ma + mb
-    c23 = (ma * ca + mb * cb) / m23  # in the common body frame of gears 2-3
+    c23 = (ma * ca + mb * cb) / m23  # in gear 2's file frame (the body frame)
     j23 = ja + ma * (ca - c23) @ (ca - c23) + jb + mb * (cb - c23) @ (cb - c23)
-    # planet + arm + payload about the planet axis; the planet's own small centroid
-    # offset is taken at its distance, on the arm line (its direction in the planet's
-    # frame is not in the gear files)
-    mp, cp, jp = props["planet"]
-    m4 = mp + spec.arm_mass_kg + spec.payload_kg
-    x4 = (spec.arm_mass_kg * L2 / 2 + spec.payload_kg * L2) / m4
-    j4 = (jp + mp * (cp @ cp + x4**2) + spec.arm_mass_kg * (L2**2 / 12 + (L2 / 2 - x4) ** 2)
-          + spec.payload_kg * (L2 - x4) ** 2)
     # body angles at psi = 0: theta_c = carrier0, theta_23 = theta_c - u, theta_4 = arm;
     # gears 2-3's body frame: its contact body angle faces O
     u0 = float(U(0.0))
@@ -348,9 +411,12 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
     bodies = [Body("carrier", 1.0, 0.1, c0, -omega, np.zeros(2), np.zeros(2), False),
               Body("gears_2_3", m23, float(j23), th23, -omega - du, c23,
                    a1 * np.array([np.cos(off), np.sin(off)]), True),
-              Body("planet_arm_payload", m4, float(j4), arm0,
-                   -omega + float(V(u0, 1)) * du, np.array([x4, 0.0]), np.array([L1, 0.0]),
-                   True)]
+              # planet + arm + payload, the body frame along the arm: the planet's
+              # centroid placed by its file's frame (a constant angle from the arm's)
+              _arm_body("planet_arm_payload", props["planet"], spec, L2, arm0,
+                        -omega + float(V(u0, 1)) * du, np.array([L1, 0.0]),
+                        frames["planet_minus_arm"])]
+    m4, j4 = bodies[2].mass, bodies[2].inertia
     # pitch radii at the contacts over the nominal turn (u = U(psi) on its samples)
     r2 = train.gear2(train.gear2_contact0 + nominal.gear2_angle) * 1e-3
     r3 = train.gear3(train.gear3_contact0 + nominal.gear2_angle) * 1e-3
@@ -364,7 +430,7 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
     # damps the ringing they start (the peak torque at an impact is the solver's, spread
     # over its steps); without impacts the transplanters' lighter 0.52
     res = solve_loads(bodies, [0], laws, spec, steps, gamma=0.6 if dwell else 0.52)
-    t, ke, work, change = res["t"], res["kinetic"], res["work"], res["energy_change"]
+    ke, work, change = res["kinetic"], res["work"], res["energy_change"]
     tau = res["input_torques"][0]
     # relative to the energy's swing, or to the mean kinetic energy where it hardly
     # swings (a train turning at constant speeds)
@@ -374,34 +440,9 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
     # energy jump is reported
     psi_run = res["psi"]
     cuts = []
-    impacts = []
     if dwell:
         cuts = [float(train.dwell_start), float(train.dwell_start + train.dwell_theta1)]
-    err = res["error"]
-    if cuts:
-        seg = np.zeros(len(t), dtype=int)
-        for c in cuts:
-            seg += psi_run >= c
-        seg[seg == len(cuts)] = 0  # the turn wraps around
-        win = np.radians(1.0)
-        near = np.zeros(len(t), dtype=bool)
-        for c in cuts:
-            near |= np.abs(psi_run - c) < win
-            before = np.flatnonzero(psi_run < c - win)[-1]
-            after = np.flatnonzero(psi_run > c + win)[0]
-            impacts.append({"carrier_angle_deg": float(np.degrees(c)),
-                            "kinetic_energy_jump_J": float(ke[after] - ke[before]),
-                            "drive_work_J": float(work[after] - work[before]),
-                            "peak_input_torque_N_m": float(np.abs(tau[before:after + 1]).max())})
-        err = 0.0
-        for k in np.unique(seg):
-            idx = np.flatnonzero((seg == k) & ~near)
-            if len(idx) < 2:
-                continue
-            # within a run the drive's work and the energy change move together
-            for r in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
-                d = (work[r] - work[r[0]]) - (change[r] - change[r[0]])
-                err = max(err, float(np.abs(d).max()) / span)
+    impacts, err = dwell_impacts(res, cuts, span)
     t1, t2 = res["mesh_torques"]
     f1, f2 = res["tooth_forces"]["sun_gear2"], res["tooth_forces"]["gear3_planet"]
     return {
@@ -409,7 +450,7 @@ def seeder_loads(train, nominal, gears: dict, spec: LoadSpec, steps: int = 1440)
                  "joints, driven carrier, 2 mesh constraints (pitch-curve laws)",
         "inputs": spec.model_dump(),
         "masses_kg": {"gears_2_3": m23, "planet_arm_payload": m4, "gear2": ma, "gear3": mb,
-                      "planet": mp},
+                      "planet": props["planet"][0]},
         "inertias_kg_m2": {"gears_2_3_about_centroid": j23, "planet_arm_payload_about_com": j4},
         "steps": steps,
         "input_torque_N_m": {"min": float(tau.min()), "max": float(tau.max()),

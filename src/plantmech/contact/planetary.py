@@ -25,7 +25,8 @@ A toothless dwell (``trains.model``; seed 000's sector): the cut sun is the part
 train's (``_toothless_sun``); the first pair's record leaves the dwell's steps out and the
 ``dwell`` record (as ``contact/seeder.py``'s) says where the follower is held by the sun's
 teeth at the ends of the toothless arc (locked) or jams against them. The loads through a
-dwell are not computed (its ends are impacts of the rigid model).
+dwell (``planetary_loads``) get the seeder's treatment (``loads.dwell_impacts``): its ends
+are impacts of the rigid model, reported each, the energy balance checked between them.
 """
 
 from __future__ import annotations
@@ -261,12 +262,16 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     a compound driver fixed to it, the planet with the arm and the payload); masses from
     the gear files' outlines (``gears``, mm) at the face width and density. Each mesh is
     the pitch-curve law of ``trains`` between its driver's and follower's body angles
-    relative to the carrier."""
+    relative to the carrier. A toothless dwell (the first pair's): Newmark gamma 0.6, its
+    ends are impacts (``dwell_impacts``: every arm's, kinetic-energy jump, drive work and
+    peak torque each) and the energy balance is checked between them, as the seeder's
+    (``loads.seeder_loads``)."""
     from plantmech.contact.loads import (
         Body,
         MeshLaw,
         PeriodicLaw,
         _rot,
+        dwell_impacts,
         polygon_mass_properties,
         solve_loads,
     )
@@ -275,11 +280,6 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     from plantmech.trains.model import simulate
 
     built = built_train(design)
-    if built.toothless and built.toothless[0] is not None:
-        raise ValueError("field 'train.pairs.0.dwell': the loads through a toothless dwell "
-                         "(the follower's speed jumps at its ends, impacts of the rigid model) "
-                         "are not computed for a planetary train yet; the dedicated seeder "
-                         "file (mechanism = \"sugarcane_seeder\", [train.dwell]) computes them")
     motion = simulate(built, samples=samples)
     tr = built.train
     names = gear_names(design)
@@ -334,8 +334,12 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
                 angle_offset[i] = 0.0
         for k, (law, pspec) in enumerate(zip(built.laws, tr.pairs, strict=True)):
             d_alpha0 = float(motion.driver_angles[k][0, j, 0])
-            u, alpha_f, slope = _mesh_law_samples(law, pspec, d_alpha0,
-                                                  toothless=built.toothless[k])
+            # a toothless dwell's law has a kink at each end of the dwell: sampled on the
+            # carrier turn's grid (the sun turns once relative to the carrier), as the
+            # seeder's U(psi) (``loads._laws``), so the spline rounds the kinks alike
+            u, alpha_f, slope = _mesh_law_samples(
+                law, pspec, d_alpha0, n=samples if built.toothless[k] is not None else 2048,
+                toothless=built.toothless[k])
             V = PeriodicLaw(u, alpha_f, slope)
             # the driver's alpha from its shaft's body angle: theta_body - offset + phase
             # - theta_carrier (the sun: its absolute angle when fixed)
@@ -350,9 +354,24 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
             label = f"{names[k][0]}_{names[k][1]}" + ("" if J == 1 else f"_{j + 1}")
             laws.append(MeshLaw(label, {shaft_body[k + 1]: 1.0, 0: -1.0},
                                 -angle_offset[k + 1] - line, w, x0, V, radius))
-    res = solve_loads(bodies, drives, laws, spec, steps)
-    return _record(res, drive_names, laws, bodies, spec,
-                   f"{len(bodies)} planar rigid bodies ({J} arm(s) x {K} shaft(s), the last "
-                   f"with the arm and the payload), {len(bodies)} revolute joints, driven "
-                   f"carrier{' and sun' if sun_body is not None else ''}, {len(laws)} mesh "
-                   "constraints (pitch-curve laws)", steps)
+    dwell = built.toothless[0] if built.toothless else None
+    # a dwell's ends are impacts of the rigid model: gamma 0.6 as the seeder's
+    # (``loads.seeder_loads``); without impacts the lighter 0.52
+    res = solve_loads(bodies, drives, laws, spec, steps, gamma=0.52 if dwell is None else 0.6)
+    rec = _record(res, drive_names, laws, bodies, spec,
+                  f"{len(bodies)} planar rigid bodies ({J} arm(s) x {K} shaft(s), the last "
+                  f"with the arm and the payload), {len(bodies)} revolute joints, driven "
+                  f"carrier{' and sun' if sun_body is not None else ''}, {len(laws)} mesh "
+                  "constraints (pitch-curve laws)", steps)
+    if dwell is not None:
+        # the seeder's treatment (``loads.dwell_impacts``): every arm meets the sun's
+        # toothless arc, arm j 2 pi j / J of carrier turn before arm 1
+        start, sector = (float(np.ravel(v)[0]) for v in tr.pairs[0].dwell)
+        cuts = [start + e - TWO_PI * j / J for j in range(J) for e in (0.0, sector)]
+        span = max(float(np.ptp(res["energy_change"])), float(np.mean(res["kinetic"])))
+        impacts, err = dwell_impacts(res, cuts, span)
+        rec["dwell_impacts"] = impacts
+        rec["energy_balance"].update(
+            max_error_fraction_of_energy_range=err,
+            checked="between the dwell's impacts (1 deg either side left out)")
+    return rec

@@ -79,6 +79,28 @@ def seeder_train(design):
     return train_from_inverse(res)
 
 
+def file_frames(train, nominal) -> dict:
+    """The gear files' frames on the carrier at the start (rad, in the carrier's frame:
+    O -> planet axis along x), as ``analyse_seeder`` poses the outlines: each driving gear
+    (2, 3) in its mesh frame turned by minus its contact body angle (the contact faces
+    the mate), the planet turned by pi less its rolling from ``theta0``. Returns
+    gear 2's, gear 3's and the planet's frame angles, gear 3's minus gear 2's (the two
+    share a shaft, turned by this constant) and the planet's minus the arm's (constant:
+    the arm is fixed to the planet). ``nominal``: ``seeder_forward.simulate``'s motion."""
+    from plantmech.mechanisms.seeder_forward import shaft_offset
+
+    shaft = train.a1 * np.exp(1j * shaft_offset(train))
+    to_sun, to_planet = np.angle(-shaft), np.angle(train.L1 - shaft)
+    u0 = float(nominal.gear2_angle[0])
+    gear2 = to_sun - (train.gear2_contact0 + u0)
+    gear3 = to_planet - (train.gear3_contact0 + u0)
+    planet0 = -_rolling_turn(train.gear3, train.gear3.theta0, train.gear3_contact0, train.a2)
+    planet = to_planet + np.pi - planet0 + float(nominal.planet_rel[0])
+    arm = float(nominal.arm_angle[0]) - float(train.carrier0)
+    return {"gear2": float(gear2), "gear3": float(gear3), "planet": float(planet),
+            "gear3_minus_gear2": float(gear3 - gear2), "planet_minus_arm": float(planet - arm)}
+
+
 def analyse_seeder(train, gears: dict[str, GearOutline], steps: int = 720) -> SeederContact:
     """Drive the toothed train through one carrier turn in ``steps`` steps."""
     from plantmech.mechanisms.seeder_forward import simulate, sun_rolling_start

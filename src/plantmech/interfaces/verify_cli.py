@@ -282,6 +282,11 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
         print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
               f"input torque {tq['min']:.2f} to {tq['max']:.2f} N m{per_input}; "
               f"tangential tooth force up to {forces}")
+        for imp in loads.get("dwell_impacts", []):
+            print(f"    dwell impact at carrier {imp['carrier_angle_deg']:.2f} deg (rigid model): "
+                  f"kinetic energy {imp['kinetic_energy_jump_J']:+.3f} J, drive work "
+                  f"{imp['drive_work_J']:+.3f} J, peak input torque "
+                  f"{imp['peak_input_torque_N_m']:.1f} N m")
     elif "loads" in rec:
         print(f"  loads skipped: {rec['loads']['skipped']}")
     for c in rec["checks"]:

@@ -96,6 +96,20 @@ def plot_tip_band(path: Path, c) -> None:
     _save(plt, fig, path)
 
 
+def _dwell_impacts(axes, loads: dict) -> None:
+    """Dotted lines at a toothless dwell's impacts (``loads["dwell_impacts"]``) on every
+    panel, each labelled with its kinetic-energy jump and the drive's work across it (J)."""
+    for k, imp in enumerate(loads.get("dwell_impacts", [])):
+        for ax in axes:
+            ax.axvline(imp["carrier_angle_deg"], color="0.4", ls=":", lw=1.0,
+                       label=None if ax is not axes[0] or k > 0 else
+                       "dwell impacts (rigid model)")
+        axes[2].annotate(f"kinetic {imp['kinetic_energy_jump_J']:+.2f} J,\nwork "
+                         f"{imp['drive_work_J']:+.2f} J", (imp["carrier_angle_deg"], 0.95),
+                         xycoords=("data", "axes fraction"), xytext=(3, 0),
+                         textcoords="offset points", fontsize=7, ha="left", va="top")
+
+
 def plot_loads(path: Path, loads: dict) -> None:
     """Input torque and tangential tooth forces over the carrier turn (exudyn), and the
     energy balance (drive work vs change of kinetic + potential energy)."""
@@ -112,6 +126,7 @@ def plot_loads(path: Path, loads: dict) -> None:
     axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
     axes[2].set_ylabel("energy / J")
     axes[2].set_xlabel("carrier angle / deg")
+    _dwell_impacts(axes, loads)
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
@@ -238,6 +253,7 @@ def plot_transplanter_loads(path: Path, loads: dict) -> None:
     axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
     axes[2].set_ylabel("energy / J")
     axes[2].set_xlabel("carrier angle / deg")
+    _dwell_impacts(axes, loads)
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
