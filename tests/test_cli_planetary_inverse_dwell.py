@@ -112,3 +112,28 @@ def test_verify_drives_the_dwell_of_the_written_file(gears_dirs, written, tmp_pa
     assert rec["dwell"]["steps"] == 103
     assert rec["dwell"]["carrier_angle_deg"] == [75.0, 126.0]
     assert rec["dwell"]["jammed_steps"] == 0
+
+
+def test_the_scene_draws_the_sun_touching_gear_one_through_the_dwell(written):
+    """The app's drawing of the written file: the derived sun (its rolling arc the mate of
+    gear 2's open turn, its toothless arc at the lock radius) and gear 2 touch in every
+    frame, through the dwell too (within 0.2 mm, as the Table 4 file's)."""
+    from plantmech.app.scene import planetary_scene
+    from plantmech.design import load_design
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    d = load_design(written)
+    built = build_from_design(d)
+    assert np.isfinite(built.drivers[0].r).all()
+    scene = planetary_scene(d, simulate(built, 720), frames=72, detail=2880)
+    g = {x["role"]: x for x in scene["gears"]}
+
+    def placed(gear, k):
+        body = np.asarray(gear["body"], dtype=float) @ np.array([1.0, 1j])
+        cx, cy = np.asarray(gear["centre"], dtype=float)[k]
+        return complex(cx, cy) + body * np.exp(1j * np.asarray(gear["rot"], dtype=float)[k])
+
+    for k in range(len(np.asarray(g["sun"]["rot"]))):
+        gap = np.abs(placed(g["sun"], k)[:, None] - placed(g["gear1"], k)[None, :]).min()
+        assert gap < 0.2, (k, gap)
