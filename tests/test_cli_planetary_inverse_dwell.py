@@ -137,3 +137,19 @@ def test_the_scene_draws_the_sun_touching_gear_one_through_the_dwell(written):
     for k in range(len(np.asarray(g["sun"]["rot"]))):
         gap = np.abs(placed(g["sun"], k)[:, None] - placed(g["gear1"], k)[None, :]).min()
         assert gap < 0.2, (k, gap)
+
+
+def test_the_written_break_moved_off_the_lock_exits_2(written, tmp_path, capsys):
+    """Gear 3 turned 1 deg on gear 2's shaft: its break no longer meets the planet where
+    the dwell starts (it would be rolled across while the teeth mesh): exit 2 naming it."""
+    import tomllib
+
+    import tomli_w
+
+    doc = tomllib.loads(written.read_text())
+    doc["train"]["pairs"][1]["driver"]["phase_deg"] += 1.0
+    path = tmp_path / "moved.toml"
+    path.write_text(tomli_w.dumps(doc))
+    assert main(["forward", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "train.pairs.1.driver.open" in err and "break" in err, err

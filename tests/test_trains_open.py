@@ -143,6 +143,8 @@ def _doc(**follower):
     (lambda d: d["train"]["pairs"][0].pop("dwell"), "pairs.0.follower.open",
      "toothless dwell"),
     (lambda d: d["train"]["pairs"][0]["follower"].update(lobes=2), "open", "one lobe"),
+    (lambda d: d["train"]["pairs"][0].update(follower_turns=2.0), "pairs.0.follower.open",
+     "follower_turns = 1"),
     (lambda d: d["train"]["pairs"][0]["follower"]["angles_deg"].__setitem__(-1, 350.0),
      "angles_deg", "360 deg"),
     (lambda d: d["train"]["pairs"][0]["follower"]["radii_mm"].extend([50.0] * 1000),
@@ -161,16 +163,27 @@ def test_a_break_the_file_cannot_have_is_refused_naming_the_field(change, field,
     assert field in str(exc.value) and words in str(exc.value), str(exc.value)
 
 
-def test_a_break_not_held_by_the_dwell_exits_2_naming_the_field(tmp_path, capsys):
-    """An open gear 2 whose break is not at the contact where the dwell starts would be
-    rolled across while the teeth mesh: `plantmech forward` exits 2 naming it."""
+@pytest.mark.parametrize("which", ["train.pairs.0.follower", "train.pairs.1.driver"])
+def test_a_break_not_held_by_the_dwell_exits_2_naming_the_field(tmp_path, capsys, which):
+    """An open gear 2 (or gear 3) whose break is not at the contact where the dwell starts
+    would be rolled across while the teeth mesh: `plantmech forward` exits 2 naming it."""
     import tomli_w
 
     from plantmech.interfaces.cli import main
 
+    doc = _doc()
+    if which.endswith("driver"):  # gear 2 as in Table 4, gear 3 open
+        doc["train"]["pairs"][0]["follower"].update(
+            radii_mm=[55.4, 54.9, 62.0, 74.0, 52.9, 60.9, 58.9, 55.9], interpolation="hermite",
+            angles_deg=[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0], open=False)
+        doc["train"]["pairs"][1]["driver"].update(
+            radii_mm=[86.7, 88.0, 68.0, 32.0, 93.1, 71.2, 76.9, 85.3, 80.0],
+            angles_deg=[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, 360.0],
+            interpolation="spline", open=True)
+        doc["train"]["pairs"][1].pop("centre_distance_mm")
     path = tmp_path / "open.toml"
-    path.write_text(tomli_w.dumps(_doc()))
+    path.write_text(tomli_w.dumps(doc))
     assert main(["forward", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "train.pairs.0.follower.open" in err and "break" in err, err
+    assert f"{which}.open" in err and "break" in err, err
     assert not (tmp_path / "o").exists()
