@@ -186,3 +186,20 @@ def test_dwell_inverse_file_writes_the_dedicated_train_to_1e6(dwell_inverse_desi
     at = contact_angles(m.built, np.radians(p0.dwell.start_deg))
     assert abs(np.angle(np.exp(1j * at[0][1][0, 0]))) < 1e-9
     assert abs(np.angle(np.exp(1j * at[1][0][0, 0]))) < 1e-9
+
+
+def test_dwell_file_equals_seeder_forward_to_1e6():
+    """examples/planetary/sugarcane_seeder_dwell.toml (the same train, written by the
+    script to 12 significant digits) equals mechanisms/seeder_forward on
+    examples/sugarcane_seeder_dwell.toml's train to 1e-6 mm tip and 1e-9 rad arm angle."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.mechanisms.seeder_trains import inverse_design_of, train_from_inverse
+
+    _, res = inverse_design_of(load_design(EXAMPLES / "sugarcane_seeder_dwell.toml"))
+    tr = train_from_inverse(res)
+    d, m = _motion("sugarcane_seeder_dwell.toml")
+    assert d.train.pairs[0].follower.open and d.train.pairs[1].driver.open
+    ref = seeder_simulate(tr, d.samples)
+    assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-9  # rad
+    assert np.array_equal(m.gear_rates[1][0, 0] == 0.0, ref.in_dwell)
