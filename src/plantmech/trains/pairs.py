@@ -341,8 +341,12 @@ def _open_law(kind: str, driver: Curve, a: np.ndarray, solve: bool, q: np.ndarra
         slope = -(c * (np.sum(driver.r / rf**2, axis=1) - 0.5 * driver.r[:, 0] / rf[:, 0]**2
                        + 0.5 * driver.r_end / rf_end**2)) / N
         step = (mean - q) / slope
-        solved = solved - step
-        if np.all(np.abs(step) < 1e-13 * np.abs(solved)):
+        trial = solved - step
+        rf_min = np.minimum((kappa * driver.r + c * trial[:, None]).min(axis=1),
+                            kappa * driver.r_end + c * trial)
+        ok = np.isfinite(trial) & (rf_min > 0)  # a step leaving the admissible range: kept
+        solved = np.where(ok, trial, solved)
+        if np.all(~ok | (np.abs(step) < 1e-13 * np.abs(solved))):
             break
     dist = solved if solve else a
     bad = kappa * driver.r_end + c * dist <= min_radius
