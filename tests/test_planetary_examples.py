@@ -123,3 +123,83 @@ def test_khv_file_follows_the_khv_code_to_its_interpolation():
         assert np.allclose(m.built.centre_distances, ref.centre_distance[0], atol=1e-8)
     assert np.abs(tips[0] - tips[1]).max() < 1e-7
     assert np.abs(tips[1] - ref.B).max() < 5e-4
+
+
+@pytest.fixture(scope="module")
+def dwell_inverse_design(tmp_path_factory):
+    """`plantmech inverse examples/planetary/sugarcane_seeder_dwell_inverse.toml`: its
+    exit status, summary and the design.toml it writes (loaded back from the file)."""
+    import json
+
+    from plantmech.interfaces.cli import main
+
+    out = tmp_path_factory.mktemp("dwell_inverse") / "o"
+    code = main(["inverse", str(PLANETARY / "sugarcane_seeder_dwell_inverse.toml"), "--out",
+                 str(out), "--no-plots"])
+    return code, json.loads((out / "summary.json").read_text()), out / "design.toml"
+
+
+def test_dwell_inverse_file_writes_the_dedicated_train_to_1e6(dwell_inverse_design):
+    """Seed 000's trajectory inverse design WITH the sun's toothless dwell over cd as a
+    general file: `plantmech inverse` writes gears 2 and 3 as open curves (a break at the
+    lock point) and the first pair's [train.pairs.dwell]; the written file, run by the
+    general forward model, equals mechanisms/seeder_forward on the dedicated file's train
+    (examples/sugarcane_seeder_dwell.toml: its own inverse design,
+    seeder_trains.train_from_inverse, open CubicSplines from the lock) to 1e-6 mm tip and
+    1e-9 rad arm angle (measured 2.7e-7 mm, 5.4e-10 rad), the stage rates to 1e-6 and the
+    dwell's samples exactly."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.mechanisms.seeder_trains import inverse_design_of, train_from_inverse
+
+    code, summary, path = dwell_inverse_design
+    assert code == 0, summary
+    assert summary["objectives"][0]["name"] == "round_trip_realized_tip_deviation_mm"
+    assert summary["objectives"][0]["value"] < 1e-6
+    d = load_design(path)
+    p0, p1 = d.train.pairs
+    assert p0.follower.open and p1.driver.open and p0.dwell is not None
+    _, res = inverse_design_of(load_design(EXAMPLES / "sugarcane_seeder_dwell.toml"))
+    tr = train_from_inverse(res)
+    assert not tr.gear2.periodic and not tr.gear3.periodic
+    # the written curves are the dedicated ones, measured from their break (the lock)
+    assert p0.follower.radii_mm[0] == pytest.approx(res.dwell["edge_pitch_radii"][
+        "meshing_start"]["r2"], abs=1e-9)
+    assert p0.follower.radii_mm[-1] == pytest.approx(res.dwell["edge_pitch_radii"][
+        "meshing_end"]["r2"], abs=1e-9)
+    assert p0.dwell.sector_deg == pytest.approx(np.degrees(tr.dwell_theta1), abs=1e-9)
+    m = simulate(build_from_design(d), d.samples)
+    ref = seeder_simulate(tr, d.samples)
+    assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-9  # rad
+    assert np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max() < 1e-6
+    assert np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max() < 1e-6
+    # mm/rad on a tip rate of ~1000 mm/rad: the ratio read by the general model's Hermite
+    # grid and by the seeder's spline differ most just before the lock (measured 3.4e-5)
+    assert np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max() \
+        < 1e-4
+    assert np.array_equal(m.gear_rates[1][0, 0] == 0.0, ref.in_dwell)
+    assert ref.in_dwell.sum() == 517  # 51.7 deg of 3600 samples per turn
+    # the train's break is held: gear 2 and gear 3 touch at their break when the dwell
+    # starts (trains.spec.check_breaks)
+    from plantmech.trains.model import contact_angles
+
+    at = contact_angles(m.built, np.radians(p0.dwell.start_deg))
+    assert abs(np.angle(np.exp(1j * at[0][1][0, 0]))) < 1e-9
+    assert abs(np.angle(np.exp(1j * at[1][0][0, 0]))) < 1e-9
+
+
+def test_dwell_file_equals_seeder_forward_to_1e6():
+    """examples/planetary/sugarcane_seeder_dwell.toml (the same train, written by the
+    script to 12 significant digits) equals mechanisms/seeder_forward on
+    examples/sugarcane_seeder_dwell.toml's train to 1e-6 mm tip and 1e-9 rad arm angle."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.mechanisms.seeder_trains import inverse_design_of, train_from_inverse
+
+    _, res = inverse_design_of(load_design(EXAMPLES / "sugarcane_seeder_dwell.toml"))
+    tr = train_from_inverse(res)
+    d, m = _motion("sugarcane_seeder_dwell.toml")
+    assert d.train.pairs[0].follower.open and d.train.pairs[1].driver.open
+    ref = seeder_simulate(tr, d.samples)
+    assert np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6  # mm
+    assert np.abs(m.arm_angle[0, 0] - ref.arm_angle).max() < 1e-9  # rad
+    assert np.array_equal(m.gear_rates[1][0, 0] == 0.0, ref.in_dwell)

@@ -119,6 +119,8 @@ def _doc() -> dict:
     (lambda d: d["train"]["pairs"][0].update(driver={"family": "ellipse", "semi_major_mm": 9.0,
                                                      "eccentricity": 0.1}),
      "train.pairs.0"),
+    (lambda d: d["trajectory"].update(dwell={"start": 3, "end": 5, "anchor": 4}),
+     "trajectory.dwell"),
 ])
 def test_inputs_the_inverse_cannot_take_exit_2_naming_the_field(tmp_path, capsys, change,
                                                                  field):

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field, Strict, field_validator, model_validator
+from pydantic import Field, Strict, StrictBool, field_validator, model_validator
 
 from plantmech.design import (
     MAX_CARRIER_SPEED_DEG_S,
@@ -102,29 +102,72 @@ class FourierCurve(_Strict):
         return self
 
 
+#: most control radii of an open pitch curve (``RadiiCurve.open``): seed 000's
+#: inverse-designed gears with a dwell carry their inverse design's knots (3600 samples
+#: per carrier turn less the dwell's); tabulated by SciPy's spline, no dense matrix.
+MAX_OPEN_POINTS = 4096
+
+
 class RadiiCurve(_Strict):
     """Control radii joined by a periodic cubic Hermite (seed 000 §4.3) or spline,
-    optionally over identical lobes."""
+    optionally over identical lobes; or, ``open``, one open turn with a break at body
+    angle 0 (``trains.curves``)."""
 
     family: Literal["radii"] = Field(description="pitch-curve family")
     radii_mm: list[PositiveMM] = Field(description=f"r_i: control radii (mm), 4 to "
-                                       f"{MAX_POINTS}", max_length=MAX_POINTS)
+                                       f"{MAX_POINTS} ({MAX_OPEN_POINTS} for an open curve)",
+                                       max_length=MAX_OPEN_POINTS)
     angles_deg: list[AngleDeg] | None = Field(
         None, description="angles of the radii within one lobe (deg, 360 per lobe), "
-        "increasing, spanning less than 360; default uniform")
+        "increasing, spanning less than 360; default uniform. An open curve: from 0 to 360 "
+        "(both ends), default uniform", max_length=MAX_OPEN_POINTS)
     interpolation: Interp = Field("hermite", description="periodic cubic Hermite (C1) or "
-                                  "periodic cubic spline (C2)")
+                                  "periodic cubic spline (C2); an open curve: cubic Hermite "
+                                  "(one-sided end slopes) or not-a-knot cubic spline")
     lobes: Annotated[int, Strict()] = Field(1, ge=1, le=12, description="n: identical "
                                             "lobes round the gear")
+    open: StrictBool = Field(False, description="true: the curve breaks at body angle 0 "
+                             "(its radius's two limits there differ; seed 000's "
+                             "inverse-designed gears with a toothless dwell): the first radius "
+                             "is the right limit at 0 deg, the last the left limit at 360 "
+                             "deg. Only where the train's dwell holds the curve at its break "
+                             "(the contact there when the dwell starts, so it is never rolled "
+                             "across), one lobe, follower_turns = 1")
     phase_deg: AngleDeg = Field(0.0, description="as for an ellipse: orientation of angle 0 "
                                 "(deg)")
 
     @model_validator(mode="after")
     def _angles(self):
-        _check_polar_points(self.radii_mm, self.angles_deg, "angles_deg", "angle")
+        if not self.open:
+            if len(self.radii_mm) > MAX_POINTS:
+                raise ValueError(f"radii_mm: at most {MAX_POINTS} items for a periodic curve "
+                                 f"(got {len(self.radii_mm)}; {MAX_OPEN_POINTS} for an open "
+                                 "one)")
+            _check_polar_points(self.radii_mm, self.angles_deg, "angles_deg", "angle")
+            return self
+        if self.lobes != 1:
+            raise ValueError(f"open: an open curve (a break at body angle 0) has one lobe, "
+                             f"got lobes = {self.lobes}")
+        if len(self.radii_mm) < 4:
+            raise ValueError(f"need at least 4 radii, got {len(self.radii_mm)}")
+        angles = self.angles()
+        if len(angles) != len(self.radii_mm):
+            raise ValueError(f"angles_deg has {len(angles)} values but radii_mm has "
+                             f"{len(self.radii_mm)}")
+        if angles[0] != 0.0 or angles[-1] != 360.0:
+            raise ValueError(f"angles_deg of an open curve run from 0 deg (its break, the "
+                             f"right limit) to 360 deg (the left limit); got {angles[0]:g} to "
+                             f"{angles[-1]:g}")
+        for k in range(1, len(angles)):
+            if angles[k] <= angles[k - 1]:
+                raise ValueError(f"angles_deg must increase: point {k} at {angles[k]:g} deg "
+                                 f"follows {angles[k - 1]:g} deg")
         return self
 
     def angles(self) -> list[float]:
+        if self.open and self.angles_deg is None:
+            n = len(self.radii_mm)
+            return [360.0 * k / (n - 1) for k in range(n)]
         return _uniform(self.angles_deg, len(self.radii_mm))
 
 
@@ -242,6 +285,18 @@ class PlanetaryTrain(_Strict):
                                  f"(sun_speed_ratio = 0, got {self.sun_speed_ratio:g}): a "
                                  "turning sun brings its toothless arc round at another "
                                  "carrier angle every turn")
+            for role in ("driver", "follower"):
+                if not getattr(getattr(p, role), "open", False):
+                    continue
+                if self.pairs[0].dwell is None:
+                    raise ValueError(f"pairs.{k}.{role}.open: a curve with a break needs the "
+                                     "train's toothless dwell (pairs.0.dwell) to hold it at its "
+                                     "break (rolled across, its ratio would jump while the "
+                                     "teeth mesh); this train has no dwell")
+                if p.follower_turns != 1:
+                    raise ValueError(f"pairs.{k}.{role}.open: a curve with a break needs "
+                                     f"follower_turns = 1 (got {p.follower_turns:g}): the break "
+                                     "would meet its mate at another body angle every turn")
             if k and p.driver is None and p.follower is None and p.teeth is not None:
                 raise ValueError(f"pairs.{k}.teeth: this pair's driver is the previous "
                                  "follower (an idler), whose teeth follow from the pair "
@@ -276,6 +331,34 @@ class PlanetaryArm(_Strict):
         "[trajectory]")
 
 
+PointIndex = Annotated[int, Strict(), Field(ge=0, lt=MAX_POINTS)]
+
+
+class TrajectoryDwell(_Strict):
+    """The toothless dwell of seed 000's second-order inverse design over a stretch of the
+    planned path (examples/sugarcane_seeder_dwell.toml's [gear_train.dwell], its section
+    letters given as type-value point indices, 0-based): the arm is held in the carrier
+    from point ``start`` to point ``end`` (the sun's toothless sector, seed 000 Eq. 5) and
+    the planned turn inside is redistributed so the attitude at ``anchor`` is kept."""
+
+    start: PointIndex = Field(description="type-value point (0-based) where the dwell starts "
+                              "(the seeder's section c)")
+    end: PointIndex = Field(description="type-value point where it ends (section d; another "
+                            "point than start)")
+    anchor: PointIndex = Field(description="type-value point whose attitude is kept exactly "
+                               "(section e)")
+    edge_radius_mm: PositiveMM | None = Field(None, description="R2 of Eq. 5: the sun's radius "
+                                              "at the sector's edges (mm); default: from the "
+                                              "stage-1 ratio")
+
+    @model_validator(mode="after")
+    def _extent(self):
+        if self.start == self.end:
+            raise ValueError(f"start = end = {self.start}: a dwell needs two different "
+                             "type-value points (it would have zero length)")
+        return self
+
+
 class PlanetaryTrajectory(Trajectory):
     """The planned tip trajectory of a first-order train for `plantmech inverse` (the
     seeder's [trajectory] points and samples; no sections). The file then gives a fixed
@@ -303,9 +386,20 @@ class PlanetaryTrajectory(Trajectory):
         Field(0.5, description="p: a second-order train (two pairs, seed 000) gives its "
               "first pair the ratio C (total ratio)^p (seed 000 Eq. 7-8)"))
 
+    dwell: TrajectoryDwell | None = Field(
+        None, description="a second-order train (two pairs, seed 000): the sun's toothless "
+        "dwell between two type-value points; `plantmech inverse` then writes gear 2 and "
+        "gear 3 as open curves breaking at the lock point and the first pair's "
+        "[train.pairs.dwell]")
+
     @model_validator(mode="after")
     def _sections_in_range(self):  # replaces the seeder's: no sections here
         n = len(self.points)
+        if self.dwell is not None:
+            for key in ("start", "end", "anchor"):
+                if getattr(self.dwell, key) >= n:
+                    raise ValueError(f"dwell.{key} = {getattr(self.dwell, key)}: there are "
+                                     f"{n} type-value points (0 to {n - 1})")
         if self.samples < 4 * n:
             raise ValueError(f"samples = {self.samples} is fewer than 4 per type-value point "
                              f"({n} points)")

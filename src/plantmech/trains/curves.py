@@ -18,6 +18,14 @@ Families (the design file's ``family``):
 - ``radii``: control radii at body angles joined by a periodic cubic Hermite (C1, seed
   000 §4.3) or periodic cubic spline (C2) (``geometry.periodic``), optionally repeated
   over ``lobes`` identical lobes (r(theta) = interpolant(lobes * theta)).
+
+An *open* curve (``Curve.r_end``, ``interpolated(..., open_turn=True)``) has a break at body
+angle 0: its radius's right limit there (``r[:, 0]``, the start of the open turn) and its
+left limit (``r_end``, the end of the turn at 2 pi) differ, and it is smooth elsewhere (the
+inverse-designed gears 2 and 3 of seed 000's seeder with a toothless dwell: their ratio
+jumps at the lock point, where meshing stops and restarts). The table's last interval
+[2 pi - h, 2 pi) is read with the left limits, so the Hermite reading never interpolates
+across the break; the value at body angle 0 (mod 2 pi) is the right limit.
 """
 
 from __future__ import annotations
@@ -69,14 +77,50 @@ def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     return value.reshape(shape), slope.reshape(shape)
 
 
+def hermite_open(y: np.ndarray, dy: np.ndarray, y_end: np.ndarray, dy_end: np.ndarray,
+                 x: np.ndarray) -> tuple:
+    """As ``hermite_periodic`` for an open table: the last interval [2 pi - h, 2 pi) ends
+    at the left limits ``y_end``, ``dy_end`` (P,) instead of wrapping to column 0, so a
+    break at body angle 0 is never interpolated across (angles taken mod 2 pi; the value
+    at 0 is the right limit ``y[:, 0]``)."""
+    P, N = y.shape
+    h = TWO_PI / N
+    x = np.asarray(x, dtype=float)
+    shape = (P,) + x.shape[1:]
+    u = np.broadcast_to(x, shape).reshape(P, -1) * (1.0 / h)
+    kf = np.floor(u)
+    s = u - kf
+    k = kf.astype(np.intp) % N
+    i0 = k + (np.arange(P) * (N + 1))[:, None]  # flat indices in the (P, N + 1) tables
+    yf = np.concatenate([y, np.reshape(y_end, (P, 1))], axis=1).ravel()
+    df = np.concatenate([dy, np.reshape(dy_end, (P, 1))], axis=1).ravel()
+    y0, y1 = yf.take(i0), yf.take(i0 + 1)
+    d0, d1 = df.take(i0) * h, df.take(i0 + 1) * h
+    s2 = s * s
+    s3 = s2 * s
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value.reshape(shape), slope.reshape(shape)
+
+
 @dataclass
 class Curve:
     """P pitch curves tabulated on the uniform grid theta_k = 2 pi k / N (rad):
-    radii ``r`` (P, N) mm and slopes ``dr`` (P, N) mm/rad."""
+    radii ``r`` (P, N) mm and slopes ``dr`` (P, N) mm/rad. An open curve (a break at
+    body angle 0, module docstring) also has its left limits at 2 pi: ``r_end`` (P,) mm and
+    ``dr_end`` (P,) mm/rad; None: periodic."""
 
     r: np.ndarray
     dr: np.ndarray
     name: str = "pitch curve"
+    r_end: np.ndarray | None = None
+    dr_end: np.ndarray | None = None
+
+    @property
+    def open(self) -> bool:
+        """Whether the curve breaks at body angle 0 (``r_end`` given)."""
+        return self.r_end is not None
 
     @property
     def theta(self) -> np.ndarray:
@@ -87,13 +131,25 @@ class Curve:
         return self.r.shape[0]
 
     def __call__(self, theta) -> tuple[np.ndarray, np.ndarray]:
-        """(r, dr/dtheta) at body angles ``theta`` (rad), shape (P, ...) or (1, ...)."""
+        """(r, dr/dtheta) at body angles ``theta`` (rad), shape (P, ...) or (1, ...); an
+        open curve's right limit at its break (0 mod 2 pi)."""
+        if self.open:
+            return hermite_open(self.r, self.dr, self.r_end, self.dr_end, theta)
         return hermite_periodic(self.r, self.dr, theta)
 
     def take(self, k: int) -> Curve:
+        if self.open:
+            return Curve(self.r[k:k + 1], self.dr[k:k + 1], self.name, self.r_end[k:k + 1],
+                         self.dr_end[k:k + 1])
         return Curve(self.r[k:k + 1], self.dr[k:k + 1], self.name)
 
     def check_positive(self, min_radius: float = 0.0) -> None:
+        if self.open and np.any(self.r_end <= min_radius):
+            d = int(np.argmax(self.r_end <= min_radius))
+            raise CurveError(f"{self.name}: radius {self.r_end[d]:.4g} mm at the end of its "
+                             "open turn (body angle 360 deg, the left side of its break)"
+                             + (f" (design {d})" if self.designs > 1 else "")
+                             + f" is not above {min_radius:g} mm")
         bad = self.r <= min_radius
         if bad.any():
             d, k = (int(i) for i in np.argwhere(bad)[0])
@@ -154,15 +210,25 @@ def fourier(mean_radius, cos_mm, sin_mm, grid: int, name: str = "fourier") -> Cu
 
 
 def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1,
-                 name: str = "radii") -> Curve:
+                 name: str = "radii", open_turn: bool = False) -> Curve:
     """Control radii (P, K) or (K,) mm at phases ``angles`` (K,) rad joined by a periodic
     ``kind`` interpolant f (``hermite``: C1, tangents from centred differences; ``spline``:
     C2), as ``geometry.periodic``. With ``lobes`` n the curve is n identical lobes,
-    r(theta) = f(n theta): the phases are body angles times n (for n = 1, body angles)."""
-    from plantmech.geometry.periodic import periodic_spline_matrix
+    r(theta) = f(n theta): the phases are body angles times n (for n = 1, body angles).
 
+    ``open_turn``: an open curve (module docstring) over one turn from its break at body
+    angle 0: ``angles`` run from 0 to 2 pi (both ends given), the first radius is the
+    right limit at the break and the last the left limit; joined by SciPy's not-a-knot
+    cubic spline (``spline``, seed 000's inverse-designed gears with a dwell,
+    ``mechanisms.seeder_trains.train_from_inverse``) or a cubic Hermite with centred
+    slopes and one-sided ones at the two ends (``hermite``); one lobe."""
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
     th = TWO_PI * np.arange(grid) / grid
+    if open_turn:
+        return _open_interpolated(np.asarray(angles, dtype=float), radii, th, kind, lobes,
+                                  name)
+    from plantmech.geometry.periodic import periodic_spline_matrix
+
     at = lobes * th
     nodes = np.asarray(angles, dtype=float)
     r = radii @ periodic_spline_matrix(nodes, at, 0, kind).T
@@ -172,13 +238,58 @@ def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1
     return curve
 
 
+def _open_interpolated(nodes: np.ndarray, radii: np.ndarray, th: np.ndarray, kind: str,
+                       lobes: int, name: str) -> Curve:
+    """The open curve of ``interpolated(..., open_turn=True)``: radii (P, K) mm at
+    ``nodes`` (K,) rad from 0 to 2 pi, tabulated at ``th`` (N,) rad, left limits at 2 pi."""
+    from scipy.interpolate import CubicHermiteSpline, CubicSpline
+
+    if lobes != 1:
+        raise CurveError(f"{name}: an open curve (a break at body angle 0) has one lobe, "
+                         f"got lobes = {lobes}")
+    if nodes.ndim != 1 or nodes.size < 4 or nodes.size != radii.shape[1]:
+        raise CurveError(f"{name}: an open curve needs at least 4 radii, one per angle")
+    if abs(nodes[0]) > 1e-12 or abs(nodes[-1] - TWO_PI) > 1e-9 or np.any(np.diff(nodes) <= 0):
+        raise CurveError(f"{name}: an open curve's angles run from 0 deg (its break, the "
+                         "right limit) to 360 deg (the left limit), increasing")
+    x = nodes.copy()
+    x[-1] = TWO_PI
+    if kind == "spline":
+        f = CubicSpline(x, radii.T, axis=0)  # not-a-knot, as the seeder's open curves
+    elif kind == "hermite":
+        slope = np.empty_like(radii.T)
+        slope[1:-1] = (radii.T[2:] - radii.T[:-2]) / (x[2:] - x[:-2])[:, None]
+        slope[0] = (radii.T[1] - radii.T[0]) / (x[1] - x[0])
+        slope[-1] = (radii.T[-1] - radii.T[-2]) / (x[-1] - x[-2])
+        f = CubicHermiteSpline(x, radii.T, slope, axis=0)
+    else:
+        raise CurveError(f"{name}: unknown interpolation {kind!r} (expected 'hermite' or "
+                         "'spline')")
+    curve = Curve(np.ascontiguousarray(f(th).T), np.ascontiguousarray(f(th, 1).T), name,
+                  np.asarray(f(TWO_PI), dtype=float).reshape(-1),
+                  np.asarray(f(TWO_PI, 1), dtype=float).reshape(-1))
+    curve.check_positive()
+    return curve
+
+
+def second_derivative(curve: Curve) -> np.ndarray:
+    """d^2 r / d theta^2 (P, N) from the tabulated slopes' centred differences; an open
+    curve's one-sided at body angle 0 (right) and at the last grid angle (towards its left
+    limit at 2 pi), never across its break."""
+    h = TWO_PI / curve.r.shape[1]
+    r2 = (np.roll(curve.dr, -1, axis=1) - np.roll(curve.dr, 1, axis=1)) / (2 * h)
+    if curve.open:
+        r2[:, 0] = (curve.dr[:, 1] - curve.dr[:, 0]) / h
+        r2[:, -1] = (curve.dr_end - curve.dr[:, -2]) / (2 * h)
+    return r2
+
+
 def convexity(curve: Curve) -> dict:
     """Per design: is the polar curve convex (r^2 + 2 r'^2 - r r'' >= 0 everywhere), and
     its smallest radius of curvature (mm, negative where concave). r'' from the slopes'
-    centred differences."""
-    h = TWO_PI / curve.r.shape[1]
+    centred differences (an open curve's one-sided at its break, never across it)."""
     r, r1 = curve.r, curve.dr
-    r2 = (np.roll(r1, -1, axis=1) - np.roll(r1, 1, axis=1)) / (2 * h)
+    r2 = second_derivative(curve)
     den = r**2 + 2 * r1**2 - r * r2
     rho = (r**2 + r1**2) ** 1.5 / np.where(den == 0, np.nan, den)
     return {"convex": np.all(den >= 0, axis=1),

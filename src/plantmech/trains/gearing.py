@@ -72,9 +72,14 @@ def _groups(design) -> list[int]:
 
 
 def _sampled(curve: Curve, samples: int) -> tuple[np.ndarray, np.ndarray]:
-    """Body angles 0..2 pi (both ends) and radii (mm) of design 0 of ``curve``."""
+    """Body angles 0..2 pi (both ends) and radii (mm) of design 0 of ``curve``; an open
+    curve's turn from its break (``trains.curves``): the last radius is its left limit
+    there, as the seeder's gears with a break are cut (``mechanisms.gear_pairs``)."""
     th = np.linspace(0.0, TWO_PI, samples)
-    return th, curve(th[None, :])[0][0]
+    r = curve(th[None, :])[0][0]
+    if curve.open:
+        r[-1] = float(curve.r_end[0])
+    return th, r
 
 
 def _perimeter(curve: Curve, samples: int) -> float:
@@ -247,8 +252,12 @@ def _toothless_pair(built, k: int, names: tuple[str, str], spec, samples: int, r
     delta = float(np.ravel(p.direction)[0])
     theta_lock = delta + law.driver_direction - float(gap.lock[0, 0, 0])  # the sun's
     start = float(law.invert(np.array([[law.sense * theta_lock]]))[0, 0])  # gear A's
-    th = start + np.linspace(0.0, TWO_PI, samples)
-    r = built.followers[k](th[None, :])[0][0]
+    follower = built.followers[k]
+    if follower.open and abs(np.angle(np.exp(1j * start))) < 1e-6:
+        th, r = _sampled(follower, samples)  # the lock is its break: its open turn
+    else:
+        th = start + np.linspace(0.0, TWO_PI, samples)
+        r = follower(th[None, :])[0][0]
     a = float(law.a[0])
     return make_pair(f"{names[1]}_{names[0]}", th, r, a, spec, samples=samples,
                      bore_a=_bore(float(r.min()), spec, rules),
@@ -256,9 +265,11 @@ def _toothless_pair(built, k: int, names: tuple[str, str], spec, samples: int, r
 
 
 def _second_derivative(curve: Curve) -> np.ndarray:
-    """d^2 r / d theta^2 (P, N) from the tabulated slopes' centred differences."""
-    h = TWO_PI / curve.r.shape[1]
-    return (np.roll(curve.dr, -1, axis=1) - np.roll(curve.dr, 1, axis=1)) / (2 * h)
+    """d^2 r / d theta^2 (P, N) from the tabulated slopes (``trains.curves``; an open
+    curve's never across its break)."""
+    from plantmech.trains.curves import second_derivative
+
+    return second_derivative(curve)
 
 
 def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None):

@@ -189,8 +189,10 @@ def _per_design(curve: Curve, P: int) -> Curve:
     if curve.designs == P:
         return curve
     n = curve.r.shape[1]
+    ends = () if not curve.open else (np.broadcast_to(curve.r_end, (P,)).copy(),
+                                      np.broadcast_to(curve.dr_end, (P,)).copy())
     return Curve(np.broadcast_to(curve.r, (P, n)).copy(),
-                 np.broadcast_to(curve.dr, (P, n)).copy(), curve.name)
+                 np.broadcast_to(curve.dr, (P, n)).copy(), curve.name, *ends)
 
 
 def build(train: Train, designs: int | None = None) -> BuiltTrain:
@@ -432,10 +434,43 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
                        meshes)
 
 
+def contact_angles(built: BuiltTrain, psi) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per pair, (theta_d, theta_f) (P, M) rad: the body angles of its driver and follower
+    at their contact, arm 0, at carrier angles ``psi`` (M,) rad (``simulate``'s chain at
+    the angles asked, e.g. where a dwell starts: ``trains.spec`` checks there that an open
+    curve's break is held, never rolled across)."""
+    tr = built.train
+    P = built.designs
+    s = float(tr.carrier_sense)
+    psi = np.atleast_1d(np.asarray(psi, dtype=float))[None, None, :]  # (1, 1, M)
+    C0 = _column(tr.carrier0, P)[:, :, None]
+    first = tr.pairs[0]
+    if first.follower is not None:
+        alpha_start = _derived_driver_angle(first, built.laws[0], P)
+    else:
+        alpha_start = _column(first.phase, P)[:, :, None] - C0
+    k = float(tr.sun_speed_ratio)
+    alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi, (P, 1, psi.shape[-1]))
+    out = []
+    for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
+        if i > 0 and spec.driver is not None:
+            alpha = alpha + _column(spec.phase, P)[:, :, None]
+        elif i > 0 and spec.follower is not None:
+            alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
+        gap = built.toothless[i] if built.toothless else None
+        rolled = alpha if gap is None else gap.meshing(alpha)[0]
+        eps_d, eps_f = _KIND_OFFSETS[spec.kind]
+        delta = _column(spec.direction, P)[:, :, None]
+        m = mesh(law, spec, alpha, None, gap)
+        out.append(((delta + eps_d - rolled)[:, 0], (delta + eps_f - m.follower_angle)[:, 0]))
+        alpha = m.follower_angle
+    return out
+
+
 def forward(train: Train, samples: int = 3600) -> TrainMotion:
     """``simulate(build(train))``: P designs' motion from their train description."""
     return simulate(build(train), samples)
 
 
 __all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "Toothless", "PairMesh", "mesh",
-           "build", "simulate", "forward"]
+           "build", "simulate", "forward", "contact_angles"]

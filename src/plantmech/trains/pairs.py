@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plantmech.trains.curves import TWO_PI, Curve, hermite_periodic
+from plantmech.trains.curves import TWO_PI, Curve, hermite_open, hermite_periodic
 
 KINDS = ("external", "internal", "internal_ring_follower")
 #: (sense, r_f = kappa * r_d + c * a, contact direction offsets from delta: driver, follower)
@@ -105,7 +105,10 @@ class PairLaw:
     (1/rad); ``Fp`` (P, N) the periodic part F - q_e theta of the running integral, with
     ``q_e`` (P,) the follower's turns per driver turn as rolled (= ``follower_turns``
     when closed); ``closure_error`` (P,) rad: 2 pi (q_e - follower_turns), the follower's
-    extra turn per driver turn."""
+    extra turn per driver turn. An open driver (``Curve.open``: a break at body angle 0)
+    also has the ratio's left limits at 2 pi, ``g_end`` and ``dg_end`` (P,); F is then
+    the exact running integral of g's open Hermite table (continuous across the break,
+    its slope steps there) and every reading of g and F stops at the break."""
 
     kind: str
     driver: Curve
@@ -116,6 +119,22 @@ class PairLaw:
     q_e: np.ndarray
     follower_turns: float | np.ndarray
     name: str = "pair"
+    g_end: np.ndarray | None = None
+    dg_end: np.ndarray | None = None
+
+    def _periodic_part(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """(F - q_e theta, g - q_e) at driver body angles ``theta`` (rad): the Hermite
+        reading of ``Fp`` with its slopes (an open driver's never across its break)."""
+        if self.g_end is None:
+            return hermite_periodic(self.Fp, self.g - self.q_e[:, None], theta)
+        return hermite_open(self.Fp, self.g - self.q_e[:, None], self.Fp[:, 0],
+                            self.g_end - self.q_e, theta)
+
+    def _ratio_at(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """(g, dg/dtheta) at driver body angles ``theta`` (rad)."""
+        if self.g_end is None:
+            return hermite_periodic(self.g, self.dg, theta)
+        return hermite_open(self.g, self.dg, self.g_end, self.dg_end, theta)
 
     @property
     def sense(self) -> int:
@@ -136,8 +155,8 @@ class PairLaw:
 
     def F(self, theta) -> tuple[np.ndarray, np.ndarray]:
         """(F, g) at driver body angles ``theta`` (rad), shape (P, ...) or (1, ...)."""
-        fp, _ = hermite_periodic(self.Fp, self.g - self.q_e[:, None], theta)
-        g, _ = hermite_periodic(self.g, self.dg, theta)
+        fp, _ = self._periodic_part(theta)
+        g, _ = self._ratio_at(theta)
         q = self.q_e.reshape((-1,) + (1,) * (np.ndim(theta) - 1))
         return fp + q * np.asarray(theta, dtype=float), g
 
@@ -164,7 +183,7 @@ class PairLaw:
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
         q = self.q_e[:, None]
         for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
-            fp, dfp = hermite_periodic(self.Fp, self.g - q, theta)
+            fp, dfp = self._periodic_part(theta)
             theta = theta - (fp + q * theta - y) / (dfp + q)
         return theta + TWO_PI * w
 
@@ -177,7 +196,30 @@ class PairLaw:
         r_d, dr_d = self.driver(theta_d)
         g = r_d / self.follower_radius(r_d)
         _, kappa, _, _, _ = _KIND[self.kind]
+        if self.driver.open:
+            return _open_mate(self, r_d, kappa * dr_d / (self.sense * g), name)
         return Curve(self.follower_radius(r_d), kappa * dr_d / (self.sense * g), name)
+
+
+def _open_mate(law: PairLaw, r_d: np.ndarray, slope: np.ndarray, name: str) -> Curve:
+    """The mate of an open driver (``PairLaw.mate``): an open curve whose break, at its
+    body angle 0 (theta_f = sense F(0) = 0), meets the driver's. Its right limit there
+    rolls on the driver's side that follows it: the driver's left limit at 2 pi when the
+    follower turns against the driver (sense -1: theta_d -> 0 from below), its right limit
+    at 0 when with it; its left limit at 2 pi on the other side."""
+    _, kappa, _, _, _ = _KIND[law.kind]
+    d = law.driver
+
+    def side(r, dr):
+        rf = law.follower_radius(r)
+        return rf, kappa * dr / (law.sense * (r / rf))
+
+    start, end = side(d.r_end, d.dr_end), side(d.r[:, 0], d.dr[:, 0])
+    if law.sense > 0:
+        start, end = end, start
+    r_f, dr_f = law.follower_radius(r_d), slope.copy()
+    r_f[:, 0], dr_f[:, 0] = start
+    return Curve(r_f, dr_f, name, end[0], end[1])
 
 
 def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
@@ -221,13 +263,18 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
                         + (f" (design {d})" if P > 1 else ""))
     g = driver.r / rf
     dg = driver.dr * (c * a[:, None]) / rf**2  # d/dtheta of r / (kappa r + c a)
-    from plantmech.geometry.periodic import periodic_spline_running_integral
+    if driver.open:
+        law, solved = _open_law(kind, driver, a, centre_distance is None, q, min_radius, name)
+        law.follower_turns = float(q[0]) if scalar else q
+        q_e = law.q_e
+    else:
+        from plantmech.geometry.periodic import periodic_spline_running_integral
 
-    h = TWO_PI / N
-    F = periodic_spline_running_integral(g.T, h).T  # (P, N + 1)
-    q_e = F[:, -1] / TWO_PI
-    Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
-    law = PairLaw(kind, driver, a, g, dg, Fp, q_e, float(q[0]) if scalar else q, name)
+        h = TWO_PI / N
+        F = periodic_spline_running_integral(g.T, h).T  # (P, N + 1)
+        q_e = F[:, -1] / TWO_PI
+        Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
+        law = PairLaw(kind, driver, a, g, dg, Fp, q_e, float(q[0]) if scalar else q, name)
     err = np.abs(law.closure_error)
     if centre_distance is not None and np.any(err > tolerance):
         d = int(np.argmax(err))
@@ -238,6 +285,12 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
                         + (f" (design {d})" if P > 1 else ""))
     if not periodic_mate:
         return law
+    if driver.open:
+        if np.any(np.abs(q - 1.0) > 1e-12):
+            raise PairError(f"{name}: an open driver (a break at body angle 0) needs "
+                            f"follower_turns = 1 (got {q.max():g}): the break would meet the "
+                            "follower at another body angle every driver turn")
+        return law
     th = TWO_PI * np.arange(N) / N
     gap = np.abs(driver(th[None, :] + TWO_PI / q[:, None])[0] - driver.r).max(axis=1)
     if np.any(gap > 1e-6 * driver.r.max(axis=1)):
@@ -247,3 +300,64 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
                         f"(differs by up to {gap[d]:.4g} mm): the follower's pitch curve "
                         "would not close")
     return law
+
+
+def _open_running_integral(g: np.ndarray, dg: np.ndarray, g_end: np.ndarray,
+                           dg_end: np.ndarray) -> np.ndarray:
+    """F (P, N + 1) at theta_k = 2 pi k / N, k = 0..N: the exact running integral of the
+    open cubic Hermite table of g (values g, slopes dg, left limits g_end, dg_end at 2 pi):
+    each interval adds h (g_k + g_k+1) / 2 + h^2 (dg_k - dg_k+1) / 12."""
+    P, N = g.shape
+    h = TWO_PI / N
+    y = np.concatenate([g, g_end.reshape(P, 1)], axis=1)
+    d = np.concatenate([dg, dg_end.reshape(P, 1)], axis=1)
+    step = 0.5 * h * (y[:, :-1] + y[:, 1:]) + (h * h / 12.0) * (d[:, :-1] - d[:, 1:])
+    return np.concatenate([np.zeros((P, 1)), np.cumsum(step, axis=1)], axis=1)
+
+
+def _open_law(kind: str, driver: Curve, a: np.ndarray, solve: bool, q: np.ndarray,
+              min_radius: float, name: str) -> tuple[PairLaw, np.ndarray]:
+    """(law, the closing centre distance) of an open driver (``pair_law``): its ratio's
+    open Hermite table and running integral (``_open_running_integral``). The closing
+    centre distance starts from the periodic solve (``solve_centre_distance`` on the grid)
+    and is corrected by Newton on the open integral's mean (it counts the break's two
+    limits); ``solve``: the law is at that distance, else at ``a``."""
+    _, kappa, c, _, _ = _KIND[kind]
+    P, N = driver.r.shape
+
+    def tables(dist):
+        col = dist[:, None]
+        rf = kappa * driver.r + c * col
+        rf_end = kappa * driver.r_end + c * dist
+        return (driver.r / rf, driver.dr * (c * col) / rf**2, driver.r_end / rf_end,
+                driver.dr_end * (c * dist) / rf_end**2)
+
+    solved = solve_centre_distance(kind, driver.r, q)
+    for _ in range(8):
+        g, dg, ge, dge = tables(solved)
+        mean = _open_running_integral(g, dg, ge, dge)[:, -1] / TWO_PI
+        rf = kappa * driver.r + c * solved[:, None]
+        rf_end = kappa * driver.r_end + c * solved
+        slope = -(c * (np.sum(driver.r / rf**2, axis=1) - 0.5 * driver.r[:, 0] / rf[:, 0]**2
+                       + 0.5 * driver.r_end / rf_end**2)) / N
+        step = (mean - q) / slope
+        trial = solved - step
+        rf_min = np.minimum((kappa * driver.r + c * trial[:, None]).min(axis=1),
+                            kappa * driver.r_end + c * trial)
+        ok = np.isfinite(trial) & (rf_min > 0)  # a step leaving the admissible range: kept
+        solved = np.where(ok, trial, solved)
+        if np.all(~ok | (np.abs(step) < 1e-13 * np.abs(solved))):
+            break
+    dist = solved if solve else a
+    bad = kappa * driver.r_end + c * dist <= min_radius
+    if bad.any():
+        d = int(np.argmax(bad))
+        raise PairError(f"{name}: the follower's pitch radius falls to "
+                        f"{kappa * driver.r_end[d] + c * dist[d]:.4g} mm at the end of the "
+                        f"driver's open turn (centre distance {dist[d]:.4g} mm), not above "
+                        f"{min_radius:g} mm" + (f" (design {d})" if P > 1 else ""))
+    g, dg, ge, dge = tables(dist)
+    F = _open_running_integral(g, dg, ge, dge)
+    q_e = F[:, -1] / TWO_PI
+    Fp = F[:, :-1] - q_e[:, None] * (TWO_PI / N * np.arange(N))
+    return PairLaw(kind, driver, dist, g, dg, Fp, q_e, q, name, ge, dge), solved

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from plantmech.trains.curves import (
+    TWO_PI,
     Curve,
     CurveError,
     eccentric_circle,
@@ -34,7 +35,7 @@ def curve_from_spec(spec, grid: int, name: str) -> Curve:
         return fourier(spec.mean_radius_mm, spec.cos_mm or [0.0], spec.sin_mm or [0.0], grid,
                        name)
     return interpolated(np.radians(spec.angles()), spec.radii_mm, grid, spec.interpolation,
-                        spec.lobes, name)
+                        spec.lobes, name, open_turn=getattr(spec, "open", False))
 
 
 def require_curves(design) -> None:
@@ -94,7 +95,7 @@ def _curve_structure(spec):
         return None
     if spec.family == "radii":
         return ("radii", tuple(spec.angles()), len(spec.radii_mm), spec.interpolation,
-                spec.lobes)
+                spec.lobes, spec.open)
     if spec.family == "fourier":
         return ("fourier", len(spec.cos_mm), len(spec.sin_mm))
     return (spec.family,)
@@ -131,7 +132,8 @@ def _curves_from_specs(specs: list, grid: int, name: str) -> Curve:
                        np.array([s.cos_mm or [0.0] for s in specs]),
                        np.array([s.sin_mm or [0.0] for s in specs]), grid, name)
     return interpolated(np.radians(first.angles()), np.array([s.radii_mm for s in specs]),
-                        grid, first.interpolation, first.lobes, name)
+                        grid, first.interpolation, first.lobes, name,
+                        open_turn=getattr(first, "open", False))
 
 
 def train_from_designs(designs: list) -> Train:
@@ -181,14 +183,64 @@ def train_from_designs(designs: list) -> Train:
                  closure_tolerance=np.radians(t.closure_tolerance_deg))
 
 
+#: how far (rad) an open curve's break may lie from its contact where the dwell starts
+BREAK_TOLERANCE = 1e-6
+
+
+def check_breaks(built: BuiltTrain) -> None:
+    """TrainSpecError naming the field (``train.pairs.<k>.<role>.open``) unless every open
+    curve (``trains.curves``: a break at body angle 0) that a pair's law rolls on is at its
+    break at the contact when the first pair's toothless dwell starts: the dwell then holds
+    it there (its shaft does not turn) and it rolls away from the break when meshing
+    resumes, so the break is never rolled across while the teeth mesh (seed 000's
+    inverse-designed gears 2 and 3 step at the lock point). A derived mate of an open curve
+    breaks at the same contact (``trains.pairs``)."""
+    from plantmech.trains.model import contact_angles
+
+    train = built.train
+    open_laws = [k for k, law in enumerate(built.laws) if law.driver.open]
+    if not open_laws:
+        return
+    gap = train.pairs[0].dwell
+    if gap is None:
+        k = open_laws[0]
+        raise TrainSpecError(f"{train.pairs[k].name}.driver.open: a curve with a break needs "
+                             "the train's toothless dwell (train.pairs.0.dwell) to hold it at "
+                             "its break")
+    start = np.broadcast_to(np.asarray(gap[0], dtype=float), (built.designs,))
+    angles = contact_angles(built, start[0] if built.designs == 1 else 0.0)
+    if built.designs > 1:  # each design's own dwell start
+        angles = [tuple(np.diagonal(t)[:, None] for t in pair)
+                  for pair in contact_angles(built, start)]
+    for k in open_laws:
+        spec = train.pairs[k]
+        given = spec.follower is not None
+        theta = angles[k][1] if given else angles[k][0]
+        off = np.abs(np.angle(np.exp(1j * theta[:, 0])))
+        if np.any(off > BREAK_TOLERANCE):
+            d = int(np.argmax(off))
+            role = "follower" if given else ("driver" if spec.driver is not None else None)
+            where = f"{spec.name}.{role}.open" if role else (
+                f"{train.pairs[k - 1].name}: the follower's mate (open, an idler)")
+            raise TrainSpecError(
+                f"{where}: the curve's break (body angle 0) is not at the contact where the "
+                f"dwell starts (carrier angle {np.degrees(start[d]):.6g} deg): the contact is "
+                f"at its body angle {np.degrees(np.mod(theta[d, 0], TWO_PI)):.6f} deg, so the "
+                "break would be rolled across while the teeth mesh; move the curve's phase "
+                "(or its angles) so the break meets the contact at the dwell's start"
+                + (f" (design {d})" if built.designs > 1 else ""))
+
+
 def build_from_designs(designs: list) -> BuiltTrain:
     """The built train of P planetary designs sharing their structure (``train_from_designs``);
     TrainSpecError names the pair (and the design) whose curves cannot roll or close."""
     train = train_from_designs(designs)
     try:
-        return build(train, len(designs))
+        built = build(train, len(designs))
     except (PairError, CurveError) as exc:
         raise TrainSpecError(str(exc)) from None
+    check_breaks(built)
+    return built
 
 
 def build_from_design(design) -> BuiltTrain:
@@ -196,6 +248,8 @@ def build_from_design(design) -> BuiltTrain:
     pair whose pitch curves cannot roll or close."""
     train = train_from_design(design)
     try:
-        return build(train)
+        built = build(train)
     except (PairError, CurveError) as exc:
         raise TrainSpecError(str(exc)) from None
+    check_breaks(built)
+    return built
