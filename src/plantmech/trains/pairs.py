@@ -115,15 +115,17 @@ def solve_centre_distance(kind: str, r: np.ndarray, follower_turns) -> np.ndarra
     _, kappa, c, _, _ = _KIND[kind]
     settled = np.zeros(a.shape, dtype=bool)
     for _ in range(12):
-        rf = kappa * r + c * a[:, None]
-        g = np.divide(r, rf, out=rf)  # in place: one (P, N) temporary per step
-        f = g.mean(axis=1) - q
-        g /= kappa * r + c * a[:, None]
+        rows = np.flatnonzero(~settled)  # a settled design is left as it is: each design
+        rr = r if rows.size == r.shape[0] else r[rows]  # takes its own steps, whatever
+        ar = a[rows]  # the population
+        rf = kappa * rr + c * ar[:, None]
+        g = np.divide(rr, rf, out=rf)  # in place: one (P, N) temporary per step
+        f = g.mean(axis=1) - q[rows]
+        g /= kappa * rr + c * ar[:, None]
         df = -c * g.mean(axis=1)
-        step = f / df
-        new = np.clip(a - step, lo, hi)
-        settled = np.abs(new - a) <= CLOSURE_STEP * np.abs(a)
-        a = new
+        new = np.clip(ar - f / df, lo[rows], hi[rows])
+        settled[rows] = np.abs(new - ar) <= CLOSURE_STEP * np.abs(ar)
+        a[rows] = new
         if settled.all():
             break
     if not settled.all():  # a pathological table: the full bisection, as before
