@@ -164,7 +164,8 @@ def rows_matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     thread, the product of a (P, K) table of parameters and a fixed basis. Measured on this
     shared 2-core machine (P = 32, K = 8, N = 16384): 16 ms as one threaded call under
     load, 0.35 ms on one thread (its threads wait for each other when the cores are
-    busy). Every row is the same call as a single design's (P = 1)."""
+    busy). A row equals its single design's (P = 1, BLAS's matrix-vector kernel) to
+    rounding (tests/test_trains_population.py)."""
     P, K = a.shape
     rows = max(1, _ONE_THREAD_MACS // max(K * b.shape[1], 1))
     if P <= rows:
