@@ -150,3 +150,30 @@ def test_derived_drivers_on_first_use_equal_the_population_rows():
         one = build_from_designs([d]).drivers[0]
         assert np.abs(one.r[0] - sun.r[i]).max() < 1e-12
         assert np.abs(one.dr[0] - sun.dr[i]).max() < 1e-12 * np.abs(one.dr[0]).max()
+
+
+@pytest.mark.filterwarnings("ignore:invalid value encountered in cast")  # NumPy's NaN angle
+def test_the_kernels_give_numpys_values_to_the_last_bit(monkeypatch):
+    """Above ``curves.KERNEL_POINTS`` angles the Hermite interpolant and the law's
+    inversion run in numba (``trains.kernels``): the same values as NumPy's, bit for bit
+    (per-row and shared angles, several turns both ways, a NaN angle), and so the same
+    mate."""
+    from plantmech.trains import curves
+    from plantmech.trains.curves import hermite_periodic
+
+    rng = np.random.default_rng(0)
+    curve = fourier(rng.uniform(40, 60, 5), rng.uniform(1, 5, (5, 3)),
+                    rng.uniform(-2, 2, (5, 3)), 2048)
+    x, shared = rng.uniform(-20, 20, (5, 3000)), rng.uniform(-20, 20, (1, 3000))
+    x[2, 7] = np.nan
+    target = np.broadcast_to(np.linspace(-10.0, 10.0, 2048), (5, 2048))
+    runs = []
+    for points in (1, 2**62):  # every table in numba, then none
+        monkeypatch.setattr(curves, "KERNEL_POINTS", points)
+        law = pair_law("external", curve, 1.0)
+        runs.append((*hermite_periodic(curve.r, curve.dr, x),
+                     *hermite_periodic(curve.r, curve.dr, shared), law.invert(target),
+                     law.mate().r))
+    for kernel, numpy_ in zip(*runs, strict=True):
+        assert np.array_equal(kernel, numpy_, equal_nan=True)
+    assert np.isnan(runs[0][0][2, 7]) and np.isfinite(runs[0][0][2, 8])

@@ -44,6 +44,18 @@ def _column(v, P: int | None = None) -> np.ndarray:
     return v
 
 
+#: angles (designs x angles) from which a table is interpolated or inverted by the numba
+#: kernels (``trains.kernels``; the same values to the last bit): a population's full
+#: grids; a single design's tables (8192-16384 points) and a population's 720 samples
+#: stay in NumPy, so numba (~0.5 s to import) stays out of one-shot runs
+KERNEL_POINTS = 2**15
+
+
+def use_kernels(points: int) -> bool:
+    """Whether a table of ``points`` angles goes through ``trains.kernels``."""
+    return points >= KERNEL_POINTS
+
+
 def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     """Value and slope at angles ``x`` (rad) of each row's periodic cubic Hermite
     interpolant through values ``y`` (P, N) and slopes ``dy`` (P, N) on the uniform grid
@@ -52,6 +64,15 @@ def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     h = TWO_PI / N
     x = np.asarray(x, dtype=float)
     shape = (P,) + x.shape[1:]
+    points = P * (int(np.prod(shape[1:])) if len(shape) > 1 else 1)
+    if use_kernels(points):
+        from plantmech.trains.kernels import hermite_rows
+
+        flat = x.reshape(x.shape[0], -1)
+        value, slope = hermite_rows(np.ascontiguousarray(y, dtype=float),
+                                    np.ascontiguousarray(dy, dtype=float),
+                                    np.ascontiguousarray(flat), flat.shape[0] == 1 and P > 1)
+        return value.reshape(shape), slope.reshape(shape)
     u = np.broadcast_to(x, shape).reshape(P, -1) * (1.0 / h)
     kf = np.floor(u)
     s = u - kf

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plantmech.trains.curves import TWO_PI, Curve, hermite_periodic
+from plantmech.trains.curves import TWO_PI, Curve, hermite_periodic, use_kernels
 
 KINDS = ("external", "internal", "internal_ring_follower")
 #: (sense, r_f = kappa * r_d + c * a, contact direction offsets from delta: driver, follower)
@@ -187,6 +187,15 @@ class PairLaw:
         """Driver body angles theta (P, M) with F(theta) = F_target (P, M) (F increases):
         the table's linear inverse, then Newton on the Hermite law (quartic accuracy)."""
         P, N = self.g.shape
+        F_target = np.asarray(F_target, dtype=float)
+        if use_kernels(P * (F_target.size // max(F_target.shape[0], 1))):  # fused per angle
+            from plantmech.trains.kernels import invert_rows
+
+            target = np.ascontiguousarray(np.broadcast_to(F_target, (P,) + F_target.shape[1:])
+                                          .reshape(P, -1))
+            theta = invert_rows(np.ascontiguousarray(self.Fp), self.g - self.q_e[:, None],
+                                np.ascontiguousarray(self.q_e, dtype=float), target, 4)
+            return theta.reshape((P,) + F_target.shape[1:])
         h = TWO_PI / N
         period = TWO_PI * self.q_e[:, None]
         w = np.floor(F_target / period)
@@ -200,8 +209,9 @@ class PairLaw:
         f0, f1 = table[rows, k], table[rows, k + 1]
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
         q = self.q_e[:, None]
+        slope = self.g - q
         for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
-            fp, dfp = hermite_periodic(self.Fp, self.g - q, theta)
+            fp, dfp = hermite_periodic(self.Fp, slope, theta)
             theta = theta - (fp + q * theta - y) / (dfp + q)
         return theta + TWO_PI * w
 
