@@ -156,7 +156,8 @@ def test_derived_drivers_on_first_use_equal_the_population_rows():
 def test_the_kernels_give_numpys_values_to_the_last_bit(monkeypatch):
     """Above ``curves.KERNEL_POINTS`` angles the Hermite interpolant and the law's
     inversion run in numba (``trains.kernels``): the same values as NumPy's, bit for bit
-    (per-row and shared angles, several turns both ways, a NaN angle), and so the same
+    (per-row and shared angles, several turns both ways, a NaN angle; inverted at rising,
+    falling and scattered targets: the interval walked to or bisected), and so the same
     mate."""
     from plantmech.trains import curves
     from plantmech.trains.curves import hermite_periodic
@@ -173,7 +174,7 @@ def test_the_kernels_give_numpys_values_to_the_last_bit(monkeypatch):
         law = pair_law("external", curve, 1.0)
         runs.append((*hermite_periodic(curve.r, curve.dr, x),
                      *hermite_periodic(curve.r, curve.dr, shared), law.invert(target),
-                     law.mate().r))
+                     law.invert(-target), law.invert(x[:, :2048]), law.mate().r))
     for kernel, numpy_ in zip(*runs, strict=True):
         assert np.array_equal(kernel, numpy_, equal_nan=True)
     assert np.isnan(runs[0][0][2, 7]) and np.isfinite(runs[0][0][2, 8])

@@ -56,7 +56,8 @@ def invert_rows(Fp, gq, q, target, newton):
     """Body angles theta (P, M) with Fp(theta) + q theta = ``target`` (P, M) (rad): ``Fp``
     (P, N) the law's periodic part and ``gq`` (P, N) its slope (g - q) on the uniform grid,
     ``q`` (P,) the turns per turn. Per angle: the whole turns w, the interval of the
-    rising table Fp + q theta_k holding the rest (a bisection), its linear inverse, then
+    rising table Fp + q theta_k holding the rest (a walk from the previous angle's, or a
+    bisection), its linear inverse, then
     ``newton`` Newton steps on the Hermite interpolant of Fp (``PairLaw.invert``)."""
     P, N = Fp.shape
     M = target.shape[1]
@@ -64,6 +65,7 @@ def invert_rows(Fp, gq, q, target, newton):
     inv = 1.0 / h
     out = np.empty((P, M))
     for p in range(P):
+        k_last, last = 0, 0.0
         qp = q[p]
         period = TWO_PI * qp
         for j in range(M):
@@ -73,15 +75,35 @@ def invert_rows(Fp, gq, q, target, newton):
                 continue
             w = np.floor(F / period)
             yv = F - w * period
-            lo, hi = 0, N  # table[i] = Fp[i mod N] + q i h, i = 0..N
-            while hi - lo > 1:  # the last i with table[i] <= yv (0 if none)
+            # k: the last i with table[i] <= yv (0 if none), table[i] = Fp[i] + q i h rising
+            # over i = 0..N - 1; a target near the previous one (a mate's grid, either
+            # way) walks from the previous angle's interval, up to 8 steps, others bisect:
+            # the same k either way
+            lo, hi = 0, N
+            if j > 0 and yv >= last:  # table[k_last] <= yv: walk up
+                lo = k_last
+                steps = 0
+                while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
+                    lo += 1
+                    steps += 1
+                if steps < 8:
+                    hi = lo + 1
+            elif j > 0:  # table[k_last + 1] > yv (or k_last = N - 1): walk down
+                hi = k_last + 1
+                steps = 0
+                while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
+                    hi -= 1
+                    steps += 1
+                if steps < 8:
+                    lo = hi - 1
+            while hi - lo > 1:
                 mid = (lo + hi) // 2
-                tm = (Fp[p, mid] if mid < N else Fp[p, 0]) + qp * (mid * h)
-                if tm <= yv:
+                if Fp[p, mid] + qp * (mid * h) <= yv:
                     lo = mid
                 else:
                     hi = mid
             k = lo
+            k_last, last = k, yv
             f0 = Fp[p, k] + qp * (k * h)
             f1 = (Fp[p, k + 1] if k + 1 < N else Fp[p, 0]) + qp * ((k + 1) * h)
             theta = k * h + h * (yv - f0) / (f1 - f0 if f1 > f0 else 1.0)
@@ -101,6 +123,9 @@ def invert_rows(Fp, gq, q, target, newton):
                 fp = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
                 dfp = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0
                        + (3 * s2 - 2 * s) * d1) / h
-                theta = theta - (fp + qp * theta - yv) / (dfp + qp)
+                step = theta - (fp + qp * theta - yv) / (dfp + qp)
+                if step == theta:  # settled: the steps left would give it again
+                    break
+                theta = step
             out[p, j] = theta + TWO_PI * w
     return out
