@@ -89,6 +89,9 @@ def _bisected(kind: str, r: np.ndarray, q: np.ndarray, lo: np.ndarray, hi: np.nd
 
 #: samples of the coarse table the centre-distance solve brackets its root on
 COARSE_SAMPLES = 256
+#: bisections on the coarse table (its root is within 2**-32 of the admissible interval;
+#: the coarse table's own root differs from the full one's by far more)
+COARSE_STEPS = 32
 #: Newton's last relative step (|da| / a) at which the centre distance is taken as solved
 CLOSURE_STEP = 1e-14
 
@@ -100,17 +103,17 @@ def solve_centre_distance(kind: str, r: np.ndarray, follower_turns) -> np.ndarra
 
     The mean ratio m(a) = mean(r / (kappa r + c a)) is monotone in a on the admissible
     interval (``_admissible``), so the root is unique. It is bracketed on a coarse table
-    (every N / ``COARSE_SAMPLES``-th radius: 64 bisections of a (P, 256) table), then
-    polished by Newton on the full table with the analytic slope
+    (every N / ``COARSE_SAMPLES``-th radius: ``COARSE_STEPS`` bisections of a (P, 256)
+    table), then polished by Newton on the full table with the analytic slope
     dm/da = mean(-c r / (kappa r + c a)^2): each step touches the table once (two
-    sums), the error squares per step, and the loop ends when the largest relative step
-    is below ``CLOSURE_STEP`` (3 steps from the coarse root on the examples). A design
-    Newton does not settle in 12 steps falls back to the full table's bisection."""
+    sums), the error squares per step, and a design's steps end when its relative step
+    is below ``CLOSURE_STEP`` (2-3 steps on the bundled examples). A design Newton does
+    not settle in 12 steps falls back to the full table's bisection."""
     q = _turns(follower_turns, r.shape[0])
     lo, hi = _admissible(kind, r, q)
     N = r.shape[1]
     stride = max(N // COARSE_SAMPLES, 1)
-    a = _bisected(kind, r[:, ::stride], q, lo, hi) if stride > 1 else \
+    a = _bisected(kind, r[:, ::stride], q, lo, hi, COARSE_STEPS) if stride > 1 else \
         _bisected(kind, r, q, lo, hi)
     _, kappa, c, _, _ = _KIND[kind]
     settled = np.zeros(a.shape, dtype=bool)
@@ -188,7 +191,9 @@ class PairLaw:
         the table's linear inverse, then Newton on the Hermite law (quartic accuracy)."""
         P, N = self.g.shape
         F_target = np.asarray(F_target, dtype=float)
-        if use_kernels(P * (F_target.size // max(F_target.shape[0], 1))):  # fused per angle
+        # fused per angle when the table or the angles are large (NumPy joins the rows'
+        # tables for its search: passes over (P, N + 1) however few the angles)
+        if use_kernels(P * max(F_target.size // max(F_target.shape[0], 1), N)):
             from plantmech.trains.kernels import invert_rows
 
             target = np.ascontiguousarray(np.broadcast_to(F_target, (P,) + F_target.shape[1:])
