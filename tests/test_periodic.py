@@ -109,11 +109,15 @@ def test_derivatives_are_scipys_values():
             assert np.array_equal(got[nu], ref, equal_nan=True), nu
 
 
-def test_polar_curvature_radius_is_the_formula_written_out():
-    """The buffered evaluation gives bitwise the values of the formula as one expression
-    (arrays and numbers for phi' and phi'', a zero numerator's inf), and a circle's
-    radius."""
+@pytest.mark.parametrize("kernel_points", [1, 2**62])
+def test_polar_curvature_radius_is_the_formula_written_out(monkeypatch, kernel_points):
+    """The buffered evaluation and the numba kernel (every (P, N) table through it, then
+    none) give bitwise the values of the formula as one expression (arrays and numbers for
+    phi' and phi'', a zero numerator's inf), and a circle's radius."""
+    from plantmech.geometry import periodic
     from plantmech.geometry.periodic import polar_curvature_radius
+
+    monkeypatch.setattr(periodic, "CURVATURE_KERNEL_POINTS", kernel_points)
 
     def written_out(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
         dphi2 = dphi * dphi

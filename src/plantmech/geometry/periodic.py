@@ -142,6 +142,12 @@ def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> 
     }
 
 
+#: points of (P, N) tables from which ``polar_curvature_radius`` runs its numba kernel
+#: (``geometry.curvature_kernels``: bitwise the same values); smaller ones (a single
+#: design's curves) stay in NumPy, keeping numba out of one-shot runs
+CURVATURE_KERNEL_POINTS = 2**15
+
+
 def polar_curvature_radius(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
     """Signed radius of curvature (mm) of polar curves (rho(t), phi(t)) from their
     derivatives in any parameter t (arrays broadcast; vectorised over designs):
@@ -154,6 +160,14 @@ def polar_curvature_radius(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
     # expression written out
     plain = np.ndim(dphi) == 0 and dphi == 1.0 and np.ndim(ddphi) == 0 and ddphi == 0.0
     shape = np.broadcast_shapes(*(np.shape(x) for x in (rho, drho, ddrho, dphi, ddphi)))
+    tables = (rho, drho, ddrho) if plain else (rho, drho, ddrho, dphi, ddphi)
+    if len(shape) == 2 and shape[0] * shape[1] >= CURVATURE_KERNEL_POINTS and all(
+            isinstance(x, np.ndarray) and x.shape == shape and x.dtype == np.float64
+            for x in tables):  # a population's tables: one pass (numba), the same values
+        from plantmech.geometry.curvature_kernels import polar_curvature_rows
+
+        c = [np.ascontiguousarray(x) for x in tables]
+        return polar_curvature_rows(*c[:3], *(c[3:] if not plain else (c[0], c[0])), plain)
     num, work = np.empty(shape), np.empty(shape)
     np.multiply(rho, rho, out=num)
     if not plain:  # phi' = 1, phi'' = 0 (phi = t): the factors 1 and the term 0 dropped
