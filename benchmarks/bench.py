@@ -221,6 +221,85 @@ def _population_figure(t4, R2, R3, samples: int, dense: int, P: int, named: bool
            designs_per_cpu_s=P / c, kernel_threads=kernel_threads())
 
 
+def general_population_variants(which: str, P: int, rng) -> list:
+    """P design files of the general train model (``mechanism = "planetary"``) around a
+    bundled one: ``table4`` (examples/planetary/sugarcane_table4.toml, with its toothless
+    dwell, grid 16384): gear 2's and gear 3's eight radii + uniform(-2, 2) mm, both centre
+    distances solved; ``elliptic`` (examples/rotary_transplanter_elliptic.toml, no dwell,
+    grid 8192, two arms): A uniform(22, 28) mm, e uniform(0.1, 0.3), arm uniform(140, 180)
+    mm; ``table4_grid2048``: Table 4's at a 2048-point grid (the dense grid of the seeder's
+    own population kernel at 720 samples: the same work per design as that figure's)."""
+    if which.startswith("table4"):
+        base = load_design(ROOT / "examples" / "planetary" / "sugarcane_table4.toml")
+    else:
+        base = load_design(ROOT / "examples" / "rotary_transplanter_elliptic.toml")
+    out = []
+    for _ in range(P):
+        d = base.model_copy(deep=True)
+        if which.startswith("table4"):
+            p0, p1 = d.train.pairs
+            p0.follower.radii_mm = [float(v) for v in np.asarray(p0.follower.radii_mm)
+                                    + rng.uniform(-2, 2, 8)]
+            p1.driver.radii_mm = [float(v) for v in np.asarray(p1.driver.radii_mm)
+                                  + rng.uniform(-2, 2, 8)]
+            p0.centre_distance_mm = p1.centre_distance_mm = None
+            if which == "table4_grid2048":
+                d.train.grid = 2048
+        else:
+            drv = d.train.pairs[0].driver
+            drv.semi_major_mm = float(rng.uniform(22, 28))
+            drv.eccentricity = float(rng.uniform(0.1, 0.3))
+            d.arm.length_mm = float(rng.uniform(140, 180))
+        out.append(d)
+    return out
+
+
+def bench_general_population(rng, P: int = 1000) -> None:
+    """The general train model (trains/, ``objectives.planetary.population_evaluation``):
+    P designs x 720 samples, every objective (build: tabulation, closure, centre distances;
+    simulation; the [limits] checks and each pair's pitch-curve rules), for Table 4 (with
+    its dwell; and at a 2048-point grid beside it) and the elliptic rotary transplanter (no
+    dwell), issue 16's target >= 1,000 designs/s on Table 4 (its file's 16384-point grid);
+    and the single design (P = 1: the file as bundled, at 720 samples
+    and at its own 3600, what the CLI and the app pay). Wall medians with CPU time and the
+    machine's load (``--general-population-only``)."""
+    import statistics
+
+    from plantmech.objectives.planetary import population_evaluation
+
+    def median(fn, repeat):
+        wall, cpu = [], []
+        for _ in range(repeat):
+            c0, t0 = time.process_time(), time.perf_counter()
+            fn()
+            wall.append(time.perf_counter() - t0)
+            cpu.append(time.process_time() - c0)
+        return statistics.median(wall), statistics.median(cpu)
+
+    for which in ("table4", "elliptic", "table4_grid2048"):
+        designs = general_population_variants(which, P, rng)
+        population_evaluation(designs[:2], 720)  # imports and first calls, not timed
+        t, c = median(lambda d=designs: population_evaluation(d, 720), 3)
+        print(f"general train population ({which}), {P} designs x 720 samples, every "
+              f"objective: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU second; "
+              f"median of 3; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
+              "cores" + ("; target >= 1000 designs/s)" if which == "table4" else ")"))
+        figure(f"general_population_{which}_720_designs_per_s", P / t, "designs/s",
+               1000.0 if which == "table4" else None, "higher", designs=P,
+               designs_per_cpu_s=P / c, grid=designs[0].train.grid)
+        if which == "table4_grid2048":
+            continue
+        one = load_design(ROOT / "examples" / ("planetary/sugarcane_table4.toml"
+                                               if which == "table4"
+                                               else "rotary_transplanter_elliptic.toml"))
+        for samples in (720, one.samples):
+            t, c = median(lambda s=samples, o=one: population_evaluation([o], s), 7)
+            print(f"general train single design ({which} as bundled), {samples} samples, "
+                  f"every objective: {t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 7; "
+                  f"load average {os.getloadavg()[0]:.1f})")
+            figure(f"general_single_{which}_{samples}_ms", t * 1e3, "ms", cpu_ms=c * 1e3)
+
+
 def main() -> None:
     if "--verify-only" in sys.argv:
         bench_verify()
@@ -230,6 +309,9 @@ def main() -> None:
         return
     if "--seeder-population-only" in sys.argv:  # the seeder population figures alone
         bench_seeder_population(np.random.default_rng(0))
+        return
+    if "--general-population-only" in sys.argv:  # the general train's population figures
+        bench_general_population(np.random.default_rng(0), _flag("--designs", 1000))
         return
     if "--study-only" in sys.argv:  # make bench-study: the Dask scaling alone
         study_scaling(_flag("--study-samples", 0), repeat=_flag("--study-repeat", 1))
@@ -270,6 +352,7 @@ def main() -> None:
     P = 1000
     bench_seeder_population(rng, P)
     bench_transplanter(rng, P)
+    bench_general_population(rng, P)
     # teeth: generate and mesh-check one 60-tooth non-circular pair (ellipse about a focus)
     from scipy.special import ellipe
 
@@ -498,14 +581,17 @@ def _json_path() -> Path | None:
 
 
 USAGE = """usage: bench.py [--json PATH] [--verify-only | --transplanter-only |
-                            --seeder-population-only | --study-only]
-                [--study-samples N] [--study-repeat N] [--layered] [--design]
+                            --seeder-population-only | --general-population-only |
+                            --study-only]
+                [--designs N] [--study-samples N] [--study-repeat N] [--layered] [--design]
 
 Without an --*-only flag every benchmark runs (minutes), then the app's (app_bench.py);
 --layered and --design add the long end-to-end jobs to that run. --json PATH also writes
-the named figures (value, unit, target, met, load, commit)."""
+the named figures (value, unit, target, met, load, commit). --designs N: the general
+train population's size (default 1000)."""
 KNOWN = {"--json", "--verify-only", "--transplanter-only", "--seeder-population-only",
-         "--study-only", "--study-samples", "--study-repeat", "--layered", "--design"}
+         "--study-only", "--study-samples", "--study-repeat", "--layered", "--design",
+         "--general-population-only", "--designs"}
 
 
 def _check_arguments() -> None:
@@ -524,7 +610,8 @@ if __name__ == "__main__":
     _check_arguments()
     json_out = _json_path()
     main()
-    if not {"--study-only", "--transplanter-only", "--seeder-population-only"} & set(sys.argv):
+    if not {"--study-only", "--transplanter-only", "--seeder-population-only",
+            "--general-population-only"} & set(sys.argv):
         app_figures()
     if json_out is not None:  # --json PATH: the named figures, for comparing runs by name
         write_json(json_out)

@@ -107,3 +107,37 @@ def test_derivatives_are_scipys_values():
         for nu in (0, 1, 2):
             ref = curve(angles, nu)
             assert np.array_equal(got[nu], ref, equal_nan=True), nu
+
+
+@pytest.mark.parametrize("kernel_points", [1, 2**62])
+def test_polar_curvature_radius_is_the_formula_written_out(monkeypatch, kernel_points):
+    """The buffered evaluation and the numba kernel (every (P, N) table through it, then
+    none) give bitwise the values of the formula as one expression (arrays and numbers for
+    phi' and phi'', a zero numerator's inf), and a circle's radius."""
+    from plantmech.geometry import periodic
+    from plantmech.geometry.periodic import polar_curvature_radius
+
+    monkeypatch.setattr(periodic, "CURVATURE_KERNEL_POINTS", kernel_points)
+
+    def written_out(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
+        dphi2 = dphi * dphi
+        num = rho * rho * (dphi2 * dphi) + 2 * drho * drho * dphi - rho * ddrho * dphi \
+            + rho * drho * ddphi
+        speed = np.sqrt(drho * drho + rho * rho * dphi2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(num == 0, np.inf, speed * speed * speed
+                            / np.where(num == 0, 1.0, num))
+
+    rng = np.random.default_rng(1)
+    rho = rng.uniform(10, 80, (5, 1000))
+    d, dd = rng.normal(0, 20, (5, 1000)), rng.normal(0, 50, (5, 1000))
+    dd[0, :10] = (rho[0, :10] ** 2 + 2 * d[0, :10] ** 2) / rho[0, :10]  # straight: inf
+    dphi, ddphi = rng.uniform(0.5, 2, (5, 1000)), rng.normal(0, 1, (5, 1000))
+    for extra in ((), (1.0, 0.0), (0.25, 0.0), (dphi, ddphi)):
+        assert np.array_equal(polar_curvature_radius(rho, d, dd, *extra),
+                              written_out(rho, d, dd, *extra))
+    ones, zeros = np.ones_like(rho), np.zeros_like(rho)
+    assert np.array_equal(polar_curvature_radius(rho, d, dd),
+                          written_out(rho, d, dd, ones, zeros))
+    assert np.isinf(polar_curvature_radius(rho, d, dd)[0, :10]).sum() >= 5  # 0 or rounding
+    assert np.allclose(polar_curvature_radius(np.full(4, 7.0), np.zeros(4), np.zeros(4)), 7.0)

@@ -278,8 +278,8 @@ def shape_from_polar(name: str, t, rho, drho, ddrho, dphi=None, ddphi=None,
     rho, drho, ddrho = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (rho, drho, ddrho))
     t = np.asarray(t, dtype=float)
     h = 2 * np.pi / t.size
-    if dphi is None:
-        dphi, ddphi, phi = np.ones_like(rho), np.zeros_like(rho), np.broadcast_to(t, rho.shape)
+    if dphi is None:  # phi = t: phi' = 1, phi'' = 0 as numbers (no (P, N) tables of them)
+        dphi, ddphi, phi = 1.0, 0.0, np.broadcast_to(t, rho.shape)
     else:
         dphi, ddphi = np.atleast_2d(dphi), np.atleast_2d(ddphi)
         phi = t[0] + np.cumsum(dphi, axis=1) * h - dphi * h

@@ -142,19 +142,61 @@ def convexity(curve: RadiusCurve, samples: int = 3600, span: float = TWO_PI) -> 
     }
 
 
+#: points of (P, N) tables from which ``polar_curvature_radius`` runs its numba kernel
+#: (``geometry.curvature_kernels``: bitwise the same values); smaller ones (a single
+#: design's curves) stay in NumPy, keeping numba out of one-shot runs
+CURVATURE_KERNEL_POINTS = 2**15
+
+
 def polar_curvature_radius(rho, drho, ddrho, dphi=1.0, ddphi=0.0):
     """Signed radius of curvature (mm) of polar curves (rho(t), phi(t)) from their
     derivatives in any parameter t (arrays broadcast; vectorised over designs):
     (rho'^2 + rho^2 phi'^2)^(3/2) / (rho^2 phi'^3 + 2 rho'^2 phi' - rho rho'' phi'
     + rho rho' phi''). Positive where the curve turns towards its centre (convex seen
     from outside), negative on concave spans, inf on straight ones."""
-    # cubes as products: numpy's power(x, 3) calls pow() per element, ~5x slower
-    dphi2 = dphi * dphi
-    num = rho * rho * (dphi2 * dphi) + 2 * drho * drho * dphi - rho * ddrho * dphi \
-        + rho * drho * ddphi
-    speed = np.sqrt(drho * drho + rho * rho * dphi2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(num == 0, np.inf, speed * speed * speed / np.where(num == 0, 1.0, num))
+    # cubes as products: numpy's power(x, 3) calls pow() per element, ~5x slower. The
+    # products are taken in the order of the formula above, into two buffers (a (P, N)
+    # temporary costs a pass and, when large, fresh pages): the same numbers as the
+    # expression written out
+    plain = np.ndim(dphi) == 0 and dphi == 1.0 and np.ndim(ddphi) == 0 and ddphi == 0.0
+    shape = np.broadcast_shapes(*(np.shape(x) for x in (rho, drho, ddrho, dphi, ddphi)))
+    tables = (rho, drho, ddrho) if plain else (rho, drho, ddrho, dphi, ddphi)
+    if len(shape) == 2 and shape[0] * shape[1] >= CURVATURE_KERNEL_POINTS and all(
+            isinstance(x, np.ndarray) and x.shape == shape and x.dtype == np.float64
+            for x in tables):  # a population's tables: one pass (numba), the same values
+        from plantmech.geometry.curvature_kernels import polar_curvature_rows
+
+        c = [np.ascontiguousarray(x) for x in tables]
+        return polar_curvature_rows(*c[:3], *(c[3:] if not plain else (c[0], c[0])), plain)
+    num, work = np.empty(shape), np.empty(shape)
+    np.multiply(rho, rho, out=num)
+    if not plain:  # phi' = 1, phi'' = 0 (phi = t): the factors 1 and the term 0 dropped
+        num *= dphi * dphi * dphi
+    np.multiply(drho, 2.0, out=work)
+    work *= drho
+    if not plain:
+        work *= dphi
+    num += work
+    np.multiply(rho, ddrho, out=work)
+    if not plain:
+        work *= dphi
+    num -= work
+    if not plain:
+        np.multiply(rho, drho, out=work)
+        work *= ddphi
+        num += work
+    np.multiply(rho, rho, out=work)  # speed^2 = rho'^2 + rho^2 phi'^2
+    if not plain:
+        work *= dphi * dphi
+    work += drho * drho
+    np.sqrt(work, out=work)
+    speed3 = work * work
+    speed3 *= work
+    zero = num == 0
+    num[zero] = 1.0
+    speed3 /= num
+    speed3[zero] = np.inf
+    return speed3
 
 
 def pressure_angle_proxy(curve: RadiusCurve, samples: int = 3600) -> tuple[float, float]:

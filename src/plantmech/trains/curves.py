@@ -30,6 +30,7 @@ across the break; the value at body angle 0 (mod 2 pi) is the right limit.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,6 +52,18 @@ def _column(v, P: int | None = None) -> np.ndarray:
     return v
 
 
+#: angles (designs x angles) from which a table is interpolated or inverted by the numba
+#: kernels (``trains.kernels``; the same values to the last bit): a population's full
+#: grids; a single design's tables (8192-16384 points) and a population's 720 samples
+#: stay in NumPy, so numba (~0.5 s to import) stays out of one-shot runs
+KERNEL_POINTS = 2**15
+
+
+def use_kernels(points: int) -> bool:
+    """Whether a table of ``points`` angles goes through ``trains.kernels``."""
+    return points >= KERNEL_POINTS
+
+
 def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     """Value and slope at angles ``x`` (rad) of each row's periodic cubic Hermite
     interpolant through values ``y`` (P, N) and slopes ``dy`` (P, N) on the uniform grid
@@ -59,6 +72,15 @@ def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     h = TWO_PI / N
     x = np.asarray(x, dtype=float)
     shape = (P,) + x.shape[1:]
+    points = P * (int(np.prod(shape[1:])) if len(shape) > 1 else 1)
+    if use_kernels(points):
+        from plantmech.trains.kernels import hermite_rows
+
+        flat = x.reshape(x.shape[0], -1)
+        value, slope = hermite_rows(np.ascontiguousarray(y, dtype=float),
+                                    np.ascontiguousarray(dy, dtype=float),
+                                    np.ascontiguousarray(flat), flat.shape[0] == 1 and P > 1)
+        return value.reshape(shape), slope.reshape(shape)
     u = np.broadcast_to(x, shape).reshape(P, -1) * (1.0 / h)
     kf = np.floor(u)
     s = u - kf
@@ -201,12 +223,50 @@ def fourier(mean_radius, cos_mm, sin_mm, grid: int, name: str = "fourier") -> Cu
     th = TWO_PI * np.arange(grid) / grid
     k = np.arange(1, K + 1)
     cos, sin = np.cos(np.outer(k, th)), np.sin(np.outer(k, th))  # (K, N)
-    r = r0 + c @ cos + s @ sin
-    dr = (s * k) @ cos - (c * k) @ sin
+    r = r0 + rows_matmul(c, cos) + rows_matmul(s, sin)
+    dr = rows_matmul(s * k, cos) - rows_matmul(c * k, sin)
     r, dr = np.broadcast_arrays(r, dr)
     curve = Curve(np.array(r), np.array(dr), name)
     curve.check_positive()
     return curve
+
+
+#: multiply-adds of one BLAS call below which OpenBLAS keeps to one thread (its
+#: GEMM_MULTITHREAD_THRESHOLD 4 x 65536)
+_ONE_THREAD_MACS = 4 * 65536
+
+
+def rows_matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a (P, K) @ b (K, N), a few rows per BLAS call: each call small enough for one
+    thread, the product of a (P, K) table of parameters and a fixed basis. Measured on this
+    shared 2-core machine (P = 32, K = 8, N = 16384): 16 ms as one threaded call under
+    load, 0.35 ms on one thread (its threads wait for each other when the cores are
+    busy). A row equals its single design's (P = 1, BLAS's matrix-vector kernel) to
+    rounding (tests/test_trains_population.py)."""
+    P, K = a.shape
+    rows = max(1, _ONE_THREAD_MACS // max(K * b.shape[1], 1))
+    if P <= rows:
+        return a @ b
+    out = np.empty((P, b.shape[1]))
+    for i in range(0, P, rows):
+        np.matmul(a[i:i + rows], b, out=out[i:i + rows])
+    return out
+
+
+@functools.lru_cache(maxsize=32)
+def _interpolation_matrix(nodes: tuple, grid: int, lobes: int, kind: str, nu: int
+                          ) -> np.ndarray:
+    """(K, grid) matrix M with radii (P, K) @ M = the nu-th derivative of the periodic
+    ``kind`` interpolant through the nodes at phases lobes * theta_k (``geometry.periodic
+    .periodic_spline_matrix``, transposed). Built once per (nodes, grid, lobes, kind, nu):
+    a population of P curves, and every later design of the same structure, reuse it
+    (it is read-only)."""
+    from plantmech.geometry.periodic import periodic_spline_matrix
+
+    at = lobes * (TWO_PI * np.arange(grid) / grid)
+    m = np.ascontiguousarray(periodic_spline_matrix(np.asarray(nodes), at, nu, kind).T)
+    m.flags.writeable = False
+    return m
 
 
 def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1,
@@ -223,16 +283,13 @@ def interpolated(angles, radii, grid: int, kind: str = "hermite", lobes: int = 1
     ``mechanisms.seeder_trains.train_from_inverse``) or a cubic Hermite with centred
     slopes and one-sided ones at the two ends (``hermite``); one lobe."""
     radii = np.atleast_2d(np.asarray(radii, dtype=float))
-    th = TWO_PI * np.arange(grid) / grid
     if open_turn:
+        th = TWO_PI * np.arange(grid) / grid
         return _open_interpolated(np.asarray(angles, dtype=float), radii, th, kind, lobes,
                                   name)
-    from plantmech.geometry.periodic import periodic_spline_matrix
-
-    at = lobes * th
-    nodes = np.asarray(angles, dtype=float)
-    r = radii @ periodic_spline_matrix(nodes, at, 0, kind).T
-    dr = lobes * (radii @ periodic_spline_matrix(nodes, at, 1, kind).T)
+    nodes = tuple(float(v) for v in np.asarray(angles, dtype=float).ravel())
+    r = rows_matmul(radii, _interpolation_matrix(nodes, grid, lobes, kind, 0))
+    dr = lobes * rows_matmul(radii, _interpolation_matrix(nodes, grid, lobes, kind, 1))
     curve = Curve(r, dr, name)
     curve.check_positive()
     return curve

@@ -133,15 +133,29 @@ class BuiltTrain:
 
     train: Train
     laws: list[PairLaw]
-    drivers: list[Curve]  # driver curve of each pair, in its own frame
+    known_drivers: list[Curve | None]  # driver curves computed so far (None: not yet)
     known_followers: list[Curve | None]  # follower curves computed so far (None: not yet)
     shafts: np.ndarray  # (P, K + 1) complex shaft positions in the carrier frame (mm)
     designs: int
     toothless: list[Toothless | None] = field(default_factory=list)  # per pair
+    #: per pair, how to derive a driver not yet known (the mate of a given follower, or a
+    #: derived sun with its toothless arc), None where the driver is given
+    derive_driver: list = field(default_factory=list, repr=False)
 
     @property
     def centre_distances(self) -> np.ndarray:
         return np.stack([law.a for law in self.laws], axis=1)  # (P, K)
+
+    @property
+    def drivers(self) -> list[Curve]:
+        """Every pair's driver curve in its own frame; a derived driver (the mate of a
+        given follower: seed 000's sun, with its toothless arc) is derived here, on first
+        use: the motion and the objectives read the law only, so a population skips the
+        full-grid inversion (``PairLaw.invert``) the drawn gear needs."""
+        for k, make in enumerate(self.derive_driver):
+            if self.known_drivers[k] is None and make is not None:
+                self.known_drivers[k] = make()
+        return self.known_drivers
 
     @property
     def followers(self) -> list[Curve]:
@@ -218,7 +232,7 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
     P = designs or max(c.designs for p in train.pairs for c in (p.driver, p.follower)
                        if c is not None)
     dwells = [_dwell_of(train, k, spec, P) for k, spec in enumerate(train.pairs)]
-    laws, drivers, followers, toothless = [], [], [], []
+    laws, drivers, followers, toothless, derive = [], [], [], [], []
     shafts = [np.zeros(P, dtype=complex)]
     previous: Curve | None = None
     for k, spec in enumerate(train.pairs):
@@ -237,15 +251,17 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
                               if dwells[k] is not None else ")"),
                            periodic_mate=dwells[k] is None)
             if dwells[k] is None:
-                driver = law.mate(f"{spec.name} driver")
+                make = _mate_maker(law, f"{spec.name} driver")
             else:
                 start, sector = dwells[k]
                 lock = _derived_driver_angle(spec, law, P) - float(train.carrier_sense) * \
                     start[:, None, None]
                 gap = Toothless(lock, sector[:, None, None], -float(train.carrier_sense))
-                driver = _toothless_driver(law, spec, gap, P)
+                make = _toothless_maker(law, spec, gap, P)
+            driver = None  # derived on first use (BuiltTrain.drivers)
             follower = given
         else:
+            make = None
             driver = previous if spec.driver is None else _per_design(spec.driver, P)
             law = pair_law(spec.kind, driver, spec.follower_turns, spec.centre_distance,
                            tolerance=train.closure_tolerance, min_radius=train.min_radius,
@@ -255,12 +271,22 @@ def build(train: Train, designs: int | None = None) -> BuiltTrain:
             follower = law.mate(f"{spec.name} follower") if idler_next else None
         laws.append(law)
         drivers.append(driver)
+        derive.append(make)
         followers.append(follower)
         toothless.append(gap)
         delta = np.broadcast_to(np.asarray(spec.direction, dtype=float), (P,))
         shafts.append(shafts[-1] + law.a * np.exp(1j * delta))
         previous = follower
-    return BuiltTrain(train, laws, drivers, followers, np.stack(shafts, axis=1), P, toothless)
+    return BuiltTrain(train, laws, drivers, followers, np.stack(shafts, axis=1), P, toothless,
+                      derive)
+
+
+def _mate_maker(law: PairLaw, name: str):
+    return lambda: law.mate(name)
+
+
+def _toothless_maker(law: PairLaw, spec: PairSpec, gap: Toothless, P: int):
+    return lambda: _toothless_driver(law, spec, gap, P)
 
 
 def _dwell_of(train: Train, k: int, spec: PairSpec, P: int):

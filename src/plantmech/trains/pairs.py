@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plantmech.trains.curves import TWO_PI, Curve, hermite_open, hermite_periodic
+from plantmech.trains.curves import TWO_PI, Curve, hermite_open, hermite_periodic, use_kernels
 
 KINDS = ("external", "internal", "internal_ring_follower")
 #: (sense, r_f = kappa * r_d + c * a, contact direction offsets from delta: driver, follower)
@@ -58,42 +58,82 @@ def _turns(follower_turns, P: int) -> np.ndarray:
     return np.broadcast_to(np.asarray(follower_turns, dtype=float), (P,)).astype(float)
 
 
-def solve_centre_distance(kind: str, r: np.ndarray, follower_turns) -> np.ndarray:
-    """Centre distance a (P,) mm with mean(g) = q over one driver turn for driver radii r
-    (P, N) sampled uniformly (the periodic running integral's end value is exactly the
-    mean times 2 pi); q scalar or (P,). The mean ratio is monotone in a on the admissible
-    interval, so the root is unique: bisection, then Newton. Raises PairError when no a
-    can close it."""
-    q = _turns(follower_turns, r.shape[0])
+def _admissible(kind: str, r: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) (P,) mm: the centre distances where the follower's radius stays positive
+    and the mean ratio can reach q (it brackets the root); PairError when no a can close
+    the pair (q on the wrong side of 1 for an internal pair)."""
     rmin, rmax = r.min(axis=1), r.max(axis=1)
     if kind == "external":
-        lo, hi = rmax * (1 + 1e-12), rmax * (1 + 1 / q) * (1 + 1e-9)
-    elif kind == "internal":
+        return rmax * (1 + 1e-12), rmax * (1 + 1 / q) * (1 + 1e-9)
+    if kind == "internal":
         if np.any(q <= 1):
             raise PairError(f"an internal pair whose driver is the ring turns the follower "
                             f"faster than the ring (q > 1); follower_turns = {q.min():g}")
-        lo, hi = np.zeros_like(rmin), rmin * (1 - 1e-12)
-    else:
-        if np.any(q >= 1):
-            raise PairError(f"a ring follower turns slower than its driver (q < 1); "
-                            f"follower_turns = {q.max():g}")
-        lo, hi = np.zeros_like(rmin), rmax * (1 - q) / q * (1 + 1e-9)
+        return np.zeros_like(rmin), rmin * (1 - 1e-12)
+    if np.any(q >= 1):
+        raise PairError(f"a ring follower turns slower than its driver (q < 1); "
+                        f"follower_turns = {q.max():g}")
+    return np.zeros_like(rmin), rmax * (1 - q) / q * (1 + 1e-9)
 
-    def excess(a):
-        return np.mean(_ratio(kind, r, a[:, None]), axis=1) - q
 
+def _bisected(kind: str, r: np.ndarray, q: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+              steps: int = 64) -> np.ndarray:
+    """The root of mean(g) = q in [lo, hi] by ``steps`` bisections of the (P, n) table r."""
     rising = kind == "internal"
-    for _ in range(64):
+    for _ in range(steps):
         mid = 0.5 * (lo + hi)
-        below = (excess(mid) < 0) == rising
+        below = (np.mean(_ratio(kind, r, mid[:, None]), axis=1) < q) == rising
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    a = 0.5 * (lo + hi)
+    return 0.5 * (lo + hi)
+
+
+#: samples of the coarse table the centre-distance solve brackets its root on
+COARSE_SAMPLES = 256
+#: bisections on the coarse table (its root is within 2**-32 of the admissible interval;
+#: the coarse table's own root differs from the full one's by far more)
+COARSE_STEPS = 32
+#: Newton's last relative step (|da| / a) at which the centre distance is taken as solved
+CLOSURE_STEP = 1e-14
+
+
+def solve_centre_distance(kind: str, r: np.ndarray, follower_turns) -> np.ndarray:
+    """Centre distance a (P,) mm with mean(g) = q over one driver turn for driver radii r
+    (P, N) sampled uniformly (the periodic running integral's end value is exactly the
+    mean times 2 pi); q scalar or (P,). Raises PairError when no a can close it.
+
+    The mean ratio m(a) = mean(r / (kappa r + c a)) is monotone in a on the admissible
+    interval (``_admissible``), so the root is unique. It is bracketed on a coarse table
+    (every N / ``COARSE_SAMPLES``-th radius: ``COARSE_STEPS`` bisections of a (P, 256)
+    table), then polished by Newton on the full table with the analytic slope
+    dm/da = mean(-c r / (kappa r + c a)^2): each step touches the table once (two
+    sums), the error squares per step, and a design's steps end when its relative step
+    is below ``CLOSURE_STEP`` (2-3 steps on the bundled examples). A design Newton does
+    not settle in 12 steps falls back to the full table's bisection."""
+    q = _turns(follower_turns, r.shape[0])
+    lo, hi = _admissible(kind, r, q)
+    N = r.shape[1]
+    stride = max(N // COARSE_SAMPLES, 1)
+    a = _bisected(kind, r[:, ::stride], q, lo, hi, COARSE_STEPS) if stride > 1 else \
+        _bisected(kind, r, q, lo, hi)
     _, kappa, c, _, _ = _KIND[kind]
-    for _ in range(3):
-        rf = kappa * r + c * a[:, None]
-        f = np.mean(r / rf, axis=1) - q
-        df = np.mean(-c * r / rf**2, axis=1)
-        a = np.clip(a - f / df, lo, hi)
+    settled = np.zeros(a.shape, dtype=bool)
+    for _ in range(12):
+        rows = np.flatnonzero(~settled)  # a settled design is left as it is: each design
+        rr = r if rows.size == r.shape[0] else r[rows]  # takes its own steps, whatever
+        ar = a[rows]  # the population
+        rf = kappa * rr + c * ar[:, None]
+        g = np.divide(rr, rf, out=rf)  # in place: one (P, N) temporary per step
+        f = g.mean(axis=1) - q[rows]
+        g /= kappa * rr + c * ar[:, None]
+        df = -c * g.mean(axis=1)
+        new = np.clip(ar - f / df, lo[rows], hi[rows])
+        settled[rows] = np.abs(new - ar) <= CLOSURE_STEP * np.abs(ar)
+        a[rows] = new
+        if settled.all():
+            break
+    if not settled.all():  # a pathological table: the full bisection, as before
+        left = ~settled
+        a[left] = _bisected(kind, r[left], q[left], lo[left], hi[left])
     return a
 
 
@@ -169,6 +209,19 @@ class PairLaw:
         """Driver body angles theta (P, M) with F(theta) = F_target (P, M) (F increases):
         the table's linear inverse, then Newton on the Hermite law (quartic accuracy)."""
         P, N = self.g.shape
+        F_target = np.asarray(F_target, dtype=float)
+        # fused per angle when the table or the angles are large (NumPy joins the rows'
+        # tables for its search: passes over (P, N + 1) however few the angles)
+        # (an open law's break is read by its own Hermite reading, below)
+        if self.g_end is None and use_kernels(
+                P * max(F_target.size // max(F_target.shape[0], 1), N)):
+            from plantmech.trains.kernels import invert_rows
+
+            target = np.ascontiguousarray(np.broadcast_to(F_target, (P,) + F_target.shape[1:])
+                                          .reshape(P, -1))
+            theta = invert_rows(np.ascontiguousarray(self.Fp), self.g - self.q_e[:, None],
+                                np.ascontiguousarray(self.q_e, dtype=float), target, 4)
+            return theta.reshape((P,) + F_target.shape[1:])
         h = TWO_PI / N
         period = TWO_PI * self.q_e[:, None]
         w = np.floor(F_target / period)
@@ -182,8 +235,10 @@ class PairLaw:
         f0, f1 = table[rows, k], table[rows, k + 1]
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
         q = self.q_e[:, None]
+        slope = self.g - q
         for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
-            fp, dfp = self._periodic_part(theta)
+            fp, dfp = (hermite_periodic(self.Fp, slope, theta) if self.g_end is None
+                       else self._periodic_part(theta))
             theta = theta - (fp + q * theta - y) / (dfp + q)
         return theta + TWO_PI * w
 
@@ -244,7 +299,9 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
         raise PairError(f"{name}: follower_turns must be positive, got {q.min():g}")
     driver.check_positive(min_radius)
     try:
-        solved = solve_centre_distance(kind, driver.r, q)
+        _admissible(kind, driver.r, q)  # a pair no centre distance can close: refused
+        solved = solve_centre_distance(kind, driver.r, q) if centre_distance is None \
+            else None  # a given one: solved only to say where it closes (below)
     except PairError as exc:
         raise PairError(f"{name}: {exc}") from None
     if centre_distance is None:
@@ -278,6 +335,7 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
     err = np.abs(law.closure_error)
     if centre_distance is not None and np.any(err > tolerance):
         d = int(np.argmax(err))
+        solved = solve_centre_distance(kind, driver.r, q)
         raise PairError(f"{name}: the pair does not close: per driver turn the follower "
                         f"turns {360 * q_e[d]:.4f} deg, {360 * q[d]:.6g} needed, at centre "
                         f"distance {a[d]:.4f} mm; it closes at {solved[d]:.4f} mm (leave "
@@ -291,8 +349,7 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
                             f"follower_turns = 1 (got {q.max():g}): the break would meet the "
                             "follower at another body angle every driver turn")
         return law
-    th = TWO_PI * np.arange(N) / N
-    gap = np.abs(driver(th[None, :] + TWO_PI / q[:, None])[0] - driver.r).max(axis=1)
+    gap = _repetition_gap(driver, q)
     if np.any(gap > 1e-6 * driver.r.max(axis=1)):
         d = int(np.argmax(gap))
         raise PairError(f"{name}: the follower turns {q[d]:g} times per driver turn, but the "
@@ -300,6 +357,23 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
                         f"(differs by up to {gap[d]:.4g} mm): the follower's pitch curve "
                         "would not close")
     return law
+
+
+def _repetition_gap(driver: Curve, q: np.ndarray) -> np.ndarray:
+    """Largest |r(theta + 2 pi / q) - r(theta)| (P,) mm over the driver's grid: how far its
+    pitch curve is from repeating every 1 / q turn. A shift of whole grid steps (q = 1,
+    2, ... when N / q is whole, the same for every design) reads the table itself (a roll,
+    0 for q = 1); any other shift evaluates the Hermite interpolant there."""
+    P, N = driver.r.shape
+    steps = N / q
+    whole = np.rint(steps)
+    if np.all(steps == steps[0]) and abs(steps[0] - whole[0]) < 1e-9:
+        shift = int(whole[0]) % N
+        if shift == 0:
+            return np.zeros(P)
+        return np.abs(np.roll(driver.r, -shift, axis=1) - driver.r).max(axis=1)
+    th = TWO_PI * np.arange(N) / N
+    return np.abs(driver(th[None, :] + TWO_PI / q[:, None])[0] - driver.r).max(axis=1)
 
 
 def _open_running_integral(g: np.ndarray, dg: np.ndarray, g_end: np.ndarray,
