@@ -16,6 +16,7 @@ the dedicated file's frame 4.0 mm above it)."""
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -102,13 +103,21 @@ def test_pitch_curve_findings_are_the_dedicated_files(gears_dirs):
 def test_verify_drives_the_dwell_of_the_written_file(gears_dirs, written, tmp_path):
     """`plantmech verify` on the written file and its gears: the first pair's dwell over
     the dedicated design's carrier angles (75.0-126.0 deg at 0.5 deg steps: 103 steps,
-    as `plantmech verify` on the dedicated file gives), the loads skipped naming the
-    field; not met (exit 4), as the dedicated file's."""
+    as `plantmech verify` on the dedicated file gives); the loads through it computed with
+    its two ends as impacts (finite figures, the energy balance met between them); not met
+    (exit 4), as the dedicated file's."""
     ours, _, _ = gears_dirs
     v = tmp_path / "v"
     assert main(["verify", str(written), "--gears", str(ours), "--out", str(v)]) == 4
     rec = json.loads((v / "verification.json").read_text())
-    assert "train.pairs.0.dwell" in rec["loads"]["skipped"]
+    loads = rec["loads"]
+    assert "skipped" not in loads
+    starts = [i["carrier_angle_deg"] for i in loads["dwell_impacts"]]
+    assert len(starts) == 2
+    assert abs(starts[0] - 75.0) <= 0.5 and abs(starts[1] - 126.0) <= 0.5, starts
+    assert all(math.isfinite(x) for i in loads["dwell_impacts"] for x in i.values()
+               if isinstance(x, float))
+    assert {c["name"]: c for c in rec["checks"]}["loads: energy balance error"]["ok"]
     assert rec["dwell"]["steps"] == 103
     assert rec["dwell"]["carrier_angle_deg"] == [75.0, 126.0]
     assert rec["dwell"]["jammed_steps"] == 0
