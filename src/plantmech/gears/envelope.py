@@ -776,6 +776,7 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         x, n, chain, link, src = _outline_chains(pieces, keep, module)
         mid = middles[src]
     key = np.arange(len(x), dtype=float)
+    paths = []
     if blank is not None:  # only the links that can reach the blank are refined
         reach_blank = shapely.buffer(blank, MATE_REFINE_NEAR * module, quad_segs=4)
         shapely.prepare(reach_blank)
@@ -822,6 +823,10 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         need[e[change[e]]] = True
         need &= same
         if rnd == MATE_LINK_ROUNDS or not need.any():
+            if reach is not None:
+                paths = _corner_paths(pair[long_], ui, s_r, x, mid, motion, reach, module,
+                                      reach_blank if blank is not None else None, q,
+                                      blank)
             pair = pair[~long_]
             break
         k = np.flatnonzero(need)
@@ -846,7 +851,60 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
             mid = mid[o]
         ui = inv_o[ui]
     segs = np.stack([q[pair[:, 0]], q[pair[:, 1]]], axis=1)
-    return segs, q, th, x, pair, x[ui], n[ui]
+    return segs, q, th, x, pair, x[ui], n[ui], paths
+
+
+def _corner_paths(jumps, ui, s_r, x, mid, motion: MateMotion, reach: MateReach,
+                  module: float, near=None, q_r=None, ends_in=None):
+    """The long links left (``jumps``, pairs of root indices) that join two roots of one
+    point of A (a sharp corner, its normals swept: ``_outline_chains``) stand for that
+    point's path between the two contact arcs (every normal between touches in between):
+    where the link is a chord across a fast turn of the motion its path is the cut's
+    boundary, and dropping it left a face open (the K-H-V planet). One path per point,
+    over the hull of its links' arcs (the point lies on A's outline at every contact
+    within its piece's reach, so its path lies in the swept region: more of it only
+    subdivides faces), kept where it comes within ``near`` (prepared shapely geometry,
+    B's frame) when given, and only for links with an end (``q_r``, the roots in B's
+    frame) in ``ends_in`` when given. Returns the paths in B's frame, a list of (N, 2)
+    arrays (mm), sampled so that a step stays under ``MATE_LINK_MAX`` module where the motion is
+    smooth (at most 400 samples each)."""
+    import shapely
+
+    if not len(jumps):
+        return []
+    a, b = jumps[:, 0], jumps[:, 1]
+    same = np.all(x[ui[a]] == x[ui[b]], axis=1)
+    if ends_in is not None:  # (a chord with both ends outside the blank: not needed here)
+        same &= shapely.contains_xy(ends_in, q_r[a, 0], q_r[a, 1]) | shapely.contains_xy(
+            ends_in, q_r[b, 0], q_r[b, 1])
+    a, b = a[same], b[same]
+    if not len(a):
+        return []
+    P = motion.perimeter
+    # both contacts relative to the piece's middle, inside its reach (an interval)
+    m0 = mid[ui[a]]
+    s1 = m0 + np.mod(s_r[a] - m0 + P / 2, P) - P / 2
+    s2 = m0 + np.mod(s_r[b] - m0 + P / 2, P) - P / 2
+    # one path per point: the hull of its links' arcs
+    pts, inv = np.unique(x[ui[a]], axis=0, return_inverse=True)
+    inv = inv.ravel()
+    lo = np.full(len(pts), np.inf)
+    hi = np.full(len(pts), -np.inf)
+    np.minimum.at(lo, inv, np.minimum(s1, s2))
+    np.maximum.at(hi, inv, np.maximum(s1, s2))
+    f = np.linspace(0.0, 1.0, 9)
+    s = lo[:, None] + f[None, :] * (hi - lo)[:, None]
+    q = motion.to_b(np.broadcast_to(pts[:, None, :], s.shape + (2,)), motion.theta(s))
+    if near is not None:
+        keep = shapely.contains_xy(near, q[..., 0], q[..., 1]).any(axis=1)
+        pts, lo, hi, q = pts[keep], lo[keep], hi[keep], q[keep]
+    length = np.hypot(*np.diff(q, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    count = np.clip(np.ceil(length / (MATE_LINK_MAX * module)) + 1, 9, 400).astype(int)
+    out = []
+    for k in range(len(pts)):
+        sk = np.linspace(lo[k], hi[k], count[k])
+        out.append(motion.to_b(np.broadcast_to(pts[k], (count[k], 2)), motion.theta(sk)))
+    return out
 
 
 def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float,
@@ -882,8 +940,8 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     # where an envelope curve ends at it inside the blank, A's outline at that position
     # closes it (_dangle_closures), as the simulated cut's last piece does
     window = MATE_WINDOW_PITCHES
-    segs, q, th, x, pair, xr, nr = mate_envelope_lines(tool_band, motion, module, np.inf,
-                                                       window, blank=blank, reach=reach)
+    segs, q, th, x, pair, xr, nr, paths = mate_envelope_lines(
+        tool_band, motion, module, np.inf, window, blank=blank, reach=reach)
     # only the links that can reach the blank matter (the rest lie in the swept region
     # outside it)
     reach_len = float(np.hypot(*(segs[:, 1] - segs[:, 0]).T).max()) if len(segs) else 0.0
@@ -893,6 +951,12 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
             | shapely.contains_xy(grown, segs[:, 1, 0], segs[:, 1, 1]))
     geoms = [_curves(q, pair[near])]
     geoms.append(shapely.boundary(blank))
+    if paths:  # sharp corners' paths across fast turns (inside a ring, _corner_paths)
+        lines = shapely.linestrings(np.concatenate(paths), indices=np.repeat(
+            np.arange(len(paths)), [len(p) for p in paths]))
+        lines = lines[shapely.intersects(lines, grown)]
+        if len(lines):
+            geoms.append(shapely.intersection(shapely.multilinestrings(lines), grown))
     if not motion.periodic:  # A's outline at the motion's two ends bounds the cut too
         for t_end in (motion.theta_a[0], motion.theta_a[-1]):
             b = shapely.boundary(tool_band)
