@@ -731,8 +731,9 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
 
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
     contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, the links as
-    pairs of root indices (M, 2), and each root's outline point and outward normal (R, 2),
-    A's frame)."""
+    pairs of root indices (M, 2), each root's outline point and outward normal (R, 2),
+    A's frame, and with ``reach`` the paths of sharp corners whose long links were
+    dropped (``_corner_paths``, B's frame; else an empty list))."""
     import shapely
 
     pa = motion.pitch_a
@@ -1112,8 +1113,9 @@ def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window,
     shapely.prepare(tool)
     _, j = cKDTree(q).query(reps)
     s0 = motion.arc(th[j])
-    W = window * pitch if reach is None else reach.half + reach.piece
-    steps = int(2 * W / pitch * MATE_GRID_PER_PITCH) + 1
+    span = window if reach is None else (reach.half + reach.piece) / pitch  # pitches
+    W = span * pitch
+    steps = int(2 * span * MATE_GRID_PER_PITCH) + 1
     off = np.linspace(-W, W, steps)
 
     def inside(rows, s):
