@@ -530,6 +530,44 @@ MATE_SLIVER = 1e-3  # mm: faces narrower than this (2 area / perimeter) are cut 
 MATE_CHECK_DEPTH = 0.01  # x module: A may not reach deeper into B's material (mesh limit)
 
 
+MATE_REACH_PITCHES = 3.0  # the simulated cut's reach: pieces whose middles are this near
+
+
+@dataclass(frozen=True)
+class MateReach:
+    """The simulated cut's reach (``teeth._mate_simulated_sweep``) as a window per point of
+    A: A's band is cut into ``count`` pieces of ``piece`` mm of arc of its pitch curve
+    (``teeth._pieces``: wedges from A's centre, piece k over the polar angles of arcs
+    [k piece, (k + 1) piece)), each taken whole while its middle is within ``half`` mm of
+    arc of the contact (3 pitches and half a piece: ``teeth._near``). A point of A
+    belongs to the piece its polar angle lies in, and touches B only at contact arcs
+    within ``half`` of that piece's middle (not of the point itself)."""
+
+    piece: float
+    count: int
+    half: float
+    perimeter: float
+
+    @classmethod
+    def of(cls, perimeter: float, pitch: float,
+           pitches: float = MATE_REACH_PITCHES) -> MateReach:
+        """The reach on A's pitch curve of ``perimeter`` (mm), pieces of about one
+        ``pitch`` (mm, pi m), as ``teeth._pieces`` and ``teeth._near`` make it."""
+        n = max(8, int(round(perimeter / pitch)))
+        piece = perimeter / n
+        return cls(piece, n, pitches * pitch + piece / 2, perimeter)
+
+    def middle(self, s):
+        """Arc (mm) of the middle of the piece holding arc ``s`` (mm)."""
+        k = np.clip(np.floor(np.mod(s, self.perimeter) / self.piece), 0, self.count - 1)
+        return (k + 0.5) * self.piece
+
+    def within(self, middle, s):
+        """Whether contact arc ``s`` lies within the reach of the piece of ``middle``."""
+        P = self.perimeter
+        return np.abs(np.mod(np.asarray(s) - middle + P / 2, P) - P / 2) <= self.half
+
+
 class MateEnvelopeUnfit(Exception):
     """The envelope cannot stand for the mate's simulated cut here (the message says why):
     the mate is cut by simulation instead."""
@@ -606,22 +644,30 @@ class MateMotion:
 
 
 def _outline_chains(tool, keep, module: float):
-    """Points and outward normals along every ring of ``tool`` (shapely polygon, mm; the
+    """Points and outward normals along every ring of ``tool`` (shapely polygon, mm, or an
+    array of them: the pieces of a ``MateReach``; the
     material on the left of each ring as oriented), the vertices where ``keep(xy)`` holds:
     each vertex with the normals from its incoming edge's to its outgoing edge's (at most
     ``MATE_CORNER_STEP`` apart), edges longer than ``MATE_EDGE_MAX`` module with points in
     between. Returns (x (U, 2), n (U, 2), chain id (U,), closed: whether each entry links
-    to the next in its chain (U,) bool)."""
+    to the next in its chain (U,) bool, the index of the polygon in ``tool`` each entry
+    lies on (U,))."""
     import shapely
 
-    rings = []
-    for part in shapely.get_parts(tool):
-        part = shapely.geometry.polygon.orient(part, 1.0)
-        rings += [np.asarray(part.exterior.coords)[:-1]] + [np.asarray(r.coords)[:-1]
+    rings, owners = [], []
+    geoms = tool if isinstance(tool, np.ndarray) else [tool]
+    for i, g in enumerate(geoms):
+        for part in shapely.get_parts(g):
+            if part.geom_type != "Polygon":
+                continue
+            part = shapely.geometry.polygon.orient(part, 1.0)
+            rr = [np.asarray(part.exterior.coords)[:-1]] + [np.asarray(r.coords)[:-1]
                                                             for r in part.interiors]
-    xs, ns, ids, links = [], [], [], []
+            rings += rr
+            owners += [i] * len(rr)
+    xs, ns, ids, links, srcs = [], [], [], [], []
     chain = 0
-    for V in rings:
+    for V, owner_geom in zip(rings, owners, strict=True):
         if len(V) < 3:
             continue
         e = np.roll(V, -1, axis=0) - V
@@ -649,6 +695,7 @@ def _outline_chains(tool, keep, module: float):
         link = use & np.roll(use, -1)
         if use.all():
             xs.append(x), ns.append(n), ids.append(np.full(len(x), chain)), links.append(link)
+            srcs.append(np.full(len(x), owner_geom))
             chain += 1
             continue
         # cut the ring at an unused entry so every run is contiguous
@@ -660,13 +707,15 @@ def _outline_chains(tool, keep, module: float):
         link = link & sel
         xs.append(x[sel]), ns.append(n[sel]), ids.append(chain + run[sel]),
         links.append(link[sel])
+        srcs.append(np.full(int(sel.sum()), owner_geom))
         chain += int(run.max()) + 1
     return (np.concatenate(xs), np.concatenate(ns), np.concatenate(ids),
-            np.concatenate(links))
+            np.concatenate(links), np.concatenate(srcs))
 
 
 def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
-                        window: float = MATE_WINDOW_PITCHES, blank=None):
+                        window: float = MATE_WINDOW_PITCHES, blank=None,
+                        reach: MateReach | None = None):
     """The envelope of ``tool`` (A's generating outline, shapely polygon in A's frame, mm)
     in B's frame under ``motion`` (MateMotion): every root of every outline point within
     ``depth`` (mm) of A's pitch curve (radially), within ``window`` pitches of arc of it,
@@ -677,12 +726,14 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
     halvings at most); links still longer are branch jumps, dropped.
 
     ``blank`` (shapely polygon, B's frame, prepared), when given: only the links that can
-    reach it are refined.
+    reach it are refined. ``reach`` (MateReach), when given, replaces the window: a point's
+    roots are those within the reach of its piece's middle (the simulated cut's pieces).
 
     Returns (segments (M, 2, 2) mm in B's frame, root points (R, 2) in B's frame, their
     contact angles theta (R,), rad, the outline points (U, 2) used, A's frame, the links as
-    pairs of root indices (M, 2), and each root's outline point and outward normal (R, 2),
-    A's frame)."""
+    pairs of root indices (M, 2), each root's outline point and outward normal (R, 2),
+    A's frame, and with ``reach`` the paths of sharp corners whose long links were
+    dropped (``_corner_paths``, B's frame; else an empty list))."""
     import shapely
 
     pa = motion.pitch_a
@@ -698,26 +749,40 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         p = pa.at(arc)[0]
         return np.abs(np.hypot(*xy.T) - np.hypot(*p.T)) <= depth
 
-    def roots(x, n):
-        """(entry index, arc, theta, B point) of every root of the points x."""
+    def roots(x, n, c_x=None):
+        """(entry index, arc, theta, B point) of every root of the points x (``c_x``:
+        the middles of their pieces, with ``reach``)."""
         from plantmech.gears.envelope_kernels import mate_roots
 
-        s_x = motion.arc(np.arctan2(x[:, 1], x[:, 0]))
-        i0 = np.round(s_x / h).astype(np.int64)
+        if c_x is None:  # the window's centre: the point's own arc
+            c_x = motion.arc(np.arctan2(x[:, 1], x[:, 0]))
+        i0 = np.round(c_x / h).astype(np.int64)
         ui, s_r = mate_roots(np.ascontiguousarray(x), np.ascontiguousarray(n), i0, Pg, G, h,
                              pa.xy, MATE_REFINE)
+        if reach is not None:  # the grid's whole steps reach past the piece's: trimmed
+            ok = reach.within(c_x[ui], s_r)
+            ui, s_r = ui[ok], s_r[ok]
         th = motion.theta(s_r)
         return ui, s_r, th, motion.to_b(x[ui], th)
 
     from plantmech.gears.envelope_kernels import mate_links
 
-    x, n, chain, link = _outline_chains(tool, keep, module)
+    if reach is None:
+        x, n, chain, link, _ = _outline_chains(tool, keep, module)
+        mid = None
+    else:  # the simulated cut's pieces, each with its reach: their cut edges bound it too
+        from plantmech.gears.teeth import _pieces
+
+        pieces, middles, _ = _pieces(tool, pa, reach.piece)
+        x, n, chain, link, src = _outline_chains(pieces, keep, module)
+        mid = middles[src]
     key = np.arange(len(x), dtype=float)
+    paths = []
     if blank is not None:  # only the links that can reach the blank are refined
         reach_blank = shapely.buffer(blank, MATE_REFINE_NEAR * module, quad_segs=4)
         shapely.prepare(reach_blank)
-    G = int(np.ceil(window * pitch / h))
-    ui, s_r, th, q = roots(x, n)
+    G = int(np.ceil(window * pitch / h)) if reach is None else int(np.ceil(reach.half / h)) + 1
+    ui, s_r, th, q = roots(x, n, mid)
     tol = MATE_LINK_MAX * module
     for rnd in range(MATE_LINK_ROUNDS + 1):
         U = len(x)
@@ -759,6 +824,10 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         need[e[change[e]]] = True
         need &= same
         if rnd == MATE_LINK_ROUNDS or not need.any():
+            if reach is not None:
+                paths = _corner_paths(pair[long_], ui, s_r, x, mid, motion, reach, module,
+                                      reach_blank if blank is not None else None, q,
+                                      blank)
             pair = pair[~long_]
             break
         k = np.flatnonzero(need)
@@ -767,22 +836,80 @@ def mate_envelope_lines(tool, motion: MateMotion, module: float, depth: float,
         nm = n[k] + n[k1]
         nm /= np.hypot(*nm.T)[:, None]
         km = np.where(k1 > k, 0.5 * (key[k] + key[k1]), key[k] + 0.5)
-        new_ui, new_s, new_th, new_q = roots(xm, nm)
+        new_ui, new_s, new_th, new_q = roots(xm, nm, None if mid is None else mid[k])
         ui = np.r_[ui, new_ui + U]
         s_r, th, q = np.r_[s_r, new_s], np.r_[th, new_th], np.r_[q, new_q]
         x, n, key = np.r_[x, xm], np.r_[n, nm], np.r_[key, km]
+        if mid is not None:
+            mid = np.r_[mid, mid[k]]
         chain, link = np.r_[chain, chain[k]], np.r_[link, np.ones(len(k), bool)]
         # entries in outline order again (within each chain, by key)
         o = np.lexsort((key, chain))
         inv_o = np.empty_like(o)
         inv_o[o] = np.arange(len(o))
         x, n, key, chain, link = x[o], n[o], key[o], chain[o], link[o]
+        if mid is not None:
+            mid = mid[o]
         ui = inv_o[ui]
     segs = np.stack([q[pair[:, 0]], q[pair[:, 1]]], axis=1)
-    return segs, q, th, x, pair, x[ui], n[ui]
+    return segs, q, th, x, pair, x[ui], n[ui], paths
 
 
-def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float):
+def _corner_paths(jumps, ui, s_r, x, mid, motion: MateMotion, reach: MateReach,
+                  module: float, near=None, q_r=None, ends_in=None):
+    """The long links left (``jumps``, pairs of root indices) that join two roots of one
+    point of A (a sharp corner, its normals swept: ``_outline_chains``) stand for that
+    point's path between the two contact arcs (every normal between touches in between):
+    where the link is a chord across a fast turn of the motion its path is the cut's
+    boundary, and dropping it left a face open (the K-H-V planet). One path per point,
+    over the hull of its links' arcs (the point lies on A's outline at every contact
+    within its piece's reach, so its path lies in the swept region: more of it only
+    subdivides faces), kept where it comes within ``near`` (prepared shapely geometry,
+    B's frame) when given, and only for links with an end (``q_r``, the roots in B's
+    frame) in ``ends_in`` when given. Returns the paths in B's frame, a list of (N, 2)
+    arrays (mm), sampled so that a step stays under ``MATE_LINK_MAX`` module where the motion is
+    smooth (at most 400 samples each)."""
+    import shapely
+
+    if not len(jumps):
+        return []
+    a, b = jumps[:, 0], jumps[:, 1]
+    same = np.all(x[ui[a]] == x[ui[b]], axis=1)
+    if ends_in is not None:  # (a chord with both ends outside the blank: not needed here)
+        same &= shapely.contains_xy(ends_in, q_r[a, 0], q_r[a, 1]) | shapely.contains_xy(
+            ends_in, q_r[b, 0], q_r[b, 1])
+    a, b = a[same], b[same]
+    if not len(a):
+        return []
+    P = motion.perimeter
+    # both contacts relative to the piece's middle, inside its reach (an interval)
+    m0 = mid[ui[a]]
+    s1 = m0 + np.mod(s_r[a] - m0 + P / 2, P) - P / 2
+    s2 = m0 + np.mod(s_r[b] - m0 + P / 2, P) - P / 2
+    # one path per point: the hull of its links' arcs
+    pts, inv = np.unique(x[ui[a]], axis=0, return_inverse=True)
+    inv = inv.ravel()
+    lo = np.full(len(pts), np.inf)
+    hi = np.full(len(pts), -np.inf)
+    np.minimum.at(lo, inv, np.minimum(s1, s2))
+    np.maximum.at(hi, inv, np.maximum(s1, s2))
+    f = np.linspace(0.0, 1.0, 9)
+    s = lo[:, None] + f[None, :] * (hi - lo)[:, None]
+    q = motion.to_b(np.broadcast_to(pts[:, None, :], s.shape + (2,)), motion.theta(s))
+    if near is not None:
+        keep = shapely.contains_xy(near, q[..., 0], q[..., 1]).any(axis=1)
+        pts, lo, hi, q = pts[keep], lo[keep], hi[keep], q[keep]
+    length = np.hypot(*np.diff(q, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    count = np.clip(np.ceil(length / (MATE_LINK_MAX * module)) + 1, 9, 400).astype(int)
+    out = []
+    for k in range(len(pts)):
+        sk = np.linspace(lo[k], hi[k], count[k])
+        out.append(motion.to_b(np.broadcast_to(pts[k], (count[k], 2)), motion.theta(sk)))
+    return out
+
+
+def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: float,
+                        reach: MateReach | None = None):
     """The material the generating A (``tool``: its outline in its own frame, mm) removes
     from B's ``blank`` (shapely polygon, B's frame) over ``motion``, by the envelope
     (module notes above): the envelope curves, the blank's edge and, when the motion does
@@ -792,6 +919,11 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     then 64 about the nearest approach). The generating body is A's band within ``depth``
     (mm) of its pitch curve, as in the simulated cut. Where a linked curve ends inside the
     blank, A's outline at that root's position closes it (``_dangle_closures``).
+    ``reach`` (MateReach), when given, stands for the fixed window: the simulated cut's
+    pieces of A, each over the contact arcs within its reach (the envelope's roots, the
+    faces' classification and the self-check), and each piece's outline at the two ends
+    of its reach bounds the cut too (where it enters and leaves, its wedge's cut edges
+    included).
     Returns the material left (shapely geometry, the faces inside the blank not removed).
     Raises MateEnvelopeUnfit when the self-check finds A's outline, at a position
     of the motion (``MATE_CHECK_PER_PITCH`` per pitch), deeper than ``MATE_CHECK_DEPTH``
@@ -809,8 +941,8 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     # where an envelope curve ends at it inside the blank, A's outline at that position
     # closes it (_dangle_closures), as the simulated cut's last piece does
     window = MATE_WINDOW_PITCHES
-    segs, q, th, x, pair, xr, nr = mate_envelope_lines(tool_band, motion, module, np.inf,
-                                                       window, blank=blank)
+    segs, q, th, x, pair, xr, nr, paths = mate_envelope_lines(
+        tool_band, motion, module, np.inf, window, blank=blank, reach=reach)
     # only the links that can reach the blank matter (the rest lie in the swept region
     # outside it)
     reach_len = float(np.hypot(*(segs[:, 1] - segs[:, 0]).T).max()) if len(segs) else 0.0
@@ -820,12 +952,20 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
             | shapely.contains_xy(grown, segs[:, 1, 0], segs[:, 1, 1]))
     geoms = [_curves(q, pair[near])]
     geoms.append(shapely.boundary(blank))
+    if paths:  # sharp corners' paths across fast turns (inside a ring, _corner_paths)
+        lines = shapely.linestrings(np.concatenate(paths), indices=np.repeat(
+            np.arange(len(paths)), [len(p) for p in paths]))
+        lines = lines[shapely.intersects(lines, grown)]
+        if len(lines):
+            geoms.append(shapely.intersection(shapely.multilinestrings(lines), grown))
     if not motion.periodic:  # A's outline at the motion's two ends bounds the cut too
         for t_end in (motion.theta_a[0], motion.theta_a[-1]):
             b = shapely.boundary(tool_band)
             geoms.append(shapely.transform(b, lambda xy, t=t_end: motion.to_b(
                 xy, np.full(len(xy), t))))
     geoms += _dangle_closures(tool_band, motion, q, th, pair, xr, nr, grown, module)
+    if reach is not None:
+        geoms += _reach_ends(tool_band, motion, reach, grown)
     noded = shapely.union_all(np.array(geoms, dtype=object), grid_size=MATE_NODING_GRID)
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
     faces = faces[shapely.area(faces) > 1e-10]
@@ -840,13 +980,13 @@ def mate_space_polygons(tool, motion: MateMotion, blank, module: float, depth: f
     covered = ~wide
     if len(sel):
         covered[sel] = _covered_by_mate(tool_band, motion, rep[sel], q, th, x, pitch,
-                                        window)
+                                        window, reach)
     # every curve lies in the swept region (points of A's outline, or links between
     # nearby ones), so B's material is one face or a few: united, they are the gear
     material = shapely.union_all(faces[inside & ~covered])
     # self-check: A's outline at the stations of the motion must stay out of B's material
     # (a face the arrangement failed to close would have been kept as material whole)
-    deep = _mate_overlap(tool_band, motion, material, module, window)
+    deep = _mate_overlap(tool_band, motion, material, module, window, reach=reach)
     if deep is not None:
         raise MateEnvelopeUnfit(
             f"self-check: the generating gear's outline reaches {MATE_CHECK_DEPTH:g} module "
@@ -873,12 +1013,13 @@ def _curves(q, pair):
 
 
 def _mate_overlap(tool_band, motion: MateMotion, material, module: float, window: float,
-                  per_pitch: int = MATE_CHECK_PER_PITCH):
+                  per_pitch: int = MATE_CHECK_PER_PITCH, reach: MateReach | None = None):
     """Where A's outline (``tool_band``'s vertices, edges split to 0.05 module) at the
     motion's positions (``per_pitch`` per pitch of arc on A, and as many per pitch of B's
     turn relative to A at three modules from its centre) lies deeper than
     ``MATE_CHECK_DEPTH`` module inside B's ``material``, within ``window`` pitches of arc
-    of the contact: the first such point (B's frame, mm), or None."""
+    of the contact (with ``reach``: the vertices of the pieces within it): the first such
+    point (B's frame, mm), or None."""
     import shapely
 
     pitch = np.pi * module
@@ -886,10 +1027,19 @@ def _mate_overlap(tool_band, motion: MateMotion, material, module: float, window
     if inner.is_empty:
         return None
     shapely.prepare(inner)
-    v = shapely.get_coordinates(shapely.segmentize(shapely.boundary(tool_band),
-                                                   MATE_EDGE_MAX * module))
-    sv = motion.arc(np.arctan2(v[:, 1], v[:, 0]))
-    order = np.argsort(sv)
+    if reach is None:
+        v = shapely.get_coordinates(shapely.segmentize(shapely.boundary(tool_band),
+                                                       MATE_EDGE_MAX * module))
+        sv = motion.arc(np.arctan2(v[:, 1], v[:, 0]))
+    else:  # the pieces' outlines (their cut edges too), each vertex with its piece's middle
+        from plantmech.gears.teeth import _pieces
+
+        pieces, middles, _ = _pieces(tool_band, motion.pitch_a, reach.piece)
+        v, k = shapely.get_coordinates(shapely.segmentize(shapely.boundary(pieces),
+                                                          MATE_EDGE_MAX * module),
+                                       return_index=True)
+        sv = middles[k]
+    order = np.argsort(sv, kind="stable")
     v, sv = v[order], sv[order]
     P = motion.perimeter
     # stations: uniform in arc on A and in B's turn relative to A (fast spans get more)
@@ -901,7 +1051,7 @@ def _mate_overlap(tool_band, motion: MateMotion, material, module: float, window
     count = int(np.ceil(u[-1] / pitch * per_pitch)) + 1
     t = np.interp(np.linspace(0.0, u[-1], count), u, th)
     s_t = np.interp(t, th, s_at)
-    W = window * pitch
+    W = window * pitch if reach is None else reach.half
     lo = np.searchsorted(sv, np.mod(s_t - W, P))
     hi = np.searchsorted(sv, np.mod(s_t + W, P))
     n = np.mod(hi - lo, len(v))
@@ -947,10 +1097,13 @@ def _dangle_closures(tool_band, motion: MateMotion, q, th, pair, xr, nr, grown,
     return out
 
 
-def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window):
+def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window,
+                     reach: MateReach | None = None):
     """Whether each B-frame point of ``reps`` (F, 2) lies inside ``tool`` (A's frame) at
     some position of the motion within the window about the contact angle of the
-    envelope point of ``q``/``th`` nearest it (``window`` pitches of arc each way):
+    envelope point of ``q``/``th`` nearest it (``window`` pitches of arc each way; with
+    ``reach``: inside a piece of A at a position within that piece's reach, positions
+    searched within the reach and a piece of the nearest point's):
     ``MATE_GRID_PER_PITCH`` positions per
     pitch of arc; a point found in none is tried again at 64 positions about the one where
     it came nearest A's outline points ``x`` (not missed between two positions)."""
@@ -960,9 +1113,23 @@ def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window):
     shapely.prepare(tool)
     _, j = cKDTree(q).query(reps)
     s0 = motion.arc(th[j])
-    W = window * pitch
-    steps = int(2 * window * MATE_GRID_PER_PITCH) + 1
+    span = window if reach is None else (reach.half + reach.piece) / pitch  # pitches
+    W = span * pitch
+    steps = int(2 * span * MATE_GRID_PER_PITCH) + 1
     off = np.linspace(-W, W, steps)
+
+    def inside(rows, s):
+        """Whether the points ``rows`` lie in A at contact arcs ``s`` (rows, k): (rows, k)
+        bool, and their A-frame points."""
+        t = _theta_in_cycle(motion, s)
+        xa = motion.to_a(np.broadcast_to(reps[rows, None, :], t.shape + (2,)), t)
+        hit = shapely.contains_xy(tool, xa[..., 0].ravel(), xa[..., 1].ravel()
+                                  ).reshape(t.shape)
+        if reach is not None:  # only the pieces within their reach cut
+            mid = reach.middle(motion.arc(np.arctan2(xa[..., 1], xa[..., 0])))
+            hit &= reach.within(mid, s)
+        return hit, xa
+
     # first the positions within half a pitch of the nearest envelope point's (where a
     # face of a space is mostly covered), then the whole window for the rest
     hit = np.zeros(len(reps), bool)
@@ -971,24 +1138,54 @@ def _covered_by_mate(tool, motion: MateMotion, reps, q, th, x, pitch, window):
         rows = np.flatnonzero(~hit) if rows is None else rows
         if not len(rows):
             break
-        t = _theta_in_cycle(motion, s0[rows, None] + cols[None, :])
-        xa = motion.to_a(np.broadcast_to(reps[rows, None, :], t.shape + (2,)), t)
-        hit[rows] = shapely.contains_xy(tool, xa[..., 0].ravel(), xa[..., 1].ravel()
-                                        ).reshape(t.shape).any(axis=1)
+        hit[rows] = inside(rows, s0[rows, None] + cols[None, :])[0].any(axis=1)
     miss = np.flatnonzero(~hit)
     if len(miss):
-        t = _theta_in_cycle(motion, s0[miss, None] + off[None, :])
-        xa = motion.to_a(np.broadcast_to(reps[miss, None, :], t.shape + (2,)), t)
+        _, xa = inside(miss, s0[miss, None] + off[None, :])
         # (positions farther than a pitch from every outline point need no exact distance)
-        dist, _ = cKDTree(x).query(xa.reshape(-1, 2), distance_upper_bound=pitch)
+        dist, near_x = cKDTree(x).query(xa.reshape(-1, 2), distance_upper_bound=pitch)
+        if reach is not None:  # the nearest approach of a piece within its reach
+            s_pos = np.broadcast_to(s0[miss, None] + off[None, :], xa.shape[:-1]).ravel()
+            found = near_x < len(x)
+            mid_x = reach.middle(motion.arc(np.arctan2(x[near_x[found], 1],
+                                                       x[near_x[found], 0])))
+            dist[np.flatnonzero(found)[~reach.within(mid_x, s_pos[found])]] = np.inf
         best = off[np.argmin(dist.reshape(len(miss), -1), axis=1)]
         fine = best[:, None] + np.linspace(-1.0, 1.0, 64)[None, :] * (off[1] - off[0])
-        sf = s0[miss, None] + fine
-        tf = _theta_in_cycle(motion, sf)
-        xf = motion.to_a(np.broadcast_to(reps[miss, None, :], tf.shape + (2,)), tf)
-        hit[miss] = shapely.contains_xy(tool, xf[..., 0].ravel(), xf[..., 1].ravel()
-                                        ).reshape(tf.shape).any(axis=1)
+        hit[miss] = inside(miss, s0[miss, None] + fine)[0].any(axis=1)
+    miss = np.flatnonzero(~hit)
+    if len(miss) and reach is not None:
+        # a face bounded by a piece's outline where it enters or leaves the cut may be
+        # inside it only over a short span there: the pieces' reach ends (just inside)
+        mids = (np.arange(reach.count) + 0.5) * reach.piece
+        eps = 1e-6 * reach.piece
+        ends = np.r_[mids - reach.half + eps, mids + reach.half - eps]
+        for chunk in np.array_split(miss, max(1, len(miss) // 64)):
+            s_end = np.broadcast_to(ends, (len(chunk), len(ends)))
+            hit[chunk] = inside(chunk, s_end)[0].any(axis=1)
     return hit
+
+
+def _reach_ends(tool_band, motion: MateMotion, reach: MateReach, grown):
+    """Each piece of A's band (``reach``: the simulated cut's pieces) at the two ends of
+    its reach, where it enters and leaves the cut: its outline, the wedge's cut edges
+    included, in B's frame (the parts within ``grown``, B's blank grown by the longest
+    link). Returns a list of shapely geometries."""
+    import shapely
+
+    from plantmech.gears.teeth import _pieces
+
+    pieces, middles, plen = _pieces(tool_band, motion.pitch_a, reach.piece)
+    if len(pieces) != reach.count or abs(plen - reach.piece) > 1e-9 * reach.piece:
+        raise MateEnvelopeUnfit("the simulated cut's pieces differ from the reach's")
+    lines = shapely.boundary(pieces)
+    xy, idx = shapely.get_coordinates(lines, return_index=True)
+    out = []
+    for sign in (-1.0, 1.0):
+        t = motion.theta(middles + sign * reach.half)
+        placed = shapely.set_coordinates(lines.copy(), motion.to_b(xy, t[idx]))
+        out += [g for g in shapely.intersection(placed, grown) if not g.is_empty]
+    return out
 
 
 def _theta_in_cycle(motion: MateMotion, s):

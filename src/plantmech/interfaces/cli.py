@@ -571,8 +571,9 @@ def build_parser() -> argparse.ArgumentParser:
                        "(1.25)")
     gears.add_argument("--teeth", choices=("envelope", "simulated"), default="envelope",
                        help="how teeth are generated: from the envelope condition of the "
-                       "meshing equation (default: rack- and shaper-cut gears and the mates of "
-                       "external pairs; a planet cut by its ring is still simulated, and any "
+                       "meshing equation (default: rack- and shaper-cut gears and the mates "
+                       "cut by their driver's teeth, a planet cut by its ring within the "
+                       "simulated cut's reach; any "
                        "envelope that fails its self-check falls back to simulation, said in "
                        "verification.json) or by simulated cutting of every gear (the "
                        "reference)")
