@@ -17,6 +17,18 @@ from numba import njit
 TWO_PI = 2.0 * np.pi
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _hermite(y0, y1, d0, d1, s, h):
+    """(value, slope) of the cubic Hermite segment from y0 to y1 with end slopes d0, d1
+    (per unit of s, i.e. times h) at s in [0, 1): ``curves.hermite_basis``'s arithmetic."""
+    s2 = s * s
+    s3 = s2 * s
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
 @njit(cache=True, error_model="numpy")
 def hermite_rows(y, dy, x, shared):
     """(value, slope) (P, M) of each row's periodic cubic Hermite interpolant through values
@@ -39,15 +51,8 @@ def hermite_rows(y, dy, x, shared):
             s = u - kf
             k = int(kf) % N
             k1 = 0 if k == N - 1 else k + 1
-            y0, y1 = y[p, k], y[p, k1]
-            d0, d1 = dy[p, k] * h, dy[p, k1] * h
-            s2 = s * s
-            s3 = s2 * s
-            dyy = y0 - y1
-            value[p, j] = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 \
-                + (s3 - s2) * d1
-            slope[p, j] = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0
-                           + (3 * s2 - 2 * s) * d1) / h
+            value[p, j], slope[p, j] = _hermite(y[p, k], y[p, k1], dy[p, k] * h,
+                                                dy[p, k1] * h, s, h)
     return value, slope
 
 
@@ -115,14 +120,7 @@ def invert_rows(Fp, gq, q, target, newton):
                 s = u - kf
                 i0 = int(kf) % N
                 i1 = 0 if i0 == N - 1 else i0 + 1
-                y0, y1 = Fp[p, i0], Fp[p, i1]
-                d0, d1 = gq[p, i0] * h, gq[p, i1] * h
-                s2 = s * s
-                s3 = s2 * s
-                dyy = y0 - y1
-                fp = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
-                dfp = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0
-                       + (3 * s2 - 2 * s) * d1) / h
+                fp, dfp = _hermite(Fp[p, i0], Fp[p, i1], gq[p, i0] * h, gq[p, i1] * h, s, h)
                 step = theta - (fp + qp * theta - yv) / (dfp + qp)
                 if step == theta:  # settled: the steps left would give it again
                     break
