@@ -106,22 +106,27 @@ def cli_startup(runs: int = 9) -> None:
     figure("cli_help_ms", helped * 1e3, "ms", 150.0, bare_interpreter_ms=bare * 1e3)
 
 
+def wall_cpu_median(fn, repeat: int) -> tuple[float, float]:
+    """(median wall s, median CPU s) of ``repeat`` calls of ``fn``."""
+    import statistics
+
+    wall, cpu = [], []
+    for _ in range(repeat):
+        c0, t0 = time.process_time(), time.perf_counter()
+        fn()
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return statistics.median(wall), statistics.median(cpu)
+
+
 def bench_transplanter(rng, P: int = 1000) -> None:
     """The transplanter: the single-design job and the population evaluation (the
     published design's internal-gear radii + uniform(-1.5, 1.5) mm noise), medians of
     repeated runs with their CPU time and the machine's load (``--transplanter-only``)."""
-    import statistics
 
     from plantmech.workflows import evaluate_transplanter_population, run_transplanter
 
-    def median(fn, repeat):
-        wall, cpu = [], []
-        for _ in range(repeat):
-            c0, t0 = time.process_time(), time.perf_counter()
-            fn()
-            wall.append(time.perf_counter() - t0)
-            cpu.append(time.process_time() - c0)
-        return statistics.median(wall), statistics.median(cpu)
+    median = wall_cpu_median
 
     def load():
         return f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
@@ -263,18 +268,10 @@ def bench_general_population(rng, P: int = 1000) -> None:
     and the single design (P = 1: the file as bundled, at 720 samples
     and at its own 3600, what the CLI and the app pay). Wall medians with CPU time and the
     machine's load (``--general-population-only``)."""
-    import statistics
 
     from plantmech.objectives.planetary import population_evaluation
 
-    def median(fn, repeat):
-        wall, cpu = [], []
-        for _ in range(repeat):
-            c0, t0 = time.process_time(), time.perf_counter()
-            fn()
-            wall.append(time.perf_counter() - t0)
-            cpu.append(time.process_time() - c0)
-        return statistics.median(wall), statistics.median(cpu)
+    median = wall_cpu_median
 
     for which in ("table4", "elliptic", "table4_grid2048"):
         designs = general_population_variants(which, P, rng)
