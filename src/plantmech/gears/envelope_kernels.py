@@ -117,6 +117,19 @@ def _arc_gap(a, b, P):
 
 
 @njit(cache=True, error_model="numpy")
+def _nearest(x, s_r, start, n, P):
+    """(arc gap (mm), index k) of the nearest of the roots s_r[start:start + n] to arc
+    ``x`` along a closed curve of perimeter ``P`` (the first of equals; (inf, -1) if n is
+    0)."""
+    best, bk = np.inf, -1
+    for k in range(n):
+        d = _arc_gap(x, s_r[start + k], P)
+        if d < best:
+            best, bk = d, k
+    return best, bk
+
+
+@njit(cache=True, error_model="numpy")
 def mate_links(first, count, nxt, same, s_r, P, reach):
     """The links of ``envelope.mate_envelope_lines`` for one round: roots grouped by
     outline entry (entry u's roots are ``first[u]`` .. ``first[u] + count[u] - 1``, in
@@ -152,21 +165,13 @@ def mate_links(first, count, nxt, same, s_r, P, reach):
             continue
         fa, fb = first[u], first[v]
         for i in range(na):
-            best, bj = np.inf, -1
-            for j in range(nb):
-                d = _arc_gap(s_r[fa + i], s_r[fb + j], P)
-                if d < best:
-                    best, bj = d, j
+            best, bj = _nearest(s_r[fa + i], s_r, fb, nb, P)
             fwd[i] = bj if best < reach else -1
             if fwd[i] >= 0:
                 out[m, 0], out[m, 1] = fa + i, fb + bj
                 m += 1
         for j in range(nb):
-            best, bi = np.inf, -1
-            for i in range(na):
-                d = _arc_gap(s_r[fb + j], s_r[fa + i], P)
-                if d < best:
-                    best, bi = d, i
+            best, bi = _nearest(s_r[fb + j], s_r, fa, na, P)
             if best < reach and fwd[bi] != j:
                 out[m, 0], out[m, 1] = fa + bi, fb + j
                 m += 1
