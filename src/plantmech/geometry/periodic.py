@@ -230,6 +230,18 @@ def periodic_spline_matrix(nodes: np.ndarray, at: np.ndarray, nu: int = 0,
 _MATRICES: dict = {}  # population evaluations ask for the same few matrices every call
 
 
+def hermite_basis(y0, y1, d0, d1, s, h) -> tuple:
+    """(value, slope) of cubic Hermite segments from y0 to y1 with end slopes d0, d1 (per
+    unit of s: the slopes times the step h) at s in [0, 1), h the step (rad). The train
+    model's kernels (``trains.kernels._hermite``) repeat this arithmetic term for term."""
+    s2 = s * s
+    s3 = s2 * s
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
 def periodic_interpolant_rows(nodes: np.ndarray, radii: np.ndarray,
                               at: np.ndarray, kind: str = "spline") -> tuple:
     """Values (mm) and slopes (mm/rad) of each row's periodic interpolant through
@@ -250,13 +262,7 @@ def periodic_interpolant_rows(nodes: np.ndarray, radii: np.ndarray,
     flat = k + (np.arange(R.shape[0]) * n)[:, None]
     k1 = flat - k + (k + 1) % n
     Rf, Df = R.ravel(), slopes.ravel()
-    y0, y1, d0, d1 = Rf[flat], Rf[k1], Df[flat] * h, Df[k1] * h
-    s2 = s * s
-    s3 = s2 * s
-    dy = y0 - y1
-    value = y0 + (2 * s3 - 3 * s2) * dy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
-    slope = ((6 * s2 - 6 * s) * dy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
-    return value, slope
+    return hermite_basis(Rf[flat], Rf[k1], Df[flat] * h, Df[k1] * h, s, h)
 
 
 def _spline_matrix(nodes, at, nu, kind):

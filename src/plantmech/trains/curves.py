@@ -64,18 +64,6 @@ def use_kernels(points: int) -> bool:
     return points >= KERNEL_POINTS
 
 
-def hermite_basis(y0, y1, d0, d1, s, h) -> tuple:
-    """(value, slope) of cubic Hermite segments from y0 to y1 with end slopes d0, d1 (per
-    unit of s: the grid's slopes times h) at s in [0, 1), h the grid step (rad). The
-    kernels (``trains.kernels._hermite``) repeat this arithmetic term for term."""
-    s2 = s * s
-    s3 = s2 * s
-    dyy = y0 - y1
-    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
-    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
-    return value, slope
-
-
 def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     """Value and slope at angles ``x`` (rad) of each row's periodic cubic Hermite
     interpolant through values ``y`` (P, N) and slopes ``dy`` (P, N) on the uniform grid
@@ -103,6 +91,8 @@ def hermite_periodic(y: np.ndarray, dy: np.ndarray, x: np.ndarray) -> tuple:
     yf, df = y.ravel(), dy.ravel()
     y0, y1 = yf.take(i0), yf.take(i1)
     d0, d1 = df.take(i0) * h, df.take(i1) * h
+    from plantmech.geometry.periodic import hermite_basis  # (SciPy: not at import)
+
     value, slope = hermite_basis(y0, y1, d0, d1, s, h)
     return value.reshape(shape), slope.reshape(shape)
 
@@ -126,6 +116,8 @@ def hermite_open(y: np.ndarray, dy: np.ndarray, y_end: np.ndarray, dy_end: np.nd
     df = np.concatenate([dy, np.reshape(dy_end, (P, 1))], axis=1).ravel()
     y0, y1 = yf.take(i0), yf.take(i0 + 1)
     d0, d1 = df.take(i0) * h, df.take(i0 + 1) * h
+    from plantmech.geometry.periodic import hermite_basis  # (SciPy: not at import)
+
     value, slope = hermite_basis(y0, y1, d0, d1, s, h)
     return value.reshape(shape), slope.reshape(shape)
 

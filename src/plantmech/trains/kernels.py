@@ -20,7 +20,8 @@ TWO_PI = 2.0 * np.pi
 @njit(cache=True, error_model="numpy", inline="always")
 def _hermite(y0, y1, d0, d1, s, h):
     """(value, slope) of the cubic Hermite segment from y0 to y1 with end slopes d0, d1
-    (per unit of s, i.e. times h) at s in [0, 1): ``curves.hermite_basis``'s arithmetic."""
+    (per unit of s, i.e. times h) at s in [0, 1): the arithmetic of
+    ``geometry.periodic.hermite_basis``."""
     s2 = s * s
     s3 = s2 * s
     dyy = y0 - y1
