@@ -425,23 +425,13 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     C0 = _column(tr.carrier0, P)[:, :, None]  # (P|1, 1, 1)
     carrier = C0 + s * turn
     k = float(tr.sun_speed_ratio)
-    first = tr.pairs[0]
-    if first.follower is not None:  # the sun is derived: its start from the contact
-        alpha_start = _derived_driver_angle(first, built.laws[0], P)
-    else:  # the sun's absolute orientation at the start
-        alpha_start = _column(first.phase, P)[:, :, None] - C0
     # sun relative to arm j's carrier line: alpha_0 = alpha_0(0) + (k - 1) s psi - s offset_j
-    alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi[None, None, :]
+    alpha = np.broadcast_to(_sun_start(built) + (k - 1) * s * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
     rate = np.full((P, J, samples), (k - 1) * s)
     angles, rates, contacts, driver_angles, meshes = [alpha], [rate], [], [], []
-    for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
-        if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
-            alpha = alpha + _column(spec.phase, P)[:, :, None]
-        elif i > 0 and spec.follower is not None:  # a derived gear on the shaft
-            alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
-        driver_angles.append(alpha)
-        m = mesh(law, spec, alpha, rate, built.toothless[i] if built.toothless else None)
+    for driver_alpha, m in _pair_chain(built, alpha, rate):
+        driver_angles.append(driver_alpha)
         contacts.append((m.driver_radius, m.follower_radius))
         meshes.append(m.meshes)
         alpha, rate = m.follower_angle, m.follower_rate
@@ -460,6 +450,32 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
                        meshes)
 
 
+def _sun_start(built: BuiltTrain) -> np.ndarray:
+    """The sun's body angle alpha_0(0) relative to the carrier line at psi = 0 (P|1, 1, 1)
+    rad: from the first contact when the sun is derived, else its absolute orientation."""
+    tr, P = built.train, built.designs
+    first = tr.pairs[0]
+    if first.follower is not None:
+        return _derived_driver_angle(first, built.laws[0], P)
+    return _column(first.phase, P)[:, :, None] - _column(tr.carrier0, P)[:, :, None]
+
+
+def _pair_chain(built: BuiltTrain, alpha: np.ndarray, rate):
+    """Each pair in turn from the sun's body angles ``alpha`` (P, J, M) rad and their rates
+    (or None): yields (the pair's driver's alpha, its ``PairMesh``). A compound driver adds
+    its phase on the shaft; a derived one is phased at its contact at the first sample
+    (psi = 0)."""
+    tr, P = built.train, built.designs
+    for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
+        if i > 0 and spec.driver is not None:  # compound: a second gear on the shaft
+            alpha = alpha + _column(spec.phase, P)[:, :, None]
+        elif i > 0 and spec.follower is not None:  # a derived gear on the shaft
+            alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
+        m = mesh(law, spec, alpha, rate, built.toothless[i] if built.toothless else None)
+        yield alpha, m
+        alpha, rate = m.follower_angle, m.follower_rate
+
+
 def contact_angles(built: BuiltTrain, psi) -> list[tuple[np.ndarray, np.ndarray]]:
     """Per pair, (theta_d, theta_f) (P, M) rad: the body angles of its driver and follower
     at their contact, arm 0, at carrier angles ``psi`` (M,) rad (``simulate``'s chain at
@@ -468,28 +484,19 @@ def contact_angles(built: BuiltTrain, psi) -> list[tuple[np.ndarray, np.ndarray]
     tr = built.train
     P = built.designs
     s = float(tr.carrier_sense)
-    psi = np.atleast_1d(np.asarray(psi, dtype=float))[None, None, :]  # (1, 1, M)
-    C0 = _column(tr.carrier0, P)[:, :, None]
-    first = tr.pairs[0]
-    if first.follower is not None:
-        alpha_start = _derived_driver_angle(first, built.laws[0], P)
-    else:
-        alpha_start = _column(first.phase, P)[:, :, None] - C0
-    k = float(tr.sun_speed_ratio)
-    alpha = np.broadcast_to(alpha_start + (k - 1) * s * psi, (P, 1, psi.shape[-1]))
+    # psi = 0 first: the chain phases a derived gear at its first sample, as simulate's
+    psi = np.r_[0.0, np.atleast_1d(np.asarray(psi, dtype=float))][None, None, :]
+    alpha = np.broadcast_to(_sun_start(built) + (float(tr.sun_speed_ratio) - 1) * s * psi,
+                            (P, 1, psi.shape[-1]))
     out = []
-    for i, (spec, law) in enumerate(zip(tr.pairs, built.laws, strict=True)):
-        if i > 0 and spec.driver is not None:
-            alpha = alpha + _column(spec.phase, P)[:, :, None]
-        elif i > 0 and spec.follower is not None:
-            alpha = alpha + (_derived_driver_angle(spec, law, P) - alpha[:, :1, :1])
-        gap = built.toothless[i] if built.toothless else None
-        rolled = alpha if gap is None else gap.meshing(alpha)[0]
+    for (driver_alpha, m), spec, gap in zip(
+            _pair_chain(built, alpha, None), tr.pairs,
+            built.toothless or [None] * len(tr.pairs), strict=True):
+        rolled = driver_alpha if gap is None else gap.meshing(driver_alpha)[0]
         eps_d, eps_f = _KIND_OFFSETS[spec.kind]
         delta = _column(spec.direction, P)[:, :, None]
-        m = mesh(law, spec, alpha, None, gap)
-        out.append(((delta + eps_d - rolled)[:, 0], (delta + eps_f - m.follower_angle)[:, 0]))
-        alpha = m.follower_angle
+        out.append(((delta + eps_d - rolled)[:, 0, 1:],
+                    (delta + eps_f - m.follower_angle)[:, 0, 1:]))
     return out
 
 

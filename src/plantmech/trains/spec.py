@@ -208,10 +208,9 @@ def check_breaks(built: BuiltTrain) -> None:
                              "the train's toothless dwell (train.pairs.0.dwell) to hold it at "
                              "its break")
     start = np.broadcast_to(np.asarray(gap[0], dtype=float), (built.designs,))
-    angles = contact_angles(built, start[0] if built.designs == 1 else 0.0)
-    if built.designs > 1:  # each design's own dwell start
-        angles = [tuple(np.diagonal(t)[:, None] for t in pair)
-                  for pair in contact_angles(built, start)]
+    # (P, P): every design at every design's start; each design's own is the diagonal
+    angles = [tuple(np.diagonal(t)[:, None] for t in pair)
+              for pair in contact_angles(built, start)]
     for k in open_laws:
         spec = train.pairs[k]
         given = spec.follower is not None
