@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from plantmech.trains.curves import TWO_PI, Curve
+from plantmech.trains.curves import TWO_PI, Curve, second_derivative
 
 #: the gear that is cut first (A) for each kind: the driver, except for a ring follower
 _RING_FIRST = {"external": False, "internal": False, "internal_ring_follower": True}
@@ -264,14 +264,6 @@ def _toothless_pair(built, k: int, names: tuple[str, str], spec, samples: int, r
                      bore_b=_bore(float((a - r).min()), spec, rules))
 
 
-def _second_derivative(curve: Curve) -> np.ndarray:
-    """d^2 r / d theta^2 (P, N) from the tabulated slopes (``trains.curves``; an open
-    curve's never across its break)."""
-    from plantmech.trains.curves import second_derivative
-
-    return second_derivative(curve)
-
-
 def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None):
     """``gears.manufacturability.PairShape`` of every pair of P built trains, both gears
     sampled along the driver's grid t (rad): the driver r(t); the follower rho = kappa r +
@@ -288,7 +280,7 @@ def pair_shapes(built, names: list[tuple[str, str]], modules: list | None = None
     out = []
     for k, law in enumerate(built.laws):
         d = law.driver
-        r, r1, r2 = d.r, d.dr, _second_derivative(d)
+        r, r1, r2 = d.r, d.dr, second_derivative(d)
         t = d.theta
         _, kappa, c, _, _ = _KIND[law.kind]
         a = law.a[:, None]
