@@ -126,27 +126,26 @@ def bench_transplanter(rng, P: int = 1000) -> None:
 
     from plantmech.workflows import evaluate_transplanter_population, run_transplanter
 
-    median = wall_cpu_median
-
     def load():
         return f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
 
     rice = load_design(ROOT / "examples" / "rice_transplanter.toml")
     run_transplanter(rice)  # compiled kernels loaded once (numba's cache), as in a session
-    t, c = median(lambda: run_transplanter(rice), 5)
+    t, c = wall_cpu_median(lambda: run_transplanter(rice), 5)
     print(f"transplanter job (3 arms, 3600 samples, all 12 objectives incl. interference): "
           f"{t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 5; {load()})")
     figure("transplanter_job_3600_ms", t * 1e3, "ms", cpu_ms=c * 1e3)
     R = np.asarray(rice.internal_gear.radii_mm) + rng.uniform(-1.5, 1.5, (P, 12))
     for samples in (360, 720):
-        t, c = median(lambda s=samples: evaluate_transplanter_population(rice, R, samples=s), 3)
+        t, c = wall_cpu_median(
+            lambda s=samples: evaluate_transplanter_population(rice, R, samples=s), 3)
         print(f"transplanter population evaluation (no interference), {P} designs x 3 arms x "
               f"{samples} samples: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU "
               f"second; median of 3; {load()})")
         figure(f"transplanter_population_{samples}_designs_per_s", P / t, "designs/s",
                better="higher", designs=P)
     for n in (100, P):
-        t, c = median(lambda n=n: evaluate_transplanter_population(
+        t, c = wall_cpu_median(lambda n=n: evaluate_transplanter_population(
             rice, R[:n], samples=360, interference=True), 5 if n == 100 else 3)
         print(f"transplanter population evaluation with interference, {n} designs x 360 "
               f"samples: {t:.2f} s ({n / t:.0f} designs/s; {n / c:.0f} per CPU second; "
@@ -271,12 +270,10 @@ def bench_general_population(rng, P: int = 1000) -> None:
 
     from plantmech.objectives.planetary import population_evaluation
 
-    median = wall_cpu_median
-
     for which in ("table4", "elliptic", "table4_grid2048"):
         designs = general_population_variants(which, P, rng)
         population_evaluation(designs[:2], 720)  # imports and first calls, not timed
-        t, c = median(lambda d=designs: population_evaluation(d, 720), 3)
+        t, c = wall_cpu_median(lambda d=designs: population_evaluation(d, 720), 3)
         print(f"general train population ({which}), {P} designs x 720 samples, every "
               f"objective: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU second; "
               f"median of 3; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
@@ -290,7 +287,7 @@ def bench_general_population(rng, P: int = 1000) -> None:
                                                if which == "table4"
                                                else "rotary_transplanter_elliptic.toml"))
         for samples in (720, one.samples):
-            t, c = median(lambda s=samples, o=one: population_evaluation([o], s), 7)
+            t, c = wall_cpu_median(lambda s=samples, o=one: population_evaluation([o], s), 7)
             print(f"general train single design ({which} as bundled), {samples} samples, "
                   f"every objective: {t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 7; "
                   f"load average {os.getloadavg()[0]:.1f})")
