@@ -14,7 +14,9 @@ manufacturing files; an HTML report of every job (--report).
 
 Exit status (every command): 0 everything asked of the design is met (objectives, checks,
 manufacturability), 2 invalid input (names the field, gear or angle), 3 infeasible design,
-4 it ran but something is not met (printed last as the verdict, and in the JSON record).
+4 it ran but something is not met (printed last as the verdict, and in the JSON record),
+5 no space left on the device, 130 / 143 / 129 stopped by Ctrl-C / SIGTERM / SIGHUP (in both
+cases nothing is written and an existing --out is left as it was).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from plantmech import __version__
 from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
     EXIT_INPUT,
+    EXIT_NO_SPACE,
     EXIT_NOT_MET,
     EXIT_OK,
     verdict,
@@ -93,9 +96,35 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except KeyboardInterrupt:
-        print("interrupted: nothing written, --out left as it was", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, OSError) as exc:
+        code = ended_by(exc)
+        if code is None:
+            raise
+        return code
+
+
+def ended_by(exc: BaseException) -> int | None:
+    """The exit status of a run ended by a signal (128 + its number: Ctrl-C 130, SIGTERM
+    143, SIGHUP 129) or by a full disk (5), after saying so; None for any other exception.
+    The one place these endings are told: ``run_command`` and ``main`` both ask it. The
+    output classes (``OutputRun``, ``OutputFile``) have already deleted their temporary
+    files and left ``--out`` as it was."""
+    import errno
+
+    from plantmech.outputs.signals import NAMES
+
+    if isinstance(exc, KeyboardInterrupt):
+        signum = getattr(exc, "signum", 2)
+        print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it "
+              "was", file=sys.stderr)
+        return getattr(exc, "exit_code", 130)
+    if isinstance(exc, OSError) and (exc.errno in (errno.ENOSPC, errno.EDQUOT)
+                                     or "No space left on device" in str(exc)):
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"error: no space left on the device{where}: nothing was written, --out left "
+              "as it was", file=sys.stderr)
+        return EXIT_NO_SPACE
+    return None
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
@@ -679,7 +708,21 @@ def main(argv: list[str] | None = None) -> int:
         import matplotlib
 
         matplotlib.use("Agg")  # files only: the CLI never opens a window
-    return args.func(args)
+    from plantmech.outputs import signals
+
+    # as a program (argv None) the handler stays to the exit: a signal after the results
+    # are in place is then recorded, never a kill that contradicts the exit status
+    with signals.handled(restore=argv is not None):
+        try:
+            code = args.func(args)
+        except (KeyboardInterrupt, OSError) as exc:
+            code = ended_by(exc)
+            if code is None:
+                raise
+        got = signals.received()
+        if got is not None and not signals.finished() and code != 128 + got:
+            code = ended_by(signals.Interrupted(got))  # swallowed on the way: not a result
+        return code
 
 
 if __name__ == "__main__":  # pragma: no cover
