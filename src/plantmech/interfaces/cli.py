@@ -49,7 +49,8 @@ def add_output_options(parser: argparse.ArgumentParser) -> None:
                         "that holds anything is refused)")
 
 
-def run_command(args, body, require_trajectory: bool = False) -> int:
+def run_command(args, body, require_trajectory: bool = False, inputs: tuple = (),
+                resume=None) -> int:
     """Load ``args.design``, run ``body(args, design, run)`` and return its exit status.
 
     The one way a command reads its design and writes its files (other commands adopt it
@@ -57,7 +58,9 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
     - the design is read with ``load_design`` (a regular file, bounded in size and
       nesting, strictly validated); an invalid one prints the error naming the file and
-      field and returns 2 before anything is created;
+      field and returns 2 before anything is created; ``inputs``: the command's other
+      inputs (files or directories: --out may not hold them nor be them); ``resume``: see
+      :class:`~plantmech.outputs.files.OutputRun`;
     - ``body`` writes every file into ``run.path``, a fresh temporary directory beside
       ``--out`` (``run.final(p)`` gives a file's final place, for messages), and returns
       the exit status: 0 done, 3 infeasible, 4 a check or objective not met (files are
@@ -65,9 +68,10 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     - ``--out`` is checked first (not empty, not below a file, writable, not an input nor
       holding one or a link to one, by file identity); existing contents are replaced only
       with ``--force``, else 2 saying what is there;
-    - an exception or Ctrl-C deletes the temporary directory and leaves ``--out`` as it
-      was (Ctrl-C returns 130); a value that is not finite about to be written is reported
-      as not computable (exit 3, nothing written).
+    - an exception or a signal deletes the temporary directory and leaves ``--out`` as it
+      was (SIGINT returns 130, SIGTERM 143, SIGHUP 129; a full disk 5: :func:`ended_by`);
+      a value that is not finite about to be written is reported as not computable (exit
+      3, nothing written).
     """
     from plantmech.design import DesignError, load_design
     from plantmech.outputs.files import NonFiniteOutput, OutputError, OutputRun
@@ -83,7 +87,8 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
             if design.trajectory is None:
                 raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
                                   "design (this file gives a [train]: use 'plantmech forward')")
-        run = OutputRun(args.out, [Path(args.design)], force=getattr(args, "force", False))
+        run = OutputRun(args.out, [Path(args.design), *map(Path, inputs)],
+                        force=getattr(args, "force", False), resume=resume)
         with run:
             try:
                 run.exit_code = body(args, design, run)
@@ -128,7 +133,7 @@ def ended_by(exc: BaseException) -> int | None:
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design", "verify")
 
 
 def refuse_planetary(args, design) -> None:
