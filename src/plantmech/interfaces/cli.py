@@ -114,8 +114,7 @@ def ended_by(exc: BaseException) -> int | None:
     The one place these endings are told: ``run_command`` and ``main`` both ask it. The
     output classes (``OutputRun``, ``OutputFile``) have already deleted their temporary
     files and left ``--out`` as it was."""
-    import errno
-
+    from plantmech.outputs.files import is_no_space
     from plantmech.outputs.signals import NAMES
 
     if isinstance(exc, KeyboardInterrupt):
@@ -123,8 +122,7 @@ def ended_by(exc: BaseException) -> int | None:
         print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it "
               "was", file=sys.stderr)
         return getattr(exc, "exit_code", 130)
-    if isinstance(exc, OSError) and (exc.errno in (errno.ENOSPC, errno.EDQUOT)
-                                     or "No space left on device" in str(exc)):
+    if is_no_space(exc):
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         print(f"error: no space left on the device{where}: nothing was written, --out left "
               "as it was", file=sys.stderr)

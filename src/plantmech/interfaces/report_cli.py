@@ -128,36 +128,71 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "report", help="HTML report of a design study's directory (plantmech study --out)")
     p.add_argument("study_dir", help="the --out directory of 'plantmech study' (read only, "
-                   "but plots the study skipped with --no-plots are drawn into it)")
+                   "but plots the study skipped with --no-plots are added to it)")
     p.add_argument("--out", default=None, help=f"report file (default STUDY_DIR/{REPORT_NAME})"
-                   "; never an existing file other than a previous report")
+                   "; an existing file is replaced only with --force, or if it is a report "
+                   "this command wrote")
+    p.add_argument("--force", action="store_true", help="replace an existing --out file")
     p.set_defaults(func=_study_report)
 
 
 def _study_report(args) -> int:
+    """Draw the missing plots and the page into temporary files beside the target; the page
+    replaces the target in one rename, then the plots join the study directory (never
+    replacing a file there)."""
+    import os
+    import shutil
+    import tempfile
+
+    from plantmech.outputs import signals
+    from plantmech.outputs.files import OutputError, OutputFile, is_no_space
     from plantmech.outputs.study_report import (
         StudyReportError,
+        is_previous_report,
         load_study,
-        study_verdict,
+        recorded_verdict,
+        study_verdict_line,
         write_study_report,
     )
 
-    target = Path(args.out) if args.out else Path(args.study_dir) / REPORT_NAME
-    if target.exists() and target.read_text(encoding="utf-8", errors="replace")[:15].lower() \
-            != "<!doctype html>":
-        print(f"error: --out {target}: exists and is not a report; choose another file",
-              file=sys.stderr)
-        return 2
+    study = Path(args.study_dir)
+    target = Path(args.out) if args.out else study / REPORT_NAME
     try:
-        _, summary = load_study(args.study_dir)
-        path = write_study_report(args.study_dir, target, command=_command(args))
-    except StudyReportError as exc:
+        _, summary = load_study(study)
+        output = OutputFile(target, force=args.force or is_previous_report(target),
+                            inputs=[study / "study.json", study / "summary.json"],
+                            hint="it is not a report this command wrote: add --force to "
+                            "replace it, or choose another file")
+    except (StudyReportError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    plots = None
+    try:
+        with signals.blocked():
+            plots = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=target.parent))
+        signals.check()
+        with output as tmp:
+            write_study_report(study, tmp, command=_command(args), plots_into=plots)
+        with signals.blocked():
+            for f in plots.iterdir():  # the plots the study skipped join it
+                try:
+                    os.link(f, study / f.name)
+                except OSError:
+                    pass
+    except (StudyReportError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
-        print(f"error: --out {target}: {exc}", file=sys.stderr)
+        if is_no_space(exc):
+            raise
+        print(f"error: --out {target}: cannot be written ({exc.strerror or exc})",
+              file=sys.stderr)
         return 2
-    style, verdict = study_verdict(summary)
-    print(f"report: {path}")
-    print(verdict)
-    return 4 if style == "fail" else 0
+    finally:
+        with signals.blocked():
+            if plots is not None:
+                shutil.rmtree(plots, ignore_errors=True)
+    v = recorded_verdict(summary)
+    print(f"report: {target}")
+    print(study_verdict_line(v))
+    return v["exit_code"]

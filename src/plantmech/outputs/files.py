@@ -21,6 +21,12 @@ import numpy as np
 RESULT_EXIT_CODES = (0, 3, 4)
 
 
+def is_no_space(exc: BaseException) -> bool:
+    """``exc`` says the device (or the user's quota) is full."""
+    return isinstance(exc, OSError) and (exc.errno in (errno.ENOSPC, errno.EDQUOT)
+                                         or "No space left on device" in str(exc))
+
+
 class OutputError(RuntimeError):
     """An output directory cannot be used (the message names it and says why)."""
 
