@@ -241,7 +241,8 @@ def _inverse_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import inverse_report
 
-        written += inverse_report(args, out, job, [] if args.no_plots else figures)
+        written += inverse_report(args, out, job, [] if args.no_plots else figures,
+                                  run=run)
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
@@ -302,7 +303,7 @@ def _forward_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import forward_report
 
-        written += forward_report(args, out, job, figures)
+        written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
     print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -351,7 +352,7 @@ def _forward_transplanter(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import forward_report
 
-        written += forward_report(args, out, job, figures)
+        written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
     print(verdict_line(v, "every objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -390,7 +391,7 @@ def _optimize_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import optimize_report
 
-        written += optimize_report(args, out, outcome)
+        written += optimize_report(args, out, outcome, run=run)
     print(_wrote(run, written))
     v = outcome.record["verdict"]
     print(verdict_line(v, "best.toml meets every objective"
@@ -450,7 +451,7 @@ def _gears_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import gears_report
 
-        gears_report(args, out, design, rec)
+        gears_report(args, out, design, rec, run=run)
     for f in rec["findings"]:
         print(f"  NOT OK {describe(f)}")
     ok = rec["verdict"] == VERDICT_OK
