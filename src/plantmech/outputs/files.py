@@ -111,10 +111,13 @@ def _check_out(out: Path, inputs: list[Path], force: bool,
         entries = sorted(os.listdir(out))
     except OSError as exc:
         raise OutputError(f"--out {out}: cannot be read ({exc.strerror})") from None
+    in_dirs = {_identity(p) for p in inputs if p.is_dir()}
     for root, dirs, files in os.walk(out):
         for f in files + dirs:
             p = Path(root) / f
-            if _identity(p) in in_ids:
+            target = Path(os.path.realpath(p))
+            if _identity(p) in in_ids or (p.is_symlink() and any(
+                    _identity(a) in in_dirs for a in [target, *target.parents])):
                 raise OutputError(f"--out {out} would hold or overwrite the input: "
                                   f"{p} is a link to it; choose another directory")
             mode = os.lstat(p).st_mode
