@@ -163,27 +163,6 @@ def refuse_planetary(args, design) -> None:
                           "verification.json without it)")
 
 
-def _load(args, require_trajectory: bool = False):
-    """(design, out dir) or None after printing the input error.
-
-    Kept for commands written before :func:`run_command`: it writes in place (not
-    atomically; existing files are replaced only with ``--force`` when the command has
-    that option). New commands use ``run_command``."""
-    from plantmech.design import DesignError, load_design
-    from plantmech.outputs.files import OutputError, prepare_out_dir
-
-    try:
-        design = load_design(Path(args.design))
-        if require_trajectory and getattr(design, "trajectory", None) is None:
-            raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
-                              "design (this file gives a [train]: use 'plantmech forward')")
-        return design, prepare_out_dir(args.out, [Path(args.design)],
-                                       force=getattr(args, "force", True))
-    except (DesignError, OutputError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return None
-
-
 def _wrote(run, paths) -> str:
     return "wrote: " + ", ".join(str(run.final(p)) for p in paths)
 
