@@ -26,6 +26,7 @@ from plantmech.outputs import signals
 from tests.conftest import EXAMPLES
 
 TRANSPLANTER = str(EXAMPLES / "rice_transplanter.toml")
+ELLIPTIC = str(EXAMPLES / "rotary_transplanter_elliptic.toml")  # 3 gears of 25 teeth
 SEEDER = str(EXAMPLES / "sugarcane_seeder_optimized.toml")
 SWEEP = """kind = "sweep"
 method = "grid"
@@ -61,9 +62,9 @@ def leftovers(d: Path) -> list[str]:
 
 @pytest.fixture(scope="module")
 def gears_dir(tmp_path_factory):
-    """The transplanter's gear files."""
+    """The elliptic rotary transplanter's gear files (the cheapest set to cut)."""
     out = tmp_path_factory.mktemp("gears") / "g"
-    assert main(["gears", TRANSPLANTER, "--out", str(out)]) in (0, 4)
+    assert main(["gears", ELLIPTIC, "--out", str(out)]) == 0
     return out
 
 
@@ -72,8 +73,8 @@ def _argv(command: str, tmp: Path, out: str, gears: Path | None = None) -> list[
     spec = tmp / "sweep.toml"
     spec.write_text(SWEEP, encoding="utf-8")
     return {"forward": ["forward", TRANSPLANTER, "--out", out, "--no-plots"],
-            "gears": ["gears", TRANSPLANTER, "--out", out, "--module", "4"],
-            "verify": ["verify", TRANSPLANTER, "--gears", str(gears or tmp), "--out", out,
+            "gears": ["gears", ELLIPTIC, "--out", out],
+            "verify": ["verify", ELLIPTIC, "--gears", str(gears or tmp), "--out", out,
                        "--steps", "60", "--no-loads", "--no-plots"],
             "study": ["study", SEEDER, "--spec", str(spec), "--out", out, "--workers", "1",
                       "--quiet", "--no-plots"],
@@ -325,8 +326,7 @@ def test_signals_at_random_moments_of_gear_cutting(gears_dir, tmp_path, capsys):
     (out / "mine.txt").write_text("the user's")
     rng = random.Random(2929)
     moments = sorted(rng.uniform(0.05, 1.5) for _ in range(10))  # the cutting takes longer
-    res = _signal_trials(lambda o: ["gears", TRANSPLANTER, "--out", str(o), "--module", "4"],
-                         out, moments, capsys)
+    res = _signal_trials(lambda o: _argv("gears", tmp_path, str(o)), out, moments, capsys)
     assert all(rc == 128 + s for _, s, rc in res)
     assert (out / "mine.txt").read_text() == "the user's"
 
@@ -419,60 +419,89 @@ def test_a_full_disk_on_a_real_tmpfs(tmp_path, capsys):
         subprocess.run(["umount", str(mnt)], check=True)
 
 
-def test_sigint_in_verify_as_a_program_is_exit_130_without_traceback(gears_dir, tmp_path):
-    """The real program (its handler stays to the exit): Ctrl-C while it works."""
+@pytest.mark.parametrize("command,signum", [("verify", signal.SIGINT),
+                                            ("study", signal.SIGINT),
+                                            ("study", signal.SIGHUP)])
+def test_a_signal_to_the_program_is_its_exit_status_without_traceback(command, signum,
+                                                                      gears_dir, tmp_path):
+    """The real program (its handler stays to the exit): a signal while it works, in verify
+    and in study (its Dask cluster started and stopped), where SIGINT was a traceback."""
     out = tmp_path / "v"
     out.mkdir()
     (out / "mine.txt").write_text("the user's")
-    argv = _argv("verify", tmp_path, str(out), gears_dir)
-    argv[argv.index("60")] = "720"
+    argv = _argv(command, tmp_path, str(out), gears_dir)
+    if command == "verify":
+        argv[argv.index("60")] = "720"
     p = subprocess.Popen([sys.executable, "-m", "plantmech.interfaces.cli", *argv, "--force"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     t0 = time.perf_counter()
     while not leftovers(tmp_path) and p.poll() is None and time.perf_counter() - t0 < 50:
         time.sleep(0.02)  # until its temporary directory exists: it is working
-    p.send_signal(signal.SIGINT)
+    time.sleep(0.3)
+    p.send_signal(signum)
     _, err = p.communicate(timeout=50)
-    assert p.returncode == 130, err
-    assert "Traceback" not in err and "interrupted (SIGINT)" in err
+    assert p.returncode == 128 + signum, err
+    assert "Traceback" not in err and f"interrupted ({signals.NAMES[signum]})" in err
     assert snapshot(out) == {"mine.txt": b"the user's"} and leftovers(tmp_path) == []
 
 
 @pytest.mark.skipif(__import__("importlib").util.find_spec("build123d") is not None,
                     reason="build123d installed: STEP files are written")
-def test_gears_step_without_the_extra_is_a_finding(gears_dir, tmp_path, capsys):
-    """--step asked for and not written: a finding, exit 4, never "every file is what it
-    claims"."""
-    import plantmech.interfaces.report_cli as report_cli
-    import plantmech.outputs.report as report
-
-    seen = {}
-
-    def capture(path, summary, *a, **k):
-        seen["summary"], seen["verdict"] = summary, k.get("verdict")
-        Path(path).write_text("<!doctype html>")
-        return [Path(path)]
-
+def test_gears_step_without_the_extra_is_a_finding(tmp_path, capsys):
+    """--step asked for and not written: a finding, exit 4 ("files not written"), never
+    "every file is what it claims"."""
     out = tmp_path / "g"
-    import unittest.mock as um
-
-    with um.patch.object(report, "write_report", capture), \
-            um.patch.object(report_cli, "design_animation", lambda d: None):
-        rc = main(["gears", TRANSPLANTER, "--out", str(out), "--module", "4", "--step",
-                   "--report"])
+    rc = main(_argv("gears", tmp_path, str(out)) + ["--step"])
     lines = capsys.readouterr().out.strip().splitlines()
     rec = json.loads((out / "verification.json").read_text())
     assert rc == 4 and rec["step"].startswith("build123d is not installed")
-    assert any(f["check"] == "files_not_written" for f in rec["findings"])
-    assert lines[-1].startswith("verdict: NOT MET") and "every file is what it" not in lines[-1]
-    assert seen["verdict"][0] is False
-    # the report prints where the report is once the run is over, not the temporary place
-    assert f"report: {out / 'report.html'}" in lines and (out / "report.html").exists()
-    # the report's mesh rows follow the findings (a failing backlash band is not "ok")
-    failed = {f["gear"] for f in rec["findings"]}
-    own = {m["pair"]: m["ok"] for m in rec["mesh"]}
-    rows = {m["pair"]: m["ok"] for m in seen["summary"]["mesh"]}
-    assert rows == {p: ok and p not in failed for p, ok in own.items()}
+    assert rec["verdict"] == "files not written"
+    assert [f["check"] for f in rec["findings"]] == ["files_not_written"]
+    assert lines[-1].startswith("verdict: NOT MET - files not written")
+
+
+def test_report_prints_where_the_report_is_after_the_run(tmp_path, monkeypatch, capsys):
+    """--report names the report's place in --out, never the temporary directory it was
+    written into (which is gone when the command returns)."""
+    import plantmech.outputs.report as report
+
+    def page(path, *a, **k):  # the page itself: tests/test_report.py
+        Path(path).write_text("<!doctype html>")
+        return [Path(path)]
+
+    monkeypatch.setattr(report, "write_report", page)
+    out = tmp_path / "f"
+    assert main(["forward", TRANSPLANTER, "--out", str(out), "--no-plots", "--report"]) == 4
+    printed = capsys.readouterr().out
+    assert f"report: {out / 'report.html'}\n" in printed and ".plantmech" not in printed
+    assert (out / "report.html").read_text() == "<!doctype html>"
+
+
+def test_the_gears_report_mesh_row_follows_the_findings(tmp_path, monkeypatch):
+    """A pair whose interference is fine (the mesh check's own ok) but whose backlash band
+    fails is not "ok" in the report; a pair without a finding stays ok."""
+    from argparse import Namespace
+
+    import plantmech.interfaces.report_cli as report_cli
+    import plantmech.outputs.report as report
+    from plantmech.outputs.report import check_rows
+
+    seen = {}
+    monkeypatch.setattr(report, "write_report", lambda path, summary, *a, **k: seen.update(
+        summary=summary, verdict=k["verdict"]) or [Path(path)])
+    monkeypatch.setattr(report_cli, "design_animation", lambda d: None)
+    rec = {"verdict": "not manufacturable", "files": [], "gears": [],
+           "all_pairs_mesh": True,
+           "mesh": [{"pair": "a_b", "ok": True, "max_interference_mm": 0.0},
+                    {"pair": "b_c", "ok": True, "max_interference_mm": 0.0}],
+           "findings": [{"gear": "a_b", "check": "backlash_min", "value": 0.01, "limit": 0.05,
+                         "unit": "mm", "where": {}, "why": "the teeth bind"}]}
+    design = Namespace(name="d")
+    report_cli.gears_report(Namespace(command="gears"), tmp_path, design, rec)
+    rows = {r["pair"]: r["ok"] for r in check_rows(seen["summary"]) if "pair" in r}
+    assert rows == {"a_b": False, "b_c": True}
+    assert seen["summary"]["all_pairs_mesh"] is False and seen["verdict"][0] is False
+    assert rec["mesh"][0]["ok"] is True  # the record itself is not changed
 
 
 def test_design_accepts_report():
