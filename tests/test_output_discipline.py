@@ -441,9 +441,42 @@ def test_a_signal_to_the_program_is_its_exit_status_without_traceback(command, s
     time.sleep(0.3)
     p.send_signal(signum)
     _, err = p.communicate(timeout=50)
+    assert "Traceback" not in err and leftovers(tmp_path) == []
+    if p.returncode == 4 and command == "study":  # it was computing: a stop kept its chunks
+        assert f"stopped by {signals.NAMES[signum]}" in err
+        assert json.loads((out / "study.json").read_text())["complete"] is False
+        return
     assert p.returncode == 128 + signum, err
-    assert "Traceback" not in err and f"interrupted ({signals.NAMES[signum]})" in err
-    assert snapshot(out) == {"mine.txt": b"the user's"} and leftovers(tmp_path) == []
+    assert f"interrupted ({signals.NAMES[signum]})" in err
+    assert snapshot(out) == {"mine.txt": b"the user's"}
+
+
+def test_a_signal_while_a_study_computes_keeps_its_finished_chunks(tmp_path, monkeypatch,
+                                                                    capsys):
+    """The documented stop of a study (docs/studies.md): a signal while its chunks are
+    computed keeps the finished ones, summarised (complete = false, exit 4), and the same
+    command resumes from them."""
+    import plantmech.studies.engine as engine
+
+    real = engine.write_chunk
+
+    def write_then_signal(out, index, columns, extras):
+        real(out, index, columns, extras)
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(2)  # the handler raises here
+
+    monkeypatch.setattr(engine, "write_chunk", write_then_signal)
+    out = tmp_path / "s"
+    argv = _argv("study", tmp_path, str(out))
+    assert main(argv) == 4
+    assert "stopped by SIGTERM: the finished chunks are kept" in capsys.readouterr().err
+    assert json.loads((out / "study.json").read_text())["complete"] is False
+    kept = [p.name for p in (out / "chunks").iterdir()]
+    assert len(kept) == 1 and kept[0] in ("chunk_00000.parquet", "chunk_00001.parquet")
+    monkeypatch.undo()
+    assert main(argv) == 0
+    assert "1 computed, 1 already done" in capsys.readouterr().out
+    assert leftovers(tmp_path) == []
 
 
 @pytest.mark.skipif(__import__("importlib").util.find_spec("build123d") is not None,

@@ -133,7 +133,17 @@ def _body(args, design, run, spec) -> int:
     except ValueError as exc:  # a design the population model cannot take
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    signals.check()  # a Ctrl-C the engine caught to stop its cluster: not a result
+    got = signals.received()
+    if got is not None and not signals.finished() and outcome.stats.stopped_early:
+        # a signal while chunks were computed is the documented stop (docs/studies.md): the
+        # chunks finished so far are kept and summarised (complete = false, exit 4) to
+        # resume from; a signal anywhere else (or a second one now) leaves --out as it was
+        signals.consume()
+        for tmp in (out / "chunks").glob("*.tmp*"):  # a chunk cut while being written
+            tmp.unlink()
+        print(f"stopped by {signals.NAMES.get(got, got)}: the finished chunks are kept; rerun "
+              "the same command to resume", file=sys.stderr)
+    signals.check()
     return _report(args, spec, design, run, outcome)
 
 

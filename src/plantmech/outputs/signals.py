@@ -62,6 +62,15 @@ def finish() -> None:
     _finished = True
 
 
+def consume() -> int | None:
+    """Forget the signal received (and return it): the command handled it as a documented
+    stop with a result (a study keeps its finished chunks to resume), so the results may
+    be committed; a further signal interrupts as usual."""
+    global _received
+    got, _received = _received, None
+    return got
+
+
 def check() -> None:
     """Raise :class:`Interrupted` if a signal was received (and swallowed) before the
     results are in place."""
