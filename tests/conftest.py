@@ -216,6 +216,31 @@ def hausdorff_distance(a, b, densify: float | None = None) -> float:
     return worst
 
 
+CPU_LOG = os.environ.get("PLANTMECH_TEST_CPU")
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With PLANTMECH_TEST_CPU=file: each test's CPU seconds (setup, call and teardown,
+    with the processes it waited for) appended to ``file`` as "seconds<TAB>id", the
+    measure of a test's cost that a loaded machine does not inflate as it does wall time."""
+    if not CPU_LOG:
+        return (yield)
+    import resource
+
+    def cpu():
+        me, kids = (resource.getrusage(w) for w in
+                    (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
+        return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+
+    start = cpu()
+    try:
+        return (yield)
+    finally:
+        with open(CPU_LOG, "a") as f:
+            f.write(f"{cpu() - start:.2f}\t{item.nodeid}\n")
+
+
 SLOW = Path(__file__).with_name("slow.txt")
 
 

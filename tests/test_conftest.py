@@ -19,7 +19,7 @@ def _wavy(n, amp, phase, radius=40.0, hole=False):
 
 @pytest.mark.parametrize("densify", [None, 0.5, 0.05, 0.02])
 def test_hausdorff_distance_is_shapelys(densify):
-    a, b = _wavy(700, 1.5, 0.0, hole=True), _wavy(450, 1.2, 0.3, hole=True)
+    a, b = _wavy(300, 1.5, 0.0, hole=True), _wavy(200, 1.2, 0.3, hole=True)
     cases = [(a.exterior, b.exterior), (a.boundary, b.boundary), (a, b),
              (a.exterior, shapely.LineString(shapely.get_coordinates(b.exterior)[:200]))]
     for x, y in cases:
