@@ -67,6 +67,10 @@ def run(args) -> int:
         design = load_design(args.design)
         refuse_planetary(args, design)
         spec = load_spec(args.spec)
+        if spec.kind == "multi-start":
+            from plantmech.studies.multistart import check_problem
+
+            check_problem(design, spec, args.spec)
         out = prepare_out_dir(args.out, [Path(args.design), Path(args.spec)])
     except (DesignError, StudySpecError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
@@ -89,7 +93,7 @@ def run(args) -> int:
     except StudyInputError as exc:
         print(f"error: {args.spec}: field 'parameters': {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except StudyStateError as exc:
+    except (StudyStateError, StudySpecError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except InfeasibleDesign:
