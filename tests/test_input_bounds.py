@@ -146,3 +146,69 @@ def test_study_command_on_odd_spec_files_exits_2(tmp_path, capsys):
         err = capsys.readouterr().err
         assert str(spec) in err and "Traceback" not in err
         assert not out.exists()
+
+
+# --- numeric options and init --name ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["design", "d.toml", "--out", "o", "--seed", "-1"], "at least 0"),
+    (["design", "d.toml", "--out", "o", "--seed", "1e20"], "not a whole number"),
+    (["design", "d.toml", "--out", "o", "--seed", str(2**32)], "at most 4.29497e+09"),
+    (["optimize", "d.toml", "--problem", "transplanter", "--out", "o", "--seed", str(2**32)],
+     "at most"),
+    (["design", "d.toml", "--out", "o", "--module", "1e308"], "at most 50"),
+    (["design", "d.toml", "--out", "o", "--time-limit", "inf"], "must be above 0"),
+    (["verify", "d.toml", "--gears", "g", "--out", "o", "--steps", "10000000"],
+     "at most 36000"),  # was: past 300 s
+    (["verify", "d.toml", "--gears", "g", "--out", "o", "--density", "1e308"],
+     "at most 30000"),  # was: exudyn SolverError
+    (["verify", "d.toml", "--gears", "g", "--out", "o", "--density", "10"], "at least 100"),
+    (["verify", "d.toml", "--gears", "g", "--out", "o", "--carrier-speed", "1e9"],
+     "at most 36000"),
+    (["verify", "d.toml", "--gears", "g", "--out", "o", "--payload", "nan"], "at least 0"),
+    (["study", "d.toml", "--spec", "s", "--out", "o", "--workers", "0"], "at least 1"),
+    (["study", "d.toml", "--spec", "s", "--out", "o", "--workers", "65"], "at most 64"),
+    (["study", "d.toml", "--spec", "s", "--out", "o", "--max-chunks", "1e3"],
+     "not a whole number"),
+    (["app", "--port", "65536", "--no-browser"], "at most 65535"),
+    (["app", "--workers", "-1", "--no-browser"], "at least 0"),
+])
+def test_numeric_options_are_ranged_never_wrapped(argv, expected, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    option = next(a for a in reversed(argv) if a.startswith("--") and a != "--no-browser")
+    assert f"argument {option}" in err and expected in err, err
+
+
+def test_the_edges_of_the_ranges_are_accepted():
+    from plantmech.interfaces.cli import build_parser
+
+    p = build_parser()
+    a = p.parse_args(["design", "d.toml", "--out", "o", "--seed", str(2**32 - 1)])
+    assert a.seed == 2**32 - 1
+    a = p.parse_args(["verify", "d.toml", "--gears", "g", "--out", "o", "--steps", "36000",
+                      "--density", "100"])
+    assert (a.steps, a.density) == (36000, 100.0)
+    assert p.parse_args(["study", "d", "--spec", "s", "--out", "o", "--workers", "64"]).workers \
+        == 64
+
+
+@pytest.mark.parametrize("name, expected", [
+    ("../../x.toml", "path separator"), ("/abs/x.toml", "path separator"),
+    ("sub/x.toml", "path separator"), ("a\\b.toml", "path separator"), ("..", "no file name"),
+    ("", "no file name"), ("a\x00.toml", "control character"), (" x.toml", "spaces"),
+    ("x" * 256, "at most 255")])
+def test_init_name_is_a_plain_file_name(tmp_path, name, expected, capsys):
+    d = tmp_path / "d"
+    with pytest.raises(SystemExit) as exc:
+        main(["init", "seeder", str(d), "--name", name])
+    assert exc.value.code == 2 and expected in capsys.readouterr().err
+    assert not d.exists() and not any(tmp_path.iterdir())
+
+
+def test_init_name_writes_only_into_dir(tmp_path):
+    assert main(["init", "seeder", str(tmp_path / "d"), "--name", "my design.toml"]) == 0
+    assert [p.name for p in (tmp_path / "d").iterdir()] == ["my design.toml"]

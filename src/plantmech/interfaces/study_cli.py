@@ -18,19 +18,10 @@ from pathlib import Path
 EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
 
 
-def _positive_int(text: str) -> int:
-    import argparse
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
-    return v
-
-
 def register(subparsers) -> None:
+    from plantmech.interfaces.cli import _number
+    from plantmech.studies.spec import MAX_CHUNKS
+
     p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
                               "optimization on Dask")
     p.add_argument("design", help="design file (TOML); never overwritten")
@@ -41,9 +32,10 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
                    "default: a local cluster on this machine")
-    p.add_argument("--workers", type=_positive_int, default=2,
-                   help="worker processes of the local cluster (default 2)")
-    p.add_argument("--max-chunks", type=_positive_int, default=None,
+    p.add_argument("--workers", type=_number(int, 1, strict=False, maximum=64), default=2,
+                   help="worker processes of the local cluster (1-64, default 2)")
+    p.add_argument("--max-chunks", type=_number(int, 1, strict=False, maximum=MAX_CHUNKS),
+                   default=None,
                    help="stop after this many new chunks (resume later)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -25,23 +25,26 @@ def register(subparsers) -> None:
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--steps", type=_number(int, 8, strict=False), default=720,
-                   help="carrier steps per turn (720: 0.5 deg)")
-    p.add_argument("--max-te", type=_number(float, 0.0), default=0.5,
+    p.add_argument("--steps", type=_number(int, 8, strict=False, maximum=36_000), default=720,
+                   help="carrier steps per turn (8-36000; 720: 0.5 deg)")
+    p.add_argument("--max-te", type=_number(float, 0.0, maximum=360.0), default=0.5,
                    help="limit on each pair's transmission error (mid band), deg")
-    p.add_argument("--max-attitude-error", type=_number(float, 0.0), default=1.0,
+    p.add_argument("--max-attitude-error", type=_number(float, 0.0, maximum=360.0), default=1.0,
                    help="limit on the arm's attitude error through the train, deg")
-    p.add_argument("--max-tip-band", type=_number(float, 0.0), default=5.0,
+    p.add_argument("--max-tip-band", type=_number(float, 0.0, maximum=10_000.0), default=5.0,
                    help="limit on the tip band (both ends of the free play), mm")
-    p.add_argument("--density", type=_number(float, 0.0), default=7850.0,
-                   help="gear material density, kg/m^3 (loads)")
-    p.add_argument("--face-width", type=_number(float, 0.0), default=None,
+    p.add_argument("--density", type=_number(float, 0.0, least=100.0, maximum=30_000.0),
+                   default=7850.0,
+                   help="gear material density, kg/m^3 (100-30000; loads)")
+    p.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0), default=None,
                    help="gear face width, mm (default: the gears' verification.json, else 12)")
-    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False), default=1.0,
+    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=1.0,
                    help="arm mass, kg (a slender rod planet axis -> tip)")
-    p.add_argument("--payload", type=_number(float, 0.0, strict=False), default=0.5,
+    p.add_argument("--payload", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=0.5,
                    help="cane / seedling mass at the tip, kg")
-    p.add_argument("--carrier-speed", type=_number(float, 0.0), default=360.0,
+    p.add_argument("--carrier-speed", type=_number(float, 0.0, maximum=36_000.0), default=360.0,
                    help="carrier speed for the loads, deg/s (the papers': 360)")
     p.add_argument("--no-loads", action="store_true", help="skip the multibody loads")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
