@@ -212,3 +212,52 @@ def test_init_name_is_a_plain_file_name(tmp_path, name, expected, capsys):
 def test_init_name_writes_only_into_dir(tmp_path):
     assert main(["init", "seeder", str(tmp_path / "d"), "--name", "my design.toml"]) == 0
     assert [p.name for p in (tmp_path / "d").iterdir()] == ["my design.toml"]
+
+
+# --- the design model: arm outline and section angles --------------------------------------
+
+
+def _transplanter_with_outline(poly):
+    import tomllib
+
+    doc = tomllib.loads((EXAMPLES / "rice_transplanter.toml").read_text(encoding="utf-8"))
+    doc["arm"]["outline"] = {"body": poly}
+    return doc
+
+
+@pytest.mark.parametrize("poly, expected", [
+    ([[0, 0], [10, 0], [20, 0]], "encloses no area"),  # was: AttributeError
+    ([[0, 0], [0, 0], [0, 0], [0, 0]], "encloses no area"),
+    ([[0, 0], [10, 10], [10, 0], [0, 10]], "not a simple polygon"),  # was: GEOS exception
+    ([[0, 0], [10, 0]], "a polygon needs 3")])
+def test_arm_outline_must_be_a_simple_polygon(poly, expected, tmp_path, capsys):
+    import tomli_w
+
+    from plantmech.design import DesignError, load_design
+
+    doc = _transplanter_with_outline(poly)
+    with pytest.raises(DesignError, match=expected) as exc:
+        load_design(doc)
+    assert "arm" in str(exc.value)
+    path = tmp_path / "d.toml"
+    path.write_text(tomli_w.dumps(doc), encoding="utf-8")
+    assert main(["forward", str(path), "--out", str(tmp_path / "o"), "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and "field 'arm'" in err and "Traceback" not in err
+    # a proper outline passes (the square of the same points)
+    load_design(_transplanter_with_outline([[0, 0], [10, 0], [10, 10], [0, 10]]))
+
+
+def test_section_angles_must_go_round_in_order():
+    from plantmech.design import DesignError, SectionAngles
+
+    ok = dict(zip("abcdef", (10.0, 60.0, 120.0, 170.0, 250.0, 300.0), strict=True))
+    SectionAngles(**ok)
+    SectionAngles(**{k: (v + 300.0) % 360.0 for k, v in ok.items()})  # across 0 deg
+    reversed_ = dict(zip("abcdef", (300.0, 250.0, 170.0, 120.0, 60.0, 10.0), strict=True))
+    with pytest.raises(ValueError, match="out of order.*c must come after b"):
+        SectionAngles(**reversed_)
+    swapped = dict(ok, c=ok["d"], d=ok["c"])
+    with pytest.raises(ValueError, match="d must come after c"):
+        SectionAngles(**swapped)
+    assert DesignError  # the file loader wraps it with the file and field

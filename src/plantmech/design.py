@@ -356,6 +356,15 @@ class SectionAngles(_Strict):
                 if vals[i] == vals[j]:
                     raise ValueError(f"{SECTION_LETTERS[i]} and {SECTION_LETTERS[j]} are "
                                      f"both at {vals[i]:g} deg: section points are distinct")
+        offsets = [(v - vals[0]) % 360.0 for v in vals]
+        for k in range(1, 6):
+            if offsets[k] <= offsets[k - 1]:
+                got = ", ".join(f"{x} = {v:g}" for x, v in zip(SECTION_LETTERS, vals,
+                                                                strict=True))
+                raise ValueError(
+                    f"sections out of order ({got}): going round the carrier turn from a, "
+                    f"{SECTION_LETTERS[k]} must come after {SECTION_LETTERS[k - 1]} "
+                    "(picking ab, transport bcd, seeding de, return efca)")
         return self
 
 
@@ -628,9 +637,29 @@ class Arm(_Strict):
             raise ValueError(f"needle_length_mm = {self.needle_length_mm:g} exceeds S_mm = "
                              f"{self.S_mm:g}: the needle is part of the arm")
         for layer, poly in (self.outline or {}).items():
-            if len(poly) < 3:
-                raise ValueError(f"outline.{layer} has {len(poly)} points; a polygon needs 3")
+            _check_outline(poly, f"outline.{layer}")
         return self
+
+
+def _check_outline(poly: list, field: str) -> None:
+    """A drawn outline: at least 3 points enclosing an area (not all on one line), its
+    edges crossing nowhere (a GEOS-valid polygon)."""
+    if len(poly) < 3:
+        raise ValueError(f"{field} has {len(poly)} points; a polygon needs 3")
+    p = np.asarray(poly, dtype=float)
+    sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
+    if sv[0] == 0 or sv[-1] <= 1e-9 * sv[0]:
+        raise ValueError(f"{field} encloses no area (its {len(poly)} points lie on one line "
+                         "or coincide); give a polygon")
+    import shapely
+
+    shape = shapely.Polygon(p)
+    if not shape.is_valid:
+        reason = shapely.is_valid_reason(shape)
+        raise ValueError(f"{field} is not a simple polygon ({reason}): its edges may not "
+                         "cross; list the points once around the outline")
+    if shape.area <= 1e-6 * float(np.ptp(p, axis=0).max()) ** 2:
+        raise ValueError(f"{field} encloses no area; give a polygon")
 
 
 class SeedlingBox(_Strict):
