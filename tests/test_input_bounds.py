@@ -261,3 +261,155 @@ def test_section_angles_must_go_round_in_order():
     with pytest.raises(ValueError, match="d must come after c"):
         SectionAngles(**swapped)
     assert DesignError  # the file loader wraps it with the file and field
+
+
+# --- report: a study directory's files -----------------------------------------------------
+
+
+def _sweep_dir(tmp_path) -> Path:
+    """A small sweep study directory written as 'plantmech study' writes one (numbers made
+    here: the report only reads them)."""
+    import json
+
+    import numpy as np
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    out = tmp_path / "study"
+    (out / "chunks").mkdir(parents=True)
+    (out / "study.json").write_text(json.dumps({"fingerprint": "x", "kind": "sweep",
+                                                "design": "d", "mechanism":
+                                                "sugarcane_seeder"}), encoding="utf-8")
+    L2 = np.array([480.0, 490.0, 500.0, 510.0])
+    obj = (L2 - 480.0) / 20.0
+    cols = {"sample": np.arange(4), "L2_mm": L2, "obj": obj, "obj__ok": obj < 1.0,
+            "all_ok": obj < 1.0, "path_deviation_mm": np.zeros(4)}
+    pq.write_table(pa.table(cols), out / "chunks" / "chunk_00000.parquet")
+    summary = {"kind": "sweep", "method": "grid", "samples": 4, "limits": {"obj": "< 1"},
+               "parameters": [{"name": "L2_mm", "low": 480.0, "high": 510.0, "levels": 4,
+                               "nominal": 498.0}],
+               "objectives": [{"name": "obj", "fraction_ok": 0.75, "min": 0.0, "max": 1.5}],
+               "fraction_all_ok": 0.75, "variants_not_moved": 0, "complete": True,
+               "run": {"total_chunks": 1, "computed_chunks": 1, "skipped_chunks": 0,
+                       "evaluations": 4, "failed_chunks": [], "wall_s": 1.0, "workers": 1}}
+    (out / "summary.json").write_text(json.dumps(summary), encoding="utf-8")
+    return out
+
+
+def _report(out, capsys, target=None) -> tuple[int, str]:
+    argv = ["report", str(out)] + (["--out", str(target)] if target else [])
+    rc = main(argv)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    return rc, err
+
+
+def test_report_reads_a_well_formed_study_directory(tmp_path, capsys):
+    out = _sweep_dir(tmp_path)
+    rc, _ = _report(out, capsys)
+    assert rc == 0
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "75.0 % of the 4 designs meet every objective" in page
+    assert (out / "sweep.png").stat().st_size > 1000  # drawn from the chunk
+
+
+def _edit_summary(out, edit):
+    import json
+
+    s = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    edit(s)
+    (out / "summary.json").write_text(json.dumps(s), encoding="utf-8")
+
+
+@pytest.mark.parametrize("edit, expected", [
+    (lambda s: s.pop("fraction_all_ok"), "field 'fraction_all_ok'"),  # was: KeyError
+    (lambda s: s["objectives"][0].pop("fraction_ok"), "field 'objectives.0.fraction_ok'"),
+    (lambda s: s.update(kind="montecarlo"), "field 'kind'"),  # was: accepted
+    (lambda s: s.update(kind=["sweep"]), "field 'kind'"),
+    (lambda s: s.update(fraction_all_ok=7.0), "field 'fraction_all_ok'"),
+    (lambda s: s.update(samples="four"), "field 'samples'"),
+    (lambda s: s.pop("kind"), "no chunk of this study has finished"),
+])
+def test_report_refuses_a_summary_it_cannot_read(tmp_path, capsys, edit, expected):
+    out = _sweep_dir(tmp_path)
+    _edit_summary(out, edit)
+    rc, err = _report(out, capsys)
+    assert rc == 2 and str(out / "summary.json") in err and expected in err, err
+    assert not (out / "report.html").exists()
+
+
+def test_report_refuses_nan_deep_huge_and_odd_summaries(tmp_path, capsys):
+    out = _sweep_dir(tmp_path)
+    s = out / "summary.json"
+    text = s.read_text(encoding="utf-8")
+    s.write_text(text.replace('"fraction_all_ok": 0.75', '"fraction_all_ok": NaN'))
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "NaN is not a number JSON allows" in err  # was: accepted
+    s.write_text('{"kind": "sweep", "x": ' + "[" * 5000 + "]" * 5000 + "}")
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "nested deeper than" in err
+    s.write_text("[1, 2]")
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "a JSON object is expected" in err
+    s.unlink()
+    os.mkfifo(s)
+    rc, err = _report(out, capsys)  # was: a hang
+    assert rc == 2 and "not a regular file" in err
+    s.unlink()
+    s.symlink_to("/dev/zero")
+    rc, err = _report(out, capsys)  # was: MemoryError
+    assert rc == 2 and "not a regular file" in err
+    s.unlink()
+    with open(s, "wb") as fh:
+        fh.truncate(70_000_000)  # sparse: larger than any summary
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "bytes; a study summary" in err
+    (out / "study.json").unlink()
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "study.json: not found" in err
+
+
+def test_report_refuses_chunks_that_are_not_this_studys(tmp_path, capsys):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    out = _sweep_dir(tmp_path)
+    chunk = out / "chunks" / "chunk_00000.parquet"
+    good = chunk.read_bytes()
+    chunk.write_bytes(b"PAR1 this is not parquet at all PAR1")  # was: accepted / traceback
+    rc, err = _report(out, capsys)
+    assert rc == 2 and str(chunk) in err and "not a Parquet chunk" in err
+    pq.write_table(pa.table({"sample": [0], "L2_mm": ["long"]}), chunk)
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "column 'L2_mm'" in err and "not numbers" in err
+    pq.write_table(pa.table({"sample": [0, 1], "other": [1.0, 2.0]}), chunk)
+    rc, err = _report(out, capsys)
+    assert rc == 2 and "no column 'L2_mm'" in err
+    chunk.write_bytes(good)
+    second = out / "chunks" / "chunk_00001.parquet"
+    pq.write_table(pa.table({"sample": [9]}), second)
+    rc, err = _report(out, capsys)
+    assert rc == 2 and str(second) in err and "columns differ" in err
+    second.unlink()
+    os.mkfifo(second)
+    rc, err = _report(out, capsys)  # was: a hang
+    assert rc == 2 and "not a regular file" in err
+    second.unlink()
+    (out / "sweep.png").unlink(missing_ok=True)
+    assert _report(out, capsys)[0] == 0
+
+
+def test_report_refuses_a_damaged_band_or_plan_csv(tmp_path):
+    from plantmech.studies.engine import StudyStateError
+    from plantmech.studies.summary import read_csv
+
+    p = tmp_path / "plan.csv"
+    p.write_text("x_mm,y_mm\n1,2\n3,4\n5,6\n")
+    assert list(read_csv(p, ("x_mm", "y_mm"))["y_mm"]) == [2.0, 4.0, 6.0]
+    for text, expected in (("x_mm\n1\n2\n", "no column 'y_mm'"),
+                           ("x_mm,y_mm\n1,2\n3,nan\n", "row 2 holds a value that is not finite"),
+                           ("x_mm,y_mm\n1,2\n3,four\n", "not a number"),
+                           ("x_mm,y_mm\n1,2\n3\n", "rows of 2 numbers"), ("", "empty")):
+        p.write_text(text)
+        with pytest.raises(StudyStateError, match=expected):
+            read_csv(p, ("x_mm", "y_mm"))

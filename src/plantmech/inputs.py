@@ -17,8 +17,12 @@ import tomllib
 from pathlib import Path
 
 
+class InputFileError(ValueError):
+    """An input file that cannot be read as what it should be (names the file)."""
+
+
 def read_input_bytes(path: str | Path, what: str, max_bytes: int,
-                     error: type[Exception] = ValueError) -> bytes:
+                     error: type[Exception] = InputFileError) -> bytes:
     """The bytes of ``path``, a regular file of at most ``max_bytes``; ``error(message)``
     naming ``path`` and ``what`` it should be (e.g. "design file") otherwise."""
     path = Path(path)
@@ -49,7 +53,7 @@ def read_input_bytes(path: str | Path, what: str, max_bytes: int,
 
 
 def read_input_text(path: str | Path, what: str, max_bytes: int,
-                    error: type[Exception] = ValueError) -> str:
+                    error: type[Exception] = InputFileError) -> str:
     """:func:`read_input_bytes` decoded as UTF-8."""
     data = read_input_bytes(path, what, max_bytes, error)
     try:
@@ -91,7 +95,7 @@ def nesting_depth(text: str) -> int:
     return best
 
 
-def parse_toml(text: str, source: str, max_nesting: int, error: type[Exception] = ValueError,
+def parse_toml(text: str, source: str, max_nesting: int, error: type[Exception] = InputFileError,
                needs: str = "") -> dict:
     """TOML text nested at most ``max_nesting`` levels -> dict; ``error`` naming
     ``source`` otherwise (``needs``: how deep the file kind needs, for the message)."""
@@ -111,7 +115,7 @@ def _no_constant(name: str):
 
 
 def read_input_json(path: str | Path, what: str, max_bytes: int, max_nesting: int,
-                    error: type[Exception] = ValueError):
+                    error: type[Exception] = InputFileError):
     """A JSON file (bounded as :func:`read_input_text`, nested at most ``max_nesting``
     levels, no NaN or Infinity) -> its value."""
     text = read_input_text(path, what, max_bytes, error)

@@ -308,9 +308,13 @@ def _where(at: dict | None) -> str:
 
 def _face_width(gears_dir: Path) -> float:
     """The face width the gears were written with (their verification.json), else 12 mm."""
-    import json
+    import math
 
-    try:
-        return float(json.loads((gears_dir / "verification.json").read_text())["face_width_mm"])
-    except (OSError, ValueError, KeyError, TypeError):
+    from plantmech.inputs import read_input_json
+
+    try:  # read bounded: a FIFO or a device there is no record (never a hang)
+        rec = read_input_json(gears_dir / "verification.json", "gears record", 64_000_000, 32)
+        width = float(rec["face_width_mm"])
+    except (ValueError, KeyError, TypeError):
         return 12.0
+    return width if math.isfinite(width) and 0 < width <= 1000 else 12.0
