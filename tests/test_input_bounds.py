@@ -413,3 +413,80 @@ def test_report_refuses_a_damaged_band_or_plan_csv(tmp_path):
         p.write_text(text)
         with pytest.raises(StudyStateError, match=expected):
             read_csv(p, ("x_mm", "y_mm"))
+
+
+# --- verify --gears: the gear files ---------------------------------------------------------
+
+
+def _gear_dxf(path: Path, points=None, layer: str = "planet", teeth: int = 24) -> Path:
+    """A toothed circular gear (radius 40 mm +- 2 mm per tooth) as 'plantmech gears'
+    writes one: one closed polyline on the gear's layer."""
+    import ezdxf
+    import numpy as np
+
+    if points is None:
+        t = np.linspace(0, 2 * np.pi, 24 * teeth, endpoint=False)
+        r = 40.0 + 2.0 * np.cos(teeth * t)
+        points = np.c_[r * np.cos(t), r * np.sin(t)]
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([tuple(p) for p in points], close=True,
+                                    dxfattribs={"layer": layer})
+    doc.saveas(path)
+    return path
+
+
+def test_a_well_formed_gear_file_reads_with_its_teeth(tmp_path):
+    from plantmech.contact.outlines import read_gear_dxf
+
+    g = read_gear_dxf(_gear_dxf(tmp_path / "planet.dxf"), "planet")
+    assert g.teeth == 24 and not g.internal
+
+
+@pytest.mark.parametrize("make, expected", [
+    (lambda p: p.write_text("0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n10\nnot-a-number\n"),
+     "not a readable DXF file"),  # a damaged DXF
+    (lambda p: p.write_bytes(b"\x00\xff" * 1000), "not a readable DXF file"),
+    (lambda p: _gear_dxf(p, [(0, 0), (10, 0), (20, 0), (30, 0), (40, 0), (50, 0), (60, 0),
+                             (70, 0), (80, 0)]), "encloses no area"),  # collinear outline
+    (lambda p: _gear_dxf(p, [(0, 0), (20000, 0), (20000, 10), (0, 10)]),
+     "a coordinate of 20000 mm"),  # beyond 10,000 mm
+    (lambda p: os.mkfifo(p), "not a regular file"),  # was: a hang
+    (lambda p: p.symlink_to("/dev/zero"), "not a regular file"),
+    (lambda p: p.mkdir(), "is a directory"),
+    (lambda p: None, "gear file not found"),
+])
+def test_damaged_gear_files_are_refused_naming_the_file(tmp_path, make, expected):
+    from plantmech.contact.outlines import GearFileError, read_gear_dxf
+
+    p = tmp_path / "planet.dxf"
+    make(p)
+    with pytest.raises(GearFileError) as exc:
+        read_gear_dxf(p, "planet")
+    assert str(p) in str(exc.value) and expected in str(exc.value), str(exc.value)
+
+
+def test_verify_on_a_damaged_gears_directory_exits_2(tmp_path, capsys):
+    gears = tmp_path / "gears"
+    gears.mkdir()
+    _gear_dxf(gears / "planet.dxf")
+    _gear_dxf(gears / "internal.dxf", [(0, 0), (5, 5), (10, 10), (15, 15), (20, 20), (25, 25),
+                                       (30, 30), (35, 35)], layer="internal")
+    os.mkfifo(gears / "verification.json")  # read for the face width: never a hang
+    rc = main(["verify", TRANSPLANTER, "--gears", str(gears), "--out", str(tmp_path / "o"),
+               "--no-plots", "--no-loads"])
+    err = capsys.readouterr().err
+    assert rc == 2 and str(gears / "internal.dxf") in err and "encloses no area" in err, err
+    assert "Traceback" not in err
+
+
+def test_face_width_record_is_read_bounded(tmp_path):
+    from plantmech.interfaces.verify_cli import _face_width
+
+    assert _face_width(tmp_path) == 12.0  # none: the default
+    (tmp_path / "verification.json").write_text('{"face_width_mm": 20}')
+    assert _face_width(tmp_path) == 20.0
+    (tmp_path / "verification.json").write_text('{"face_width_mm": 1e308}')
+    assert _face_width(tmp_path) == 12.0
+    (tmp_path / "verification.json").unlink()
+    os.mkfifo(tmp_path / "verification.json")
+    assert _face_width(tmp_path) == 12.0
