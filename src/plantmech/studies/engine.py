@@ -10,7 +10,8 @@ fingerprint: --out cannot resume a different study.
 
 Cluster: ``scheduler`` (an address such as tcp://host:8786) connects to a running Dask
 cluster, whose workers need plantmech installed; otherwise a local cluster of ``workers``
-processes (one thread each) is started and closed with the study.
+processes (one thread each) is started and closed with the study, every listener of it
+(scheduler, workers, nannies, dashboard) on the loopback address only.
 """
 
 from __future__ import annotations
@@ -28,6 +29,8 @@ import numpy as np
 from plantmech.inputs import InputFileError
 
 CHUNK_DIR = "chunks"
+#: the only address a local study cluster (scheduler, workers, nannies, dashboard) binds
+LOOPBACK = "127.0.0.1"
 
 
 class StudyStateError(InputFileError):
@@ -204,8 +207,10 @@ def dask_client(scheduler: str | None = None, workers: int = 2):
         finally:
             client.close()
         return
+    # loopback only, the dashboard included (":0" listened on every interface)
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+                      host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0",
+                      silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield client
 
