@@ -267,33 +267,9 @@ def test_section_angles_must_go_round_in_order():
 
 
 def _sweep_dir(tmp_path) -> Path:
-    """A small sweep study directory written as 'plantmech study' writes one (numbers made
-    here: the report only reads them)."""
-    import json
+    from tests.fuzz_inputs import sweep_study_dir
 
-    import numpy as np
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    out = tmp_path / "study"
-    (out / "chunks").mkdir(parents=True)
-    (out / "study.json").write_text(json.dumps({"fingerprint": "x", "kind": "sweep",
-                                                "design": "d", "mechanism":
-                                                "sugarcane_seeder"}), encoding="utf-8")
-    L2 = np.array([480.0, 490.0, 500.0, 510.0])
-    obj = (L2 - 480.0) / 20.0
-    cols = {"sample": np.arange(4), "L2_mm": L2, "obj": obj, "obj__ok": obj < 1.0,
-            "all_ok": obj < 1.0, "path_deviation_mm": np.zeros(4)}
-    pq.write_table(pa.table(cols), out / "chunks" / "chunk_00000.parquet")
-    summary = {"kind": "sweep", "method": "grid", "samples": 4, "limits": {"obj": "< 1"},
-               "parameters": [{"name": "L2_mm", "low": 480.0, "high": 510.0, "levels": 4,
-                               "nominal": 498.0}],
-               "objectives": [{"name": "obj", "fraction_ok": 0.75, "min": 0.0, "max": 1.5}],
-               "fraction_all_ok": 0.75, "variants_not_moved": 0, "complete": True,
-               "run": {"total_chunks": 1, "computed_chunks": 1, "skipped_chunks": 0,
-                       "evaluations": 4, "failed_chunks": [], "wall_s": 1.0, "workers": 1}}
-    (out / "summary.json").write_text(json.dumps(summary), encoding="utf-8")
-    return out
+    return sweep_study_dir(tmp_path / "study")
 
 
 def _report(out, capsys, target=None) -> tuple[int, str]:
@@ -421,17 +397,10 @@ def test_report_refuses_a_damaged_band_or_plan_csv(tmp_path):
 def _gear_dxf(path: Path, points=None, layer: str = "planet", teeth: int = 24) -> Path:
     """A toothed circular gear (radius 40 mm +- 2 mm per tooth) as 'plantmech gears'
     writes one: one closed polyline on the gear's layer."""
-    import ezdxf
-    import numpy as np
+    from tests.fuzz_inputs import _gear_points, write_gear_dxf
 
-    if points is None:
-        t = np.linspace(0, 2 * np.pi, 24 * teeth, endpoint=False)
-        r = 40.0 + 2.0 * np.cos(teeth * t)
-        points = np.c_[r * np.cos(t), r * np.sin(t)]
-    doc = ezdxf.new()
-    doc.modelspace().add_lwpolyline([tuple(p) for p in points], close=True,
-                                    dxfattribs={"layer": layer})
-    doc.saveas(path)
+    write_gear_dxf(path, layer, [_gear_points(teeth, 40.0, 2.0) if points is None
+                                 else points])
     return path
 
 

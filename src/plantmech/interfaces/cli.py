@@ -680,7 +680,12 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout = _ReaderMayLeave(sys.stdout)
         except (OSError, ValueError):  # no file behind it (captured by a test): nothing to do
             pass
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    for a in sys.argv[1:] if argv is None else argv:
+        # argparse takes "--option=--" as the option left out (its default), silently
+        if a.startswith("--") and a.endswith("=--"):
+            parser.error(f"argument {a[:-3]}: '--' is not a value")
+    args = parser.parse_args(argv)
     if args.command != "init":
         import matplotlib
 

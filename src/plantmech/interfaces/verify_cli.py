@@ -61,7 +61,6 @@ def run(args) -> int:
         design = load_design(args.design)
         if not gears_dir.is_dir():
             raise OutputError(f"--gears {gears_dir}: not a directory")
-        out = prepare_out_dir(args.out, [Path(args.design), gears_dir])
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -80,9 +79,10 @@ def run(args) -> int:
               "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
               "planetary trains", file=sys.stderr)
         return EXIT_INPUT
-    try:
+    try:  # the inputs read before --out is made: a refusal leaves nothing behind
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
-    except GearFileError as exc:
+        out = prepare_out_dir(args.out, [Path(args.design), gears_dir])
+    except (GearFileError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if design.mechanism == "planetary":
