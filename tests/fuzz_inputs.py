@@ -389,8 +389,9 @@ def gears_case(index: int, rng) -> Case:
             doc.saveas(f)
         elif what == "nan":
             text = f.read_text(encoding="utf-8").splitlines()
-            k = next(i for i, ln in enumerate(text) if ln.strip() == "10")
-            text[k + 1] = "nan"
+            poly = next(i for i, ln in enumerate(text) if ln.strip() == "LWPOLYLINE")
+            k = next(i for i in range(poly, len(text)) if text[i].strip() == "10")
+            text[k + 1] = "nan"  # the outline's first x
             f.write_text("\n".join(text) + "\n", encoding="utf-8")
         elif what == "few_points":
             write_gear_dxf(f, which, [np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])])

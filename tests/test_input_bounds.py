@@ -459,3 +459,23 @@ def test_face_width_record_is_read_bounded(tmp_path):
     (tmp_path / "verification.json").unlink()
     os.mkfifo(tmp_path / "verification.json")
     assert _face_width(tmp_path) == 12.0
+
+
+def test_verify_on_gears_of_another_train_reaches_its_verdict(tmp_path, capsys):
+    """Gear files that do not fit the design (toothed circles for the rice transplanter's
+    lobed pair: they overlap at every step and never touch within the searched turn):
+    the verdict says so, exit 4 (was: IndexError at contact/tca.py, found by the input
+    fuzzer)."""
+    import json
+
+    from tests.fuzz_inputs import _gears_dir
+
+    gears = _gears_dir(tmp_path)
+    out = tmp_path / "o"
+    rc = main(["verify", TRANSPLANTER, "--gears", str(gears), "--out", str(out),
+               "--steps", "36", "--no-loads", "--no-plots"])
+    assert rc == 4, capsys.readouterr().err
+    rec = json.loads((out / "verification.json").read_text(encoding="utf-8"))
+    assert not rec["ok"]
+    jam = next(c for c in rec["checks"] if c["name"].startswith("interference"))
+    assert jam["value"] == 3 * 36 and not jam["ok"]  # every step of each of the 3 arms

@@ -175,26 +175,26 @@ def read_gear_dxf(path: Path, layer: str | None = None) -> GearOutline:
         except (ezdxf.DXFError, ValueError, IndexError, TypeError, AttributeError) as exc:
             raise GearFileError(f"{path}: a damaged {kind} ({type(exc).__name__}: "
                                 f"{str(exc)[:200]})") from None
-        layer = str(e.dxf.layer)[:64]
+        where = str(e.dxf.layer)[:64]  # for messages
         vertices += len(pts)
         if vertices > MAX_GEAR_VERTICES:
             raise GearFileError(f"{path}: more than {MAX_GEAR_VERTICES:,} outline points; "
                                 "not a gear file of 'plantmech gears'")
         if not closed and not (len(pts) > 2 and np.allclose(pts[0], pts[-1])):
-            raise GearFileError(f"{path}: layer '{layer}': a polyline of "
+            raise GearFileError(f"{path}: layer '{where}': a polyline of "
                                 f"{len(pts)} points is not closed")
         if not np.all(np.isfinite(pts)):
-            raise GearFileError(f"{path}: layer '{layer}': a polyline has a "
+            raise GearFileError(f"{path}: layer '{where}': a polyline has a "
                                 "non-finite coordinate")
         far = float(np.abs(pts).max(initial=0.0))
         if far > MAX_SIZE_MM:
-            raise GearFileError(f"{path}: layer '{layer}': a coordinate of {far:.6g} mm; a "
+            raise GearFileError(f"{path}: layer '{where}': a coordinate of {far:.6g} mm; a "
                                 f"gear lies within +-{MAX_SIZE_MM:g} mm of its centre")
         if len(pts) >= 3:
             c = pts - pts.mean(axis=0)
             sv = np.linalg.svd(c, compute_uv=False)
             if sv[0] == 0 or sv[-1] <= 1e-9 * sv[0]:
-                raise GearFileError(f"{path}: layer '{layer}': a polyline of {len(pts)} "
+                raise GearFileError(f"{path}: layer '{where}': a polyline of {len(pts)} "
                                     "points encloses no area (its points lie on one line)")
         by_layer.setdefault(e.dxf.layer, []).append(pts)
     if not by_layer:

@@ -63,6 +63,13 @@ def run(args) -> int:
             from plantmech.studies.multistart import check_problem
 
             check_problem(design, spec, args.spec)
+        else:  # before --out is made: a refusal leaves nothing behind
+            from plantmech.studies.parameters import StudyInputError, check_parameters
+
+            try:
+                check_parameters(design, list(spec.parameters))
+            except StudyInputError as exc:
+                raise StudySpecError(f"{args.spec}: field 'parameters': {exc}") from None
         out = prepare_out_dir(args.out, [Path(args.design), Path(args.spec)])
     except (DesignError, StudySpecError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
