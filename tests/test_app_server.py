@@ -403,7 +403,7 @@ def test_edit_fast_path_answers_as_the_engine_and_keeps_the_host_rule(client):
     # an invalid design: the same field-named error as in-process
     bad = orjson.dumps({"design": {**d, "trajectory": {**d["trajectory"], "points": "x"}},
                         "quality": "drag"})
-    r = client.post("/api/evaluate", content=bad)
+    r = client.post("/api/evaluate", content=bad, headers={"content-type": "application/json"})
     assert (r.status_code, r.content) == server.evaluate_request(bad)
     assert r.status_code == 422
     r = client.post("/api/evaluate", content=raw, headers={"host": "evil.example"})

@@ -13,8 +13,6 @@ and counts are bounded by what a planting mechanism can be (:data:`MAX_SIZE_MM`,
 from __future__ import annotations
 
 import os
-import stat
-import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -29,6 +27,8 @@ from pydantic import (
     field_validator,
     model_validator,
 )
+
+from plantmech.inputs import parse_toml, read_input_text
 
 SECTION_LETTERS = ("a", "b", "c", "d", "e", "f")
 
@@ -356,6 +356,15 @@ class SectionAngles(_Strict):
                 if vals[i] == vals[j]:
                     raise ValueError(f"{SECTION_LETTERS[i]} and {SECTION_LETTERS[j]} are "
                                      f"both at {vals[i]:g} deg: section points are distinct")
+        offsets = [(v - vals[0]) % 360.0 for v in vals]
+        for k in range(1, 6):
+            if offsets[k] <= offsets[k - 1]:
+                got = ", ".join(f"{x} = {v:g}" for x, v in zip(SECTION_LETTERS, vals,
+                                                                strict=True))
+                raise ValueError(
+                    f"sections out of order ({got}): going round the carrier turn from a, "
+                    f"{SECTION_LETTERS[k]} must come after {SECTION_LETTERS[k - 1]} "
+                    "(picking ab, transport bcd, seeding de, return efca)")
         return self
 
 
@@ -628,9 +637,29 @@ class Arm(_Strict):
             raise ValueError(f"needle_length_mm = {self.needle_length_mm:g} exceeds S_mm = "
                              f"{self.S_mm:g}: the needle is part of the arm")
         for layer, poly in (self.outline or {}).items():
-            if len(poly) < 3:
-                raise ValueError(f"outline.{layer} has {len(poly)} points; a polygon needs 3")
+            _check_outline(poly, f"outline.{layer}")
         return self
+
+
+def _check_outline(poly: list, field: str) -> None:
+    """A drawn outline: at least 3 points enclosing an area (not all on one line), its
+    edges crossing nowhere (a GEOS-valid polygon)."""
+    if len(poly) < 3:
+        raise ValueError(f"{field} has {len(poly)} points; a polygon needs 3")
+    p = np.asarray(poly, dtype=float)
+    sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
+    if sv[0] == 0 or sv[-1] <= 1e-9 * sv[0]:
+        raise ValueError(f"{field} encloses no area (its {len(poly)} points lie on one line "
+                         "or coincide); give a polygon")
+    import shapely
+
+    shape = shapely.Polygon(p)
+    if not shape.is_valid:
+        reason = shapely.is_valid_reason(shape)
+        raise ValueError(f"{field} is not a simple polygon ({reason}): its edges may not "
+                         "cross; list the points once around the outline")
+    if shape.area <= 1e-6 * float(np.ptp(p, axis=0).max()) ** 2:
+        raise ValueError(f"{field} encloses no area; give a polygon")
 
 
 class SeedlingBox(_Strict):
@@ -783,69 +812,8 @@ import plantmech.design_planetary  # noqa: E402, F401
 
 def _read_design_file(path: Path) -> str:
     """Text of a design file: a regular file (opened non-blocking, so a FIFO or device
-    never hangs), at most MAX_FILE_BYTES, UTF-8."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    except FileNotFoundError:
-        raise DesignError(f"{path}: no such design file") from None
-    except IsADirectoryError:
-        raise DesignError(f"{path}: is a directory, not a design file") from None
-    except OSError as exc:
-        raise DesignError(f"{path}: cannot be opened ({exc.strerror})") from None
-    try:
-        st = os.fstat(fd)
-        if stat.S_ISDIR(st.st_mode):
-            raise DesignError(f"{path}: is a directory, not a design file")
-        if not stat.S_ISREG(st.st_mode):
-            raise DesignError(f"{path}: not a regular file (a pipe, socket or device); give a "
-                              "design file")
-        if st.st_size > MAX_FILE_BYTES:
-            raise DesignError(f"{path}: {st.st_size} bytes; a design file is at most "
-                              f"{MAX_FILE_BYTES} bytes")
-        data = os.read(fd, MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise DesignError(f"{path}: cannot be read ({exc.strerror})") from None
-    finally:
-        os.close(fd)
-    if len(data) > MAX_FILE_BYTES:
-        raise DesignError(f"{path}: larger than {MAX_FILE_BYTES} bytes")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise DesignError(f"{path}: not a UTF-8 text file") from None
-
-
-def _nesting_depth(text: str) -> int:
-    """Deepest bracket nesting outside strings and comments (a cheap guard before the TOML
-    parser, which recurses once per level)."""
-    depth = best = 0
-    quote = None
-    i, n = 0, len(text)
-    while i < n:
-        ch = text[i]
-        if quote:
-            if ch == "\\" and quote == '"':
-                i += 2
-                continue
-            if text.startswith(quote, i):
-                i += len(quote)
-                quote = None
-                continue
-        elif ch == "#":
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-            continue
-        elif ch in "\"'":
-            quote = ch * 3 if text.startswith(ch * 3, i) else ch
-            i += len(quote)
-            continue
-        elif ch in "[{":
-            depth += 1
-            best = max(best, depth)
-        elif ch in "]}":
-            depth = max(depth - 1, 0)
-        i += 1
-    return best
+    never hangs), at most MAX_FILE_BYTES, UTF-8 (``plantmech.inputs``)."""
+    return read_input_text(path, "design file", MAX_FILE_BYTES, DesignError)
 
 
 def _dict_depth(obj, level: int = 0) -> int:
@@ -859,15 +827,7 @@ def _dict_depth(obj, level: int = 0) -> int:
 
 
 def _parse_toml(text: str, source: str) -> dict:
-    if _nesting_depth(text) > MAX_NESTING:
-        raise DesignError(f"{source}: arrays or tables nested deeper than {MAX_NESTING} "
-                          "levels; a design file needs at most 3")
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{source}: not valid TOML: {exc}") from None
-    except RecursionError:
-        raise DesignError(f"{source}: arrays or tables nested too deeply") from None
+    return parse_toml(text, source, MAX_NESTING, DesignError, "a design file needs at most 3")
 
 
 def load_design(source: str | Path | dict, name: str | None = None):

@@ -430,13 +430,26 @@ def warm_up() -> None:
 
 
 def same_origin(headers) -> bool:
-    """A WebSocket handshake comes from the app's own page: no Origin (not a browser) or
-    an Origin whose host and port are the Host header's (WebSockets are not bound by
-    the browser's same-origin rule, so a page elsewhere could open one)."""
+    """A WebSocket handshake or a POST comes from the app's own page: no Origin (not a
+    browser) or an Origin whose host and port are the Host header's (WebSockets are not
+    bound by the browser's same-origin rule, and a "simple" cross-origin POST is sent
+    before any CORS check, so a page elsewhere could start a task); a browser's
+    ``Sec-Fetch-Site`` other than same-origin (or none: typed by the user) is refused too."""
+    site = headers.get("sec-fetch-site")
+    if site is not None and site not in ("same-origin", "none"):
+        return False
     origin = headers.get("origin")
     if origin is None:
         return True
     return origin.split("://", 1)[-1].rstrip("/") == headers.get("host", "")
+
+
+def _json_content_type(headers) -> bool:
+    """The request body is declared ``application/json`` (parameters such as charset
+    allowed): a form or text/plain body, which a page elsewhere may send without a CORS
+    preflight, is never read."""
+    kind = headers.get("content-type", "").split(";", 1)[0].strip().lower()
+    return kind == "application/json"
 
 
 LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "[::1]", "testserver")
@@ -451,8 +464,10 @@ def _loopback_host(headers) -> bool:
 
 class BodyLimit:
     """ASGI middleware: a POST, PUT or PATCH needs a Content-Length of at most
-    ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise). Plain ASGI rather than
-    ``@app.middleware("http")``: that wrapper costs every edit request a task and a stream.
+    ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise), and, from a loopback Host,
+    the app's own origin (403: :func:`same_origin`) and an ``application/json`` body (415).
+    Plain ASGI rather than ``@app.middleware("http")``: that wrapper costs every edit
+    request a task and a stream.
 
     ``compute``: with it, ``POST /api/evaluate`` from a loopback Host is answered here —
     body read, handed to ``compute`` (``pool.run``), its bytes sent — without FastAPI's
@@ -472,6 +487,15 @@ class BodyLimit:
                 error = (411, "a request body needs a Content-Length")
             elif not length.isdigit() or int(length) > MAX_BODY_BYTES:
                 error = (413, f"request body over the {MAX_BODY_BYTES} byte limit")
+            elif _loopback_host(scope["headers"]):  # another Host: 400 from TrustedHost
+                headers = {k.decode("latin-1").lower(): v.decode("latin-1")
+                           for k, v in scope["headers"]}
+                if not same_origin(headers):
+                    error = (403, "a request from another origin (a page elsewhere) is "
+                             "refused: the app's API answers its own page only")
+                elif not _json_content_type(headers):
+                    error = (415, "a request body must be JSON (Content-Type: "
+                             "application/json)")
             if error is not None:
                 await JSONResponse({"error": error[1]}, status_code=error[0])(
                     scope, receive, send)

@@ -496,15 +496,17 @@ def _print_summary(s: dict) -> None:
 
 
 def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
-    """argparse type: a finite number above (or, strict=False, at least) ``minimum``,
-    and, if given, at least ``least`` and at most ``maximum``."""
+    """argparse type of every numeric option (the one place their ranges are checked): a
+    finite ``kind`` (int or float) above (or, strict=False, at least) ``minimum``, and,
+    if given, at least ``least`` and at most ``maximum``; never wrapped or rounded."""
     import math
 
     def parse(text: str):
         try:
             v = kind(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+            what = "a whole number" if kind is int else "a number"
+            raise argparse.ArgumentTypeError(f"{text!r} is not {what}") from None
         bad = (not math.isfinite(v) or (v <= minimum if strict else v < minimum)
                or (least is not None and v < least) or (maximum is not None and v > maximum))
         if bad:
@@ -515,6 +517,10 @@ def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
         return v
 
     return parse
+
+
+#: the range of every random seed option (NumPy's and pymoo's seeds are 32 bits)
+SEED = {"minimum": 0, "strict": False, "maximum": 2**32 - 1}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -593,20 +599,20 @@ def build_parser() -> argparse.ArgumentParser:
                        help="also write STEP solids (needs plantmech[step]; seconds per gear)")
     add_report_option(gears)
     gears.set_defaults(func=_gears)
-    from plantmech.optimize import PROBLEMS
+    from plantmech.optimize import ALGORITHMS, PROBLEMS
 
     opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")
     opt.add_argument("design", help="design file (TOML); never overwritten")
     opt.add_argument("--problem", required=True, choices=PROBLEMS)
     add_output_options(opt)
-    opt.add_argument("--seed", type=_number(int, 0, strict=False, maximum=2**32 - 1),
+    opt.add_argument("--seed", type=_number(int, **SEED),
                      default=0, help="random seed (0 to 2^32 - 1): the same seed gives the "
                      "same run")
     opt.add_argument("--generations", type=_number(int, 1, strict=False, maximum=10_000),
                      default=None, help="generations (1-10000); default per problem")
     opt.add_argument("--pop", type=_number(int, 4, strict=False, maximum=2000),
                      default=None, help="population size (4-2000)")
-    opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
+    opt.add_argument("--algorithm", choices=ALGORITHMS, default=None,
                      help="default per problem (docs/optimization.md)")
     opt.add_argument("--points", type=_number(int, 4, strict=False, maximum=128),
                      default=16, help="interpolation radii per gear for the seeder's layer 2 "
@@ -686,7 +692,12 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout = _ReaderMayLeave(sys.stdout)
         except (OSError, ValueError):  # no file behind it (captured by a test): nothing to do
             pass
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    for a in sys.argv[1:] if argv is None else argv:
+        # argparse takes "--option=--" as the option left out (its default), silently
+        if a.startswith("--") and a.endswith("=--"):
+            parser.error(f"argument {a[:-3]}: '--' is not a value")
+    args = parser.parse_args(argv)
     if args.command != "init":
         import matplotlib
 

@@ -18,19 +18,10 @@ from pathlib import Path
 EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
 
 
-def _positive_int(text: str) -> int:
-    import argparse
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
-    return v
-
-
 def register(subparsers) -> None:
+    from plantmech.interfaces.cli import _number
+    from plantmech.studies.spec import MAX_CHUNKS
+
     p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
                               "optimization on Dask")
     p.add_argument("design", help="design file (TOML); never overwritten")
@@ -45,9 +36,10 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
                    "default: a local cluster on this machine")
-    p.add_argument("--workers", type=_positive_int, default=2,
-                   help="worker processes of the local cluster (default 2)")
-    p.add_argument("--max-chunks", type=_positive_int, default=None,
+    p.add_argument("--workers", type=_number(int, 1, strict=False, maximum=64), default=2,
+                   help="worker processes of the local cluster (1-64, default 2)")
+    p.add_argument("--max-chunks", type=_number(int, 1, strict=False, maximum=MAX_CHUNKS),
+                   default=None,
                    help="stop after this many new chunks (resume later)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -104,6 +96,23 @@ def _body(args, design, run, spec) -> int:
     from plantmech.studies.parameters import StudyInputError
     from plantmech.workflows import InfeasibleDesign
 
+    from plantmech.studies.spec import StudySpecError
+
+    try:  # the spec against the design, before any work: a refusal keeps nothing
+        if spec.kind == "multi-start":
+            from plantmech.studies.multistart import check_problem
+
+            check_problem(design, spec, args.spec)
+        else:
+            from plantmech.studies.parameters import check_parameters
+
+            try:
+                check_parameters(design, list(spec.parameters))
+            except StudyInputError as exc:
+                raise StudySpecError(f"{args.spec}: field 'parameters': {exc}") from None
+    except StudySpecError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     out = run.path
     if args.scheduler and args.workers != 2:
         print("note: --workers is ignored with --scheduler (the cluster has its own)",
@@ -123,7 +132,7 @@ def _body(args, design, run, spec) -> int:
     except StudyInputError as exc:
         print(f"error: {args.spec}: field 'parameters': {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except StudyStateError as exc:
+    except (StudyStateError, StudySpecError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except InfeasibleDesign:

@@ -27,23 +27,26 @@ def register(subparsers) -> None:
     from plantmech.interfaces.cli import add_output_options
 
     add_output_options(p)
-    p.add_argument("--steps", type=_number(int, 8, strict=False), default=720,
-                   help="carrier steps per turn (720: 0.5 deg)")
-    p.add_argument("--max-te", type=_number(float, 0.0), default=0.5,
+    p.add_argument("--steps", type=_number(int, 8, strict=False, maximum=36_000), default=720,
+                   help="carrier steps per turn (8-36000; 720: 0.5 deg)")
+    p.add_argument("--max-te", type=_number(float, 0.0, maximum=360.0), default=0.5,
                    help="limit on each pair's transmission error (mid band), deg")
-    p.add_argument("--max-attitude-error", type=_number(float, 0.0), default=1.0,
+    p.add_argument("--max-attitude-error", type=_number(float, 0.0, maximum=360.0), default=1.0,
                    help="limit on the arm's attitude error through the train, deg")
-    p.add_argument("--max-tip-band", type=_number(float, 0.0), default=5.0,
+    p.add_argument("--max-tip-band", type=_number(float, 0.0, maximum=10_000.0), default=5.0,
                    help="limit on the tip band (both ends of the free play), mm")
-    p.add_argument("--density", type=_number(float, 0.0), default=7850.0,
-                   help="gear material density, kg/m^3 (loads)")
-    p.add_argument("--face-width", type=_number(float, 0.0), default=None,
+    p.add_argument("--density", type=_number(float, 0.0, least=100.0, maximum=30_000.0),
+                   default=7850.0,
+                   help="gear material density, kg/m^3 (100-30000; loads)")
+    p.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0), default=None,
                    help="gear face width, mm (default: the gears' verification.json, else 12)")
-    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False), default=1.0,
+    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=1.0,
                    help="arm mass, kg (a slender rod planet axis -> tip)")
-    p.add_argument("--payload", type=_number(float, 0.0, strict=False), default=0.5,
+    p.add_argument("--payload", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=0.5,
                    help="cane / seedling mass at the tip, kg")
-    p.add_argument("--carrier-speed", type=_number(float, 0.0), default=360.0,
+    p.add_argument("--carrier-speed", type=_number(float, 0.0, maximum=36_000.0), default=360.0,
                    help="carrier speed for the loads, deg/s (the papers': 360)")
     p.add_argument("--no-loads", action="store_true", help="skip the multibody loads")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
@@ -82,9 +85,10 @@ def _body(args, design, run) -> int:
               "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
               "planetary trains", file=sys.stderr)
         return EXIT_INPUT
-    try:
+    try:  # the inputs read before --out is made: a refusal leaves nothing behind
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
-    except GearFileError as exc:
+        out = prepare_out_dir(args.out, [Path(args.design), gears_dir])
+    except (GearFileError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if design.mechanism == "planetary":
@@ -323,9 +327,13 @@ def _where(at: dict | None) -> str:
 
 def _face_width(gears_dir: Path) -> float:
     """The face width the gears were written with (their verification.json), else 12 mm."""
-    import json
+    import math
 
-    try:
-        return float(json.loads((gears_dir / "verification.json").read_text())["face_width_mm"])
-    except (OSError, ValueError, KeyError, TypeError):
+    from plantmech.inputs import read_input_json
+
+    try:  # read bounded: a FIFO or a device there is no record (never a hang)
+        rec = read_input_json(gears_dir / "verification.json", "gears record", 64_000_000, 32)
+        width = float(rec["face_width_mm"])
+    except (ValueError, KeyError, TypeError):
         return 12.0
+    return width if math.isfinite(width) and 0 < width <= 1000 else 12.0

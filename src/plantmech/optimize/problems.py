@@ -265,11 +265,30 @@ def _pool(workers: int):
     return ex
 
 
+class _Serial:
+    """A pool's ``submit`` run here at once: in a daemonic process (a Dask worker of a
+    multi-start study, a pool worker), which may not start processes of its own."""
+
+    @staticmethod
+    def submit(fn, *args):
+        from concurrent.futures import Future
+
+        f = Future()
+        try:
+            f.set_result(fn(*args))
+        except Exception as exc:  # noqa: BLE001 - raised again by result(), as a pool's
+            f.set_exception(exc)
+        return f
+
+
 def _in_pool(workers: int, use):
     """``use(pool)`` with the shared pool of ``workers`` processes; if a worker died (e.g.
-    killed), once more with a fresh pool."""
+    killed), once more with a fresh pool. In a daemonic process: one after another here."""
+    import multiprocessing as mp
     from concurrent.futures.process import BrokenProcessPool
 
+    if mp.current_process().daemon:
+        return use(_Serial)
     try:
         return use(_pool(workers))
     except BrokenProcessPool:

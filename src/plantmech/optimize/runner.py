@@ -15,9 +15,8 @@ from pymoo.core.callback import Callback
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
+from plantmech.optimize import ALGORITHMS  # noqa: F401  (re-exported)
 from plantmech.optimize.problems import Batch, DesignProblem
-
-ALGORITHMS = ("nsga2", "de", "cmaes")
 
 
 class WeightedViolation(Problem):

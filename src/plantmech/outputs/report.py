@@ -379,7 +379,9 @@ def _img_tag(item, alt: str) -> str:
         p = Path(item)
         mime = {".png": "image/png", ".svg": "image/svg+xml", ".gif": "image/gif",
                 ".jpg": "image/jpeg", ".jpeg": "image/jpeg"}[p.suffix.lower()]
-        raw = p.read_bytes()
+        from plantmech.inputs import read_input_bytes
+
+        raw = read_input_bytes(p, "image file", 256_000_000)  # never a FIFO or a device
     else:
         mime, raw = "image/png", _figure_png(item)
     b64 = base64.b64encode(raw).decode("ascii")
