@@ -30,12 +30,19 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     found by a sweep over the segments sorted by their smallest x (``np.searchsorted`` on
     all designs' rows at once), then tested exactly: O(n log n + crossing candidates) per
     design instead of every one of the n^2 / 2 pairs (tests/test_objectives_planetary.py
-    holds it to the all-pairs count)."""
+    holds it to the all-pairs count). A population of ``curves.KERNEL_POINTS`` points or
+    more is counted by ``trains.fused.crossings`` (the same sweep per design, compiled)."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
     n = samples
     ax, ay = z.real, z.imag
+    from plantmech.trains.curves import use_kernels
+
+    if use_kernels(P * n):  # a population: per design, one sorted sweep (the same counts)
+        from plantmech.trains.fused import crossings
+
+        return crossings(np.ascontiguousarray(ax), np.ascontiguousarray(ay)).astype(int)
     bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
     xlo, xhi = np.minimum(ax, bx), np.maximum(ax, bx)
     ylo, yhi = np.minimum(ay, by), np.maximum(ay, by)

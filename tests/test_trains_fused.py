@@ -1,0 +1,138 @@
+"""The fused population passes (trains/fused.py) against the NumPy path they replace for
+populations: the manufacturability rules' verdicts of every pair (``trains.gearing.
+fused_verdicts`` vs ``assess_pair`` of ``pair_shapes``) on an external chain with a
+dwell (Table 4), an idler chain (the elliptic transplanter) and a ring (the differential
+transplanter), and the tip path's self-crossings against the all-pairs count."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from plantmech.design import load_design
+from tests.conftest import EXAMPLES
+
+
+def _population(name: str, P: int, seed: int = 0) -> list:
+    """P variants of a bundled general-train file: every given radii table + uniform(-1.5,
+    1.5) mm (solved centre distances), an ellipse's A and e moved (elliptic)."""
+    rng = np.random.default_rng(seed)
+    base = load_design(EXAMPLES / name)
+    out = []
+    for _ in range(P):
+        d = base.model_copy(deep=True)
+        for pair in d.train.pairs:
+            for curve in (pair.driver, pair.follower):
+                if curve is None:
+                    continue
+                if curve.family == "radii":
+                    curve.radii_mm = [float(r) for r in np.asarray(curve.radii_mm)
+                                      + rng.uniform(-1.5, 1.5, len(curve.radii_mm))]
+                    pair.centre_distance_mm = None
+                elif curve.family == "ellipse":
+                    curve.semi_major_mm = float(rng.uniform(22, 28))
+                    curve.eccentricity = float(rng.uniform(0.1, 0.3))
+        out.append(d)
+    return out
+
+
+FILES = ["planetary/sugarcane_table4.toml", "rotary_transplanter_elliptic.toml",
+         "planetary/rice_transplanter.toml"]
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_fused_verdicts_equal_the_sampled_shapes(name):
+    """Every module bound of every gear equal to the last bit (minima of the same per-point
+    numbers) but the tooth-count bound (a perimeter summed in another order: 1e-14
+    relative), each bound's place the same body angle, the module and the working pressure
+    angle the same; the place of the largest |mu| may be another of two maxima equal to the
+    last bit (a symmetric curve's), never another value."""
+    from plantmech.gears.manufacturability import assess_pair, rules_for
+    from plantmech.trains import gearing
+    from plantmech.trains.spec import build_from_designs
+
+    designs = _population(name, 12)
+    built = build_from_designs(designs)
+    names = gearing.gear_names(designs[0])
+    rules = rules_for(designs[0])
+    shapes = gearing.pair_shapes(built, names)
+    fused = gearing.fused_verdicts(built, names, rules)
+    assert len(fused) == len(shapes) == len(designs[0].train.pairs)
+    ring = False
+    for shape, v in zip(shapes, fused, strict=True):
+        ref = assess_pair(shape, rules)
+        assert v.name == ref.name and list(v.bounds) == list(ref.bounds)
+        assert list(v.where) == list(ref.where)
+        for key, b in ref.bounds.items():
+            ring |= key.startswith("internal difference")
+            if key.startswith("teeth"):
+                np.testing.assert_allclose(v.bounds[key], b, rtol=1e-14)
+            else:
+                np.testing.assert_array_equal(v.bounds[key], b)
+            np.testing.assert_array_equal(v.where[key][1], ref.where[key][1])
+        np.testing.assert_allclose(v.module, ref.module, rtol=1e-14)
+        np.testing.assert_allclose(v.module_high, ref.module_high, rtol=1e-14)
+        np.testing.assert_allclose(v.working_pressure_angle_deg,
+                                   ref.working_pressure_angle_deg, rtol=0, atol=1e-12)
+        mu = np.abs(shape.mu)
+        at = np.radians(v.where["working pressure angle"][1])
+        k = np.rint(at / (2 * np.pi / mu.shape[1])).astype(int) % mu.shape[1]
+        np.testing.assert_array_equal(mu[np.arange(len(k)), k], mu.max(axis=1))
+    assert ring == (name == "planetary/rice_transplanter.toml")
+
+
+def test_population_rows_take_the_fused_path_and_equal_single_designs():
+    """A population above ``curves.KERNEL_POINTS`` grid points is judged by the fused
+    passes; every row equals the design's own single evaluation (the NumPy path) to
+    1e-12 relative."""
+    from plantmech.objectives.planetary import population_evaluation
+    from plantmech.trains.curves import KERNEL_POINTS
+
+    designs = _population("planetary/sugarcane_table4.toml", 4, seed=3)
+    for d in designs:
+        d.train.grid = 16384
+    assert len(designs) * 16384 >= KERNEL_POINTS > 16384
+    together = population_evaluation(designs, 360)
+    for d, rows in zip(designs, together, strict=True):
+        alone = population_evaluation([d], 360)[0]
+        assert [r["name"] for r in rows] == [r["name"] for r in alone]
+        for r, s in zip(rows, alone, strict=True):
+            assert r["ok"] == s["ok"]
+            assert r["value"] == pytest.approx(s["value"], rel=1e-12, abs=1e-12)
+
+
+def test_crossings_equal_the_all_pairs_count():
+    """Closed polylines with a known number of proper self-crossings (the limacon-like
+    r = 1 + b cos(k t) curves walked k times round: a figure eight, a trefoil's knots)
+    and random polygons: the fused sweep's count equals every non-adjacent segment pair's
+    exact test."""
+    from plantmech.trains.fused import crossings
+
+    rng = np.random.default_rng(5)
+    t = np.linspace(0, 2 * np.pi, 240, endpoint=False)
+    paths = [np.sin(t) + 1j * np.sin(2 * t),  # figure eight: 1
+             np.cos(t) + 1j * np.sin(t),  # circle: 0
+             np.cos(2 * t) * np.exp(1j * t) + 0.2 * np.exp(1j * t)]  # four-petal rose
+    paths += [rng.normal(size=240) + 1j * rng.normal(size=240) for _ in range(3)]
+    z = np.array(paths)
+
+    def all_pairs(p):
+        n = len(p)
+        a, b = p, np.roll(p, -1)
+        count = 0
+        for i in range(n):
+            for j in range(i + 2, n):
+                if j == (i - 1) % n or (i == 0 and j == n - 1):
+                    continue
+
+                def side(u, s, e):
+                    d = e - s
+                    return d.real * (u.imag - s.imag) - d.imag * (u.real - s.real)
+                if side(a[i], a[j], b[j]) * side(b[i], a[j], b[j]) < 0 and \
+                        side(a[j], a[i], b[i]) * side(b[j], a[i], b[i]) < 0:
+                    count += 1
+        return count
+
+    got = crossings(np.ascontiguousarray(z.real), np.ascontiguousarray(z.imag))
+    assert got[0] == 1 and got[1] == 0
+    assert list(got) == [all_pairs(p) for p in z]
