@@ -136,3 +136,33 @@ def test_crossings_equal_the_all_pairs_count():
     got = crossings(np.ascontiguousarray(z.real), np.ascontiguousarray(z.imag))
     assert got[0] == 1 and got[1] == 0
     assert list(got) == [all_pairs(p) for p in z]
+
+
+@pytest.mark.parametrize("kind, q", [("external", 1.0), ("internal", 2.0),
+                                     ("internal_ring_follower", 0.5), ("external", 2.0)])
+def test_fused_laws_equal_the_numpy_laws(kind, q, monkeypatch):
+    """A population's pair laws by ``fused.pair_laws`` (closure solve, ratio, the spline's
+    running integral by a cyclic tridiagonal solve) against the NumPy path (bisection and
+    Newton on (P, N) tables, the FFT): centre distances, ratio tables, F's periodic part and
+    the turns to 1e-13, for a solved and a given centre distance, every kind."""
+    from plantmech.trains import pairs
+    from plantmech.trains.curves import ellipse, fourier
+
+    rng = np.random.default_rng(2)
+    P = 20
+    if q == 1.0:
+        curve = ellipse(rng.uniform(20, 30, P), rng.uniform(0.05, 0.3, P), 2048)
+    else:  # repeats every half turn
+        curve = fourier(rng.uniform(30, 40, P), np.stack([np.zeros(P), rng.uniform(1, 4, P)],
+                                                         1), np.zeros((P, 0)), 2048)
+    monkeypatch.setattr(pairs, "use_kernels", lambda n: False)
+    ref = pairs.pair_law(kind, curve, q)
+    monkeypatch.setattr(pairs, "use_kernels", lambda n: True)
+    for given in (None, ref.a):
+        law = pairs.pair_law(kind, curve, q, given)
+        np.testing.assert_allclose(law.a, ref.a, rtol=1e-14)
+        for name in ("g", "dg", "Fp", "q_e"):
+            np.testing.assert_allclose(getattr(law, name), getattr(ref, name), rtol=0,
+                                       atol=1e-13, err_msg=name)
+    with pytest.raises(pairs.PairError, match="does not close"):  # refused by name as before
+        pairs.pair_law(kind, curve, q, ref.a * 1.01)

@@ -168,3 +168,138 @@ def crossings(ax, ay):
                     count += 1
         out[p] = count
     return out
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _mean_ratio(r, p, kappa, c, a, stride):
+    """mean over the strided row p of r / (kappa r + c a)."""
+    N = r.shape[1]
+    total = 0.0
+    n = 0
+    for i in range(0, N, stride):
+        x = r[p, i]
+        total += x / (kappa * x + c * a)
+        n += 1
+    return total / n
+
+
+@njit(cache=True, error_model="numpy")
+def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, step_tol):
+    """The closed laws of P pairs of one kind (``trains.pairs.pair_law``'s tables) in one
+    pass per design: the centre distance a (given, or solved as
+    ``solve_centre_distance``: ``coarse_steps`` bisections of every ``coarse``-th radius in
+    [lo, hi], Newton on the full table until the relative step is below ``step_tol``, the
+    full table's 64 bisections if 12 steps do not settle it), the ratio g = r / (kappa r +
+    c a) and its slope, the periodic cubic spline's running integral F of g (its moments
+    by the cyclic (1, 4, 1) system, Sherman-Morrison on a Thomas sweep, where the NumPy path
+    uses an FFT: the same spline, 1e-16 apart), q_e = F(2 pi) / 2 pi and the periodic part
+    Fp = F - q_e theta. Returns (a (P,), g, dg, Fp (P, N), q_e (P,), smallest follower
+    radius (P,)). ``kappa``, ``c``: the kind's r_f = kappa r_d + c a."""
+    P, N = r.shape
+    h = 2.0 * np.pi / N
+    rising = c < 0  # an internal pair: the mean ratio rises with a
+    a_out = np.empty(P)
+    g = np.empty((P, N))
+    dg = np.empty((P, N))
+    Fp = np.empty((P, N))
+    q_e = np.empty(P)
+    rf_min = np.empty(P)
+    # the Thomas factors of the cyclic (1, 4, 1) system's tridiagonal part (corners
+    # moved to the Sherman-Morrison vector u = (gamma, 0, ..., 0, 1), gamma = -4)
+    gamma = -4.0
+    diag = np.full(N, 4.0)
+    diag[0] = 4.0 - gamma
+    diag[N - 1] = 4.0 - 1.0 / gamma
+    cp = np.empty(N)
+    den = np.empty(N)
+    den[0] = diag[0]
+    cp[0] = 1.0 / den[0]
+    for i in range(1, N):
+        den[i] = diag[i] - cp[i - 1]
+        cp[i] = 1.0 / den[i]
+    z = np.empty(N)
+    w = np.empty(N)
+    m = np.empty(N)
+    u0 = gamma
+    # z = T^-1 u
+    w[0] = u0 / den[0]
+    for i in range(1, N):
+        ui = 1.0 if i == N - 1 else 0.0
+        w[i] = (ui - w[i - 1]) / den[i]
+    z[N - 1] = w[N - 1]
+    for i in range(N - 2, -1, -1):
+        z[i] = w[i] - cp[i] * z[i + 1]
+    zfact = 1.0 + z[0] + z[N - 1] / gamma
+    scale = 6.0 / (h * h)
+    for p in range(P):
+        qp = q[p]
+        if solve:
+            a0, a1 = lo[p], hi[p]
+            for _ in range(coarse_steps):
+                mid = 0.5 * (a0 + a1)
+                below = (_mean_ratio(r, p, kappa, c, mid, coarse) < qp) == rising
+                if below:
+                    a0 = mid
+                else:
+                    a1 = mid
+            a = 0.5 * (a0 + a1)
+            settled = False
+            for _ in range(12):
+                s1 = 0.0
+                s2 = 0.0
+                for i in range(N):
+                    x = r[p, i]
+                    rf = kappa * x + c * a
+                    gi = x / rf
+                    s1 += gi
+                    s2 += gi / rf
+                f = s1 / N - qp
+                df = -c * (s2 / N)
+                new = min(max(a - f / df, lo[p]), hi[p])
+                settled = abs(new - a) <= step_tol * abs(a)
+                a = new
+                if settled:
+                    break
+            if not settled:
+                a0, a1 = lo[p], hi[p]
+                for _ in range(64):
+                    mid = 0.5 * (a0 + a1)
+                    if (_mean_ratio(r, p, kappa, c, mid, 1) < qp) == rising:
+                        a0 = mid
+                    else:
+                        a1 = mid
+                a = 0.5 * (a0 + a1)
+        else:
+            a = given[p]
+        a_out[p] = a
+        ca = c * a
+        low = np.inf
+        for i in range(N):
+            rf = kappa * r[p, i] + ca
+            low = min(low, rf)
+            g[p, i] = r[p, i] / rf
+            dg[p, i] = dr[p, i] * ca / (rf * rf)
+        rf_min[p] = low
+        # moments: T x = rhs (Thomas), then the Sherman-Morrison correction
+        for i in range(N):
+            prev = g[p, i - 1] if i > 0 else g[p, N - 1]
+            nxt = g[p, i + 1] if i + 1 < N else g[p, 0]
+            rhs = scale * (prev - 2.0 * g[p, i] + nxt)
+            w[i] = (rhs - (w[i - 1] if i > 0 else 0.0)) / den[i]
+        m[N - 1] = w[N - 1]
+        for i in range(N - 2, -1, -1):
+            m[i] = w[i] - cp[i] * m[i + 1]
+        fact = (m[0] + m[N - 1] / gamma) / zfact
+        for i in range(N):
+            m[i] -= fact * z[i]
+        total = 0.0
+        h3 = h * h * h / 24.0
+        for i in range(N):
+            j = i + 1 if i + 1 < N else 0
+            Fp[p, i] = total
+            total += 0.5 * h * (g[p, i] + g[p, j]) - h3 * (m[i] + m[j])
+        qe = total / (2.0 * np.pi)
+        q_e[p] = qe
+        for i in range(N):
+            Fp[p, i] -= qe * (h * i)
+    return a_out, g, dg, Fp, q_e, rf_min

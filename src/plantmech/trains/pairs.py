@@ -298,6 +298,12 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
     if not np.all(q > 0):
         raise PairError(f"{name}: follower_turns must be positive, got {q.min():g}")
     driver.check_positive(min_radius)
+    if not driver.open and use_kernels(P * N):  # a population: one fused pass per design
+        law = _fused_law(kind, driver, q, centre_distance, min_radius, name,
+                         float(q[0]) if scalar else q)
+        if law is not None:
+            return _checked(law, kind, driver, q, centre_distance, tolerance, name,
+                            periodic_mate)
     try:
         _admissible(kind, driver.r, q)  # a pair no centre distance can close: refused
         solved = solve_centre_distance(kind, driver.r, q) if centre_distance is None \
@@ -332,6 +338,44 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
         q_e = F[:, -1] / TWO_PI
         Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
         law = PairLaw(kind, driver, a, g, dg, Fp, q_e, float(q[0]) if scalar else q, name)
+    return _checked(law, kind, driver, q, centre_distance, tolerance, name, periodic_mate)
+
+
+def _fused_law(kind: str, driver: Curve, q: np.ndarray, centre_distance, min_radius: float,
+               name: str, turns) -> PairLaw | None:
+    """``pair_law``'s closed law of a population by ``trains.fused.pair_laws`` (the same
+    solve and spline, 1e-15 relative apart); None when a design is refused (a follower
+    radius not above ``min_radius``, no admissible centre distance): the NumPy path then
+    says which, with its message."""
+    from plantmech.trains.fused import pair_laws
+
+    P, N = driver.r.shape
+    try:
+        lo, hi = _admissible(kind, driver.r, q)
+    except PairError:
+        return None
+    solve = centre_distance is None
+    given = np.zeros(P) if solve else np.broadcast_to(
+        np.asarray(centre_distance, dtype=float), (P,)).astype(float)
+    _, kappa, c, _, _ = _KIND[kind]
+    a, g, dg, Fp, q_e, rf_min = pair_laws(
+        np.ascontiguousarray(driver.r, dtype=float), np.ascontiguousarray(driver.dr,
+                                                                         dtype=float),
+        float(kappa), float(c), np.ascontiguousarray(q, dtype=float), lo, hi, given, solve,
+        max(N // COARSE_SAMPLES, 1), COARSE_STEPS if N // COARSE_SAMPLES > 1 else 64,
+        CLOSURE_STEP)
+    if not np.all(rf_min > min_radius) or not np.all(np.isfinite(q_e)):
+        return None
+    return PairLaw(kind, driver, a, g, dg, Fp, q_e, turns, name)
+
+
+def _checked(law: PairLaw, kind: str, driver: Curve, q: np.ndarray, centre_distance,
+             tolerance: float, name: str, periodic_mate: bool) -> PairLaw:
+    """``law`` once its closure (a given centre distance) and, for a mate rolled all round,
+    the driver's repetition every 1 / q turn are checked (PairError naming the design)."""
+    P = driver.r.shape[0]
+    q_e = law.q_e
+    a = law.a
     err = np.abs(law.closure_error)
     if centre_distance is not None and np.any(err > tolerance):
         d = int(np.argmax(err))
