@@ -153,14 +153,40 @@ def population_evaluation(designs: list, samples: int | None = None) -> list[lis
     for i, d in enumerate(designs):
         groups.setdefault((structure_key(d), samples or d.samples), []).append(i)
     out: list = [None] * len(designs)
+    jobs = []
     for (_, n), members in groups.items():
         size = chunk_designs(designs[members[0]].train.grid)
-        for start in range(0, len(members), size):
-            part = members[start:start + size]
-            for i, rows in zip(part, _evaluate_group([designs[i] for i in part], n),
-                               strict=True):
-                out[i] = rows
+        jobs += [(members[start:start + size], n) for start in range(0, len(members), size)]
+
+    def run(job):
+        part, n = job
+        return part, _evaluate_group([designs[i] for i in part], n)
+
+    for part, rows in _mapped(run, jobs):
+        for i, r in zip(part, rows, strict=True):
+            out[i] = r
     return out
+
+
+def _mapped(fn, jobs: list):
+    """``map(fn, jobs)``, on ``PLANTMECH_KERNEL_THREADS`` threads when that asks for more
+    than one and there are several sub-populations (the fused kernels release the GIL;
+    each job's numbers are its own, so the results do not depend on the threads); one
+    thread by default (``mechanisms.seeder_kernel.kernel_threads``: on a shared machine the
+    optimizer's worker processes already fill the cores)."""
+    import os
+
+    if len(jobs) < 2 or os.environ.get("PLANTMECH_KERNEL_THREADS", "1").strip() in ("", "1"):
+        return map(fn, jobs)
+    from concurrent.futures import ThreadPoolExecutor
+
+    from plantmech.mechanisms.seeder_kernel import kernel_threads
+
+    threads = min(kernel_threads(), len(jobs))
+    if threads < 2:
+        return map(fn, jobs)
+    with ThreadPoolExecutor(threads) as pool:
+        return list(pool.map(fn, jobs))
 
 
 #: grid points (designs x pitch-curve grid) of one sub-population: each (P, grid) table
@@ -215,7 +241,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
     list that gets, per design in order, arm 1's (tip, tip rate, arm angle) over the
     carrier samples (complex mm, complex mm/rad, rad; None for a train that cannot be
     built)."""
-    from plantmech.trains.model import simulate
+    from plantmech.trains.model import simulate, simulate_tips
     from plantmech.trains.spec import TrainSpecError, build_from_designs
 
     try:
@@ -228,7 +254,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
         half = len(designs) // 2  # find the refused ones; evaluate the rest together
         return (_evaluate_group(designs[:half], samples, motions)
                 + _evaluate_group(designs[half:], samples, motions))
-    motion = simulate(built, samples)
+    motion = simulate_tips(built, samples) or simulate(built, samples)  # tips: all it reads
     if motions is not None:
         motions.extend((motion.tip[i, 0], motion.tip_rate[i, 0], motion.arm_angle[i, 0])
                        for i in range(len(designs)))

@@ -51,7 +51,7 @@ def _curvature(r, d, dd, f, ff, plain):
     return np.inf if num == 0 else cube / num
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def pair_extremes(r, r1, r2, a, kappa, c, ring_d, ring_f, t0, h):
     """(values (P, 13), indices (P, 8)) of P pairs from the driver's tables r, r', r''
     (P, N) on the grid t_i = i h and the centre distances ``a`` (P,): the driver's and
@@ -128,7 +128,7 @@ def pair_extremes(r, r1, r2, a, kappa, c, ring_d, ring_f, t0, h):
     return vals, idx
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def crossings(ax, ay):
     """Proper crossings (P,) of each closed polyline through the points (ax, ay) (P, n):
     ``objectives.planetary.self_crossings``' count (its docstring), per design by a sweep
@@ -183,7 +183,7 @@ def _mean_ratio(r, p, kappa, c, a, stride):
     return total / n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, step_tol):
     """The closed laws of P pairs of one kind (``trains.pairs.pair_law``'s tables) in one
     pass per design: the centre distance a (given, or solved as
@@ -303,3 +303,124 @@ def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, st
         for i in range(N):
             Fp[p, i] -= qe * (h * i)
     return a_out, g, dg, Fp, q_e, rf_min
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _read(y, dy, p, x, N, h, inv, sub):
+    """(value, slope) of row p's periodic Hermite table through values ``y`` and slopes
+    ``dy`` - ``sub`` at angle x (``kernels.hermite_rows`` at one angle)."""
+    u = x * inv
+    kf = np.floor(u)
+    s = u - kf
+    k = int(kf) % N
+    k1 = 0 if k == N - 1 else k + 1
+    s2 = s * s
+    s3 = s2 * s
+    y0, y1 = y[p, k], y[p, k1]
+    d0, d1 = (dy[p, k] - sub) * h, (dy[p, k1] - sub) * h
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _invert(Fp, g, p, qp, F, N, h, inv):
+    """theta with Fp(theta) + q theta = F (``kernels.invert_rows`` at one target: the
+    table's interval by bisection, its linear inverse, then up to 4 Newton steps)."""
+    period = 2.0 * np.pi * qp
+    w = np.floor(F / period)
+    yv = F - w * period
+    lo, hi = 0, N
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Fp[p, mid] + qp * (mid * h) <= yv:
+            lo = mid
+        else:
+            hi = mid
+    k = lo
+    f0 = Fp[p, k] + qp * (k * h)
+    f1 = (Fp[p, k + 1] if k + 1 < N else Fp[p, 0]) + qp * ((k + 1) * h)
+    theta = k * h + h * (yv - f0) / (f1 - f0 if f1 > f0 else 1.0)
+    for _ in range(4):
+        fp, dfp = _read(Fp, g, p, theta, N, h, inv, qp)
+        step = theta - (fp + qp * theta - yv) / (dfp + qp)
+        if step == theta:
+            break
+        theta = step
+    return theta + 2.0 * np.pi * w
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived,
+               lock, width, tsense, dwell, sun0, sun_rate, carrier0, cs, arms, samples,
+               shaft, arm_length, arm_angle):
+    """The tip motion of P trains from their K pairs' laws (tuples of K (P, N) tables
+    ``Fp``, ``g``, ``dg``; ``q_e``, ``delta`` (K, P)): per design, arm and carrier
+    sample the chain of ``trains.model.simulate`` (its module docstring) walked once, pair
+    by pair: the sun's body angle sun0 + sun_rate psi - cs 2 pi j / J (rate ``sun_rate``),
+    a compound driver turned by ``shift`` (K, P), a derived one (``derived`` (K,) True)
+    phased so it starts at ``shift`` at arm 0's first sample; pair 0's toothless dwell
+    (``dwell``: lock, width (P,), ``tsense``) squeezes its toothless arcs out; a pair whose
+    follower is ``given`` inverts its law, else reads it forward. Returns (tip, tip rate
+    d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S))."""
+    K = len(Fp)
+    P, N = Fp[0].shape
+    h = 2.0 * np.pi / N
+    inv = 1.0 / h
+    two_pi = 2.0 * np.pi
+    tip = np.empty((P, arms, samples), dtype=np.complex128)
+    tip_rate = np.empty((P, arms, samples), dtype=np.complex128)
+    beta_out = np.empty((P, arms, samples))
+    rate_out = np.empty((P, arms, samples))
+    start = np.empty(K)
+    for p in range(P):
+        planet0 = 0.0
+        for j in range(arms):
+            off = two_pi * j / arms
+            for si in range(samples):
+                psi = two_pi * si / samples
+                alpha = sun0[p] + sun_rate * psi - cs * off
+                rate = sun_rate
+                for k in range(K):
+                    if k > 0 and derived[k]:
+                        if j == 0 and si == 0:
+                            start[k] = alpha
+                        alpha = alpha + (shift[k, p] - start[k])
+                    elif k > 0:
+                        alpha = alpha + shift[k, p]
+                    am = alpha
+                    if k == 0 and dwell:
+                        t = tsense * (alpha - lock[p])
+                        turns = np.floor(t / two_pi)
+                        v = t - two_pi * turns
+                        meshes = v >= width[p]
+                        rolled = turns * (two_pi - width[p]) + (v - width[p] if meshes else 0.0)
+                        am = lock[p] + tsense * rolled
+                        if not meshes:
+                            rate = 0.0
+                    theta_d = delta[k, p] + eps_d[k] - am
+                    qk = q_e[k, p]
+                    if given[k]:
+                        theta_f = _invert(Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, inv)
+                        gv, _ = _read(g[k], dg[k], p, theta_f, N, h, inv, 0.0)
+                        rate = sense[k] * rate / gv
+                    else:
+                        fp, _ = _read(Fp[k], g[k], p, theta_d, N, h, inv, qk)
+                        gv, _ = _read(g[k], dg[k], p, theta_d, N, h, inv, 0.0)
+                        theta_f = sense[k] * (fp + qk * theta_d)
+                        rate = sense[k] * gv * rate
+                    alpha = delta[k, p] + eps_f[k] - theta_f
+                carrier = carrier0[p] + cs * (psi + off)
+                centre = shaft[p] * complex(np.cos(carrier), np.sin(carrier))
+                planet = carrier + alpha
+                if j == 0 and si == 0:
+                    planet0 = planet
+                beta = planet + (arm_angle[p] - planet0)
+                e = complex(np.cos(beta), np.sin(beta))
+                tip[p, j, si] = centre + arm_length[p] * e
+                br = cs + rate
+                tip_rate[p, j, si] = 1j * cs * centre + 1j * arm_length[p] * br * e
+                beta_out[p, j, si] = beta
+                rate_out[p, j, si] = br
+    return tip, tip_rate, beta_out, rate_out
