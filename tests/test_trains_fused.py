@@ -195,3 +195,23 @@ def test_fused_tips_equal_the_simulated_chain(name):
     assert np.abs(got.centre - ref.centre).max() < 1e-9
     # a single design is not a population: simulate's own path
     assert simulate_tips(build_from_designs(designs[:1]), 720) is None
+
+
+def test_sub_populations_on_two_threads_give_the_same_rows(monkeypatch):
+    """PLANTMECH_KERNEL_THREADS = 2 maps the sub-populations on two threads: the rows are
+    those of one thread, in the designs' order."""
+    from plantmech.objectives import planetary
+
+    designs = _population("rotary_transplanter_elliptic.toml", 6, seed=4)
+    for d in designs:
+        d.train.grid = 4096
+    monkeypatch.setattr(planetary, "CHUNK_POINTS", 2 * 4096)  # 3 sub-populations of 2
+    monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", "1")
+    one = planetary.population_evaluation(designs, 360)
+    monkeypatch.setenv("PLANTMECH_KERNEL_THREADS", "2")
+    calls = []
+    real = planetary._evaluate_group
+    monkeypatch.setattr(planetary, "_evaluate_group",
+                        lambda ds, n, m=None: calls.append(len(ds)) or real(ds, n, m))
+    assert planetary.population_evaluation(designs, 360) == one
+    assert calls == [2, 2, 2]
