@@ -215,3 +215,28 @@ def test_sub_populations_on_two_threads_give_the_same_rows(monkeypatch):
                         lambda ds, n, m=None: calls.append(len(ds)) or real(ds, n, m))
     assert planetary.population_evaluation(designs, 360) == one
     assert calls == [2, 2, 2]
+
+
+def test_fused_table4_population_equals_the_dedicated_seeder_model():
+    """Table 4's general file as a population (two copies: 2 x 16384 grid points, the
+    fused pass) against the dedicated seeder model (mechanisms/seeder_forward, independent
+    code): tip and tip rate to 1e-6 mm, the arm angle to 1e-6 rad, and the arm held in the
+    carrier (its rate the carrier's own, exactly) on exactly the 450 samples of the 45 deg
+    dwell where the seeder's model says so."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.trains.model import simulate_tips
+    from plantmech.trains.spec import build_from_designs
+    from plantmech.workflows import train_from_design as seeder_train
+
+    tr, _ = seeder_train(load_design(EXAMPLES / "sugarcane_table4.toml"))
+    d = load_design(EXAMPLES / "planetary" / "sugarcane_table4.toml")
+    ref = seeder_simulate(tr, d.samples)
+    m = simulate_tips(build_from_designs([d, d.model_copy(deep=True)]), d.samples)
+    assert m is not None
+    for p in range(2):
+        assert np.abs(m.tip[p, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max() < 1e-6
+        assert np.abs(m.arm_angle[p, 0] - ref.arm_angle).max() < 1e-6
+        assert np.abs(m.tip_rate[p, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])
+                      ).max() < 1e-6
+        held = m.arm_rate[p, 0] == -1.0  # clockwise carrier: s = -1, the gears at rest
+        assert np.array_equal(held, ref.in_dwell) and held.sum() == 450
