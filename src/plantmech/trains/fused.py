@@ -9,6 +9,10 @@ the NumPy path makes a dozen passes over (P, N) temporaries.
   arithmetic is the NumPy path's, term by term (``geometry.curvature_kernels``); the
   minima and their first places are therefore the same numbers, the perimeters a sum in
   another order (1e-15 relative) (tests/test_trains_fused.py).
+- ``pair_laws``: a pair's closed law (closure solve, ratio, the spline's running
+  integral); ``mate_tables``: the follower's pitch curve rolled from it (an idler's, the
+  next pair's driver); ``chain_tips``: the tip motion walked once per design, arm and
+  sample along the chain of pairs (``trains.model.simulate_tips``).
 - ``crossings``: the proper self-crossings of closed polylines
   (``objectives.planetary.self_crossings``): per design its segments sorted by their
   smallest x and swept (a crossing pair overlaps in x), then the exact orientation test
@@ -325,13 +329,31 @@ def _read(y, dy, p, x, N, h, inv, sub):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _invert(Fp, g, p, qp, F, N, h, inv):
-    """theta with Fp(theta) + q theta = F (``kernels.invert_rows`` at one target: the
-    table's interval by bisection, its linear inverse, then up to 4 Newton steps)."""
+def _invert(Fp, g, p, qp, F, N, h, inv, k_last, last, walk):
+    """(theta, its table interval, the target's remainder) with Fp(theta) + q theta = F
+    (``kernels.invert_rows`` at one target: the table's interval walked from the previous
+    target's (``k_last``, ``last``; up to 8 steps, when ``walk``) or bisected, its linear
+    inverse, then up to 4 Newton steps)."""
     period = 2.0 * np.pi * qp
     w = np.floor(F / period)
     yv = F - w * period
     lo, hi = 0, N
+    if walk and yv >= last:
+        lo = k_last
+        steps = 0
+        while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
+            lo += 1
+            steps += 1
+        if steps < 8:
+            hi = lo + 1
+    elif walk:
+        hi = k_last + 1
+        steps = 0
+        while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
+            hi -= 1
+            steps += 1
+        if steps < 8:
+            lo = hi - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
         if Fp[p, mid] + qp * (mid * h) <= yv:
@@ -348,7 +370,7 @@ def _invert(Fp, g, p, qp, F, N, h, inv):
         if step == theta:
             break
         theta = step
-    return theta + 2.0 * np.pi * w
+    return theta + 2.0 * np.pi * w, k, yv
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
@@ -363,7 +385,8 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     phased so it starts at ``shift`` at arm 0's first sample; pair 0's toothless dwell
     (``dwell``: lock, width (P,), ``tsense``) squeezes its toothless arcs out; a pair whose
     follower is ``given`` inverts its law, else reads it forward. Returns (tip, tip rate
-    d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S))."""
+    d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S), the planet's
+    centre (complex (P, J, S)))."""
     K = len(Fp)
     P, N = Fp[0].shape
     h = 2.0 * np.pi / N
@@ -371,9 +394,12 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     two_pi = 2.0 * np.pi
     tip = np.empty((P, arms, samples), dtype=np.complex128)
     tip_rate = np.empty((P, arms, samples), dtype=np.complex128)
+    centre_out = np.empty((P, arms, samples), dtype=np.complex128)
     beta_out = np.empty((P, arms, samples))
     rate_out = np.empty((P, arms, samples))
     start = np.empty(K)
+    k_last = np.zeros(K, dtype=np.int64)
+    y_last = np.zeros(K)
     for p in range(P):
         planet0 = 0.0
         for j in range(arms):
@@ -402,7 +428,9 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                     theta_d = delta[k, p] + eps_d[k] - am
                     qk = q_e[k, p]
                     if given[k]:
-                        theta_f = _invert(Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, inv)
+                        theta_f, k_last[k], y_last[k] = _invert(
+                            Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, inv, k_last[k],
+                            y_last[k], si > 0)
                         gv, _ = _read(g[k], dg[k], p, theta_f, N, h, inv, 0.0)
                         rate = sense[k] * rate / gv
                     else:
@@ -419,8 +447,37 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                 beta = planet + (arm_angle[p] - planet0)
                 e = complex(np.cos(beta), np.sin(beta))
                 tip[p, j, si] = centre + arm_length[p] * e
+                centre_out[p, j, si] = centre
                 br = cs + rate
                 tip_rate[p, j, si] = 1j * cs * centre + 1j * arm_length[p] * br * e
                 beta_out[p, j, si] = beta
                 rate_out[p, j, si] = br
-    return tip, tip_rate, beta_out, rate_out
+    return tip, tip_rate, beta_out, rate_out, centre_out
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def mate_tables(Fp, g, q_e, r, dr, a, kappa, c, sense):
+    """The follower's pitch curve (r_f, dr_f / dphi) (P, N) on its own uniform grid phi_i
+    = 2 pi i / N of P closed laws (``pairs.PairLaw.mate``) in one pass per design: the
+    contact's driver angle theta = F^-1(sense phi) (``_invert``, walked along the grid),
+    the driver's radius and slope there (its Hermite table ``r``, ``dr``), r_f = kappa r +
+    c a and its slope kappa r' / (sense g), g = r / r_f: PairLaw.mate's numbers."""
+    P, N = Fp.shape
+    h = 2.0 * np.pi / N
+    inv = 1.0 / h
+    rf_out = np.empty((P, N))
+    slope_out = np.empty((P, N))
+    for p in range(P):
+        k_last, last = 0, 0.0
+        qp = q_e[p]
+        ca = c * a[p]
+        for i in range(N):
+            target = sense * (2.0 * np.pi * i / N)
+            theta, k_last, last = _invert(Fp, g, p, qp, target, N, h, inv, k_last, last,
+                                          i > 0)
+            rd, drd = _read(r, dr, p, theta, N, h, inv, 0.0)
+            rf = kappa * rd + ca
+            gg = rd / rf
+            rf_out[p, i] = rf
+            slope_out[p, i] = kappa * drd / (sense * gg)
+    return rf_out, slope_out

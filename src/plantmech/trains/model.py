@@ -491,7 +491,7 @@ def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
     def col(v):
         return np.ascontiguousarray(np.broadcast_to(_column(v, P)[:, 0], (P,)), dtype=float)
 
-    tip, tip_rate, beta, beta_rate = chain_tips(
+    tip, tip_rate, beta, beta_rate, centre = chain_tips(
         *stack, q_e, np.ascontiguousarray(delta, dtype=float), given,
         np.ascontiguousarray(offsets[:, 0]), np.ascontiguousarray(offsets[:, 1]), sense, shift,
         derived, np.ascontiguousarray(lock, dtype=float), np.ascontiguousarray(width,
@@ -503,7 +503,6 @@ def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
     psi = TWO_PI * np.arange(samples) / samples
     offset = TWO_PI * np.arange(J) / J
     carrier = _column(tr.carrier0, P)[:, :, None] + s * (psi[None, :] + offset[:, None])[None]
-    centre = built.shafts[:, -1, None, None] * np.exp(1j * carrier)
     return TrainMotion(psi, np.broadcast_to(carrier, (P, J, samples)), [], [], [], [], centre,
                        tip, beta, beta_rate, tip_rate, built, [])
 

@@ -246,6 +246,17 @@ class PairLaw:
         """The follower's pitch curve on its own uniform grid (r, dr/dtheta_f): at
         follower angle phi the contact is at driver angle F^-1(sense * phi)."""
         P, N = self.g.shape
+        _, kappa, c, _, _ = _KIND[self.kind]
+        if not self.driver.open and use_kernels(P * N):  # one fused pass per design
+            from plantmech.trains.fused import mate_tables
+
+            rf, slope = mate_tables(np.ascontiguousarray(self.Fp), np.ascontiguousarray(self.g),
+                                    np.ascontiguousarray(self.q_e, dtype=float),
+                                    np.ascontiguousarray(self.driver.r, dtype=float),
+                                    np.ascontiguousarray(self.driver.dr, dtype=float),
+                                    np.ascontiguousarray(self.a, dtype=float), float(kappa),
+                                    float(c), float(self.sense))
+            return Curve(rf, slope, name)
         phi = TWO_PI * np.arange(N) / N
         theta_d = self.invert(np.broadcast_to(self.sense * phi, (P, N)))
         r_d, dr_d = self.driver(theta_d)
