@@ -56,9 +56,10 @@ def _curvature(r, d, dd, f, ff, plain):
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def pair_extremes(r, r1, r2, a, kappa, c, ring_d, ring_f, t0, h):
-    """(values (P, 13), indices (P, 8)) of P pairs from the driver's tables r, r', r''
-    (P, N) on the grid t_i = i h and the centre distances ``a`` (P,): the driver's and
+def pair_extremes(r, r1, a, kappa, c, ring_d, ring_f, t0, h):
+    """(values (P, 13), indices (P, 8)) of P pairs from the driver's tables r, r' (P, N)
+    (r'' from the slopes' centred differences, ``curves.second_derivative``'s) on the grid
+    t_i = i h and the centre distances ``a`` (P,): the driver's and
     the follower's (rho = kappa r + c a at body-angle rate phi' = r / rho, phi'' = c a r'
     / rho^2) smallest convex and concave radius of curvature on the material side (signs
     flipped for a ring: ``ring_d``, ``ring_f``), smallest pitch radius, perimeter sum
@@ -80,7 +81,9 @@ def pair_extremes(r, r1, r2, a, kappa, c, ring_d, ring_f, t0, h):
         cum = 0.0
         phi_cvx = phi_ccv = phi_rad = 0.0
         for i in range(N):
-            rr, d, dd = r[p, i], r1[p, i], r2[p, i]
+            rr, d = r[p, i], r1[p, i]
+            dd = ((r1[p, i + 1] if i + 1 < N else r1[p, 0])
+                  - (r1[p, i - 1] if i > 0 else r1[p, N - 1])) / (2 * h)
             rho = kappa * rr + ca
             f = rr / rho
             ff = ca * d / (rho * rho)
@@ -253,10 +256,10 @@ def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, st
                 s2 = 0.0
                 for i in range(N):
                     x = r[p, i]
-                    rf = kappa * x + c * a
-                    gi = x / rf
+                    inv = 1.0 / (kappa * x + c * a)
+                    gi = x * inv
                     s1 += gi
-                    s2 += gi / rf
+                    s2 += gi * inv
                 f = s1 / N - qp
                 df = -c * (s2 / N)
                 new = min(max(a - f / df, lo[p]), hi[p])
@@ -281,15 +284,16 @@ def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, st
         for i in range(N):
             rf = kappa * r[p, i] + ca
             low = min(low, rf)
-            g[p, i] = r[p, i] / rf
-            dg[p, i] = dr[p, i] * ca / (rf * rf)
+            inv = 1.0 / rf
+            g[p, i] = r[p, i] * inv
+            dg[p, i] = dr[p, i] * ca * (inv * inv)
         rf_min[p] = low
         # moments: T x = rhs (Thomas), then the Sherman-Morrison correction
         for i in range(N):
             prev = g[p, i - 1] if i > 0 else g[p, N - 1]
             nxt = g[p, i + 1] if i + 1 < N else g[p, 0]
             rhs = scale * (prev - 2.0 * g[p, i] + nxt)
-            w[i] = (rhs - (w[i - 1] if i > 0 else 0.0)) / den[i]
+            w[i] = (rhs - (w[i - 1] if i > 0 else 0.0)) * cp[i]
         m[N - 1] = w[N - 1]
         for i in range(N - 2, -1, -1):
             m[i] = w[i] - cp[i] * m[i + 1]

@@ -348,7 +348,6 @@ def fused_verdicts(built, names: list[tuple[str, str]], rules, modules: list | N
         ring_d, ring_f = law.kind == "internal", law.kind == "internal_ring_follower"
         v, i = fz.pair_extremes(np.ascontiguousarray(d.r, dtype=float),
                                 np.ascontiguousarray(d.dr, dtype=float),
-                                np.ascontiguousarray(second_derivative(d), dtype=float),
                                 np.ascontiguousarray(law.a, dtype=float), float(kappa),
                                 float(c), ring_d, ring_f, float(t[0]), h)
         spec = built.train.pairs[k]

@@ -166,8 +166,8 @@ class PairLaw:
         """(F - q_e theta, g - q_e) at driver body angles ``theta`` (rad): the Hermite
         reading of ``Fp`` with its slopes (an open driver's never across its break)."""
         if self.g_end is None:
-            return hermite_periodic(self.Fp, self.g - self.q_e[:, None], theta)
-        return hermite_open(self.Fp, self.g - self.q_e[:, None], self.Fp[:, 0],
+            return hermite_periodic(self.Fp, self.slope, theta)
+        return hermite_open(self.Fp, self.slope, self.Fp[:, 0],
                             self.g_end - self.q_e, theta)
 
     def _ratio_at(self, theta) -> tuple[np.ndarray, np.ndarray]:
@@ -175,6 +175,14 @@ class PairLaw:
         if self.g_end is None:
             return hermite_periodic(self.g, self.dg, theta)
         return hermite_open(self.g, self.dg, self.g_end, self.dg_end, theta)
+
+    @property
+    def slope(self) -> np.ndarray:
+        """g - q_e (P, N): the slope table of F's periodic part ``Fp`` (computed once)."""
+        cached = self.__dict__.get("_slope")
+        if cached is None:
+            cached = self.__dict__["_slope"] = self.g - self.q_e[:, None]
+        return cached
 
     @property
     def sense(self) -> int:
@@ -219,7 +227,7 @@ class PairLaw:
 
             target = np.ascontiguousarray(np.broadcast_to(F_target, (P,) + F_target.shape[1:])
                                           .reshape(P, -1))
-            theta = invert_rows(np.ascontiguousarray(self.Fp), self.g - self.q_e[:, None],
+            theta = invert_rows(np.ascontiguousarray(self.Fp), self.slope,
                                 np.ascontiguousarray(self.q_e, dtype=float), target, 4)
             return theta.reshape((P,) + F_target.shape[1:])
         h = TWO_PI / N
@@ -235,7 +243,7 @@ class PairLaw:
         f0, f1 = table[rows, k], table[rows, k + 1]
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
         q = self.q_e[:, None]
-        slope = self.g - q
+        slope = self.slope
         for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
             fp, dfp = (hermite_periodic(self.Fp, slope, theta) if self.g_end is None
                        else self._periodic_part(theta))
