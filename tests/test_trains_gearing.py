@@ -185,7 +185,8 @@ def test_what_is_still_refused_says_what_works(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["optimize", str(EXAMPLE), "--problem", "transplanter", "--out", str(out)]) == 2
     assert "--problem planetary" in capsys.readouterr().err and not out.exists()
-    assert main(["gears", str(EXAMPLE), "--out", str(out), "--report"]) == 2
+    inverse = EXAMPLES / "planetary" / "sugarcane_seeder_inverse.toml"
+    assert main(["inverse", str(inverse), "--out", str(out), "--report"]) == 2
     assert "--report" in capsys.readouterr().err and not out.exists()
     # a command outside the list (none of the CLI's today) is told which ones work
     args = argparse.Namespace(command="other", design=str(EXAMPLE))

@@ -332,24 +332,40 @@ def _planetary_parameters(design) -> list[dict]:
             if isinstance(pair.get(part), dict):
                 candidates.append((f"train.pairs.{k}.{part}", f"pair {k + 1} {part}",
                                    pair[part]))
-    for prefix, label, table in candidates:
+    return _general_parameters(candidates)
+
+
+def _general_parameters(tables) -> list[dict]:
+    """Every number of the given tables ``(dotted prefix, label, table dict)``, a list of
+    lengths (``radii_mm``) item by item, with a box of +-25 % (angles +-45 deg, an
+    eccentricity within 0..0.95) around the current value; counts and speeds (arms,
+    lobes, teeth, speed) are not edited."""
+    from plantmech.units import unit_of
+
+    out = []
+    for prefix, label, table in tables:
         for key, value in table.items():
-            if isinstance(value, bool) or not isinstance(value, int | float):
+            if isinstance(value, list) and unit_of(key) == "mm" and all(
+                    isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+                items = [(f"{key}.{i}", f"{key} {i}", v) for i, v in enumerate(value)]
+            elif isinstance(value, bool) or not isinstance(value, int | float):
                 continue
-            if key in ("arms", "lobes", "speed_deg_s"):
-                continue
-            path = f"{prefix}.{key}"
-            unit = unit_of(key)
-            if unit == "deg":
-                lo, hi = value - 45.0, value + 45.0
             else:
-                span = 0.25 * abs(value) or 1.0
-                lo, hi = value - span, value + span
-            if key == "eccentricity":
-                lo, hi = max(lo, 0.0), min(hi, 0.95)
-            out.append({"field": path, "label": f"{label} {key}",
-                        "unit": unit, "value": float(value), "min": float(lo),
-                        "max": float(hi)})
+                items = [(key, key, value)]
+            if key in ("arms", "lobes", "teeth", "speed_deg_s"):
+                continue
+            unit = unit_of(key)
+            for sub, name, v in items:
+                if unit == "deg":
+                    lo, hi = v - 45.0, v + 45.0
+                else:
+                    span = 0.25 * abs(v) or 1.0
+                    lo, hi = v - span, v + span
+                if key == "eccentricity":
+                    lo, hi = max(lo, 0.0), min(hi, 0.95)
+                out.append({"field": f"{prefix}.{sub}", "label": f"{label} {name}",
+                            "unit": unit, "value": float(v), "min": float(lo),
+                            "max": float(hi)})
     return out
 
 
@@ -361,6 +377,10 @@ def editable_parameters(design) -> list[dict]:
         return []
     if design.mechanism == "planetary":
         return _planetary_parameters(design)
+    if design.mechanism == "rice_transplanter_khv":  # no optimizer bounds: its numbers
+        data = design_json(design)
+        return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
+            "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])
     from plantmech.optimize.problems import Transplanter
 
     gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"

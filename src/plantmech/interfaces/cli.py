@@ -138,8 +138,8 @@ def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
     forward``, ``plantmech gears``, ``plantmech optimize --problem planetary``,
     ``plantmech inverse`` (from a [trajectory]), ``plantmech verify`` and the app so far;
-    any other command or problem refuses it by name (DesignError, exit 2), and
-    ``--report`` on it too."""
+    any other command or problem refuses it by name (DesignError, exit 2). ``--report``
+    of forward, gears, optimize, study and design takes it; of inverse not yet."""
     from plantmech.design import DesignError
 
     command = getattr(args, "command", None)
@@ -157,7 +157,8 @@ def refuse_planetary(args, design) -> None:
         raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
                           f"optimized with --problem planetary ('{problem}' is for the seeder "
                           "and the rice transplanters)")
-    if command not in ("forward", "study", "design") and getattr(args, "report", False):
+    if command not in ("forward", "gears", "optimize", "study", "design") \
+            and getattr(args, "report", False):
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
                           "verification.json without it)")

@@ -78,6 +78,13 @@ def design_animation(design):
     from plantmech.workflows import run_seeder_forward, run_transplanter
 
     try:
+        if design.mechanism == "planetary":
+            from plantmech.outputs.report import planetary_animation
+            from plantmech.trains.model import simulate
+            from plantmech.trains.spec import build_from_design
+
+            return planetary_animation(design, simulate(build_from_design(design),
+                                                        design.samples))
         if design.mechanism == "sugarcane_seeder":
             return seeder_forward_animation(run_seeder_forward(design))
         return transplanter_animation(run_transplanter(design))

@@ -141,6 +141,10 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
             prefer_standard_teeth(problem, res, extra["design_choices"])
         else:
             problem = make_problem(design, name, layer2_points, manufacturability)
+            if name == "planetary" and problem.design_choices():
+                extra["design_choices"] = problem.design_choices()
+                if progress:
+                    print("variables: " + problem.design_choices()["variables"]["value"])
             res = run(problem, algorithm, seed, generations, pop, progress,
                       stop_when_feasible=algorithm != "nsga2")
         written, rec = write_run(out, res, problem, design_input, recheck, extra)
