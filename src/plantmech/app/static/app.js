@@ -22,6 +22,7 @@ const state = {
 window.__plantmech = state; // for the tests and the benchmark
 window.__dragTimes = [];
 window.__dragBreakdown = []; // per drawn drag answer: where the milliseconds went
+window.__answers = []; // the quality of every drawn answer, in order (the tests count them)
 
 // ---------------------------------------------------------------- server calls
 async function api(path, body) {
@@ -187,6 +188,7 @@ async function evaluate(quality, t0 = null) {
     const res = a.res;
     if (a.status !== 200) { const e = new Error(res.error || `${a.status}`); e.data = res; e.status = a.status; throw e; }
     state.fieldErrors = [];
+    window.__answers.push(quality);
     state.result = res;
     if (quality === "full") state.fullResult = res;
     if (res.feasible && frameCount(res)) state.lastFeasible = res;
@@ -314,6 +316,7 @@ function drawLegend(ctx, canvas, entries) {
     ctx.fillStyle = "#111"; ctx.fillText(label, x + 24, yy);
   });
   canvas.legendBox = { x, y, w, h };
+  canvas.legendEntries = entries.map((e) => e[1]);
 }
 
 // the moving parts of a result at frame f: gears on their pitch curves (or cut teeth),
@@ -892,6 +895,8 @@ function drawRadiiEditor(c) {
     ctx.beginPath(); ctx.arc(h.x, h.y, on ? 7 : 5, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
   }
 }
+// the radius handles where they are drawn (canvas pixels; for the tests)
+window.__radiusHandles = () => { const c = $("radii"); return c ? radiusHandles(c, radiiLayout(c)) : []; };
 function setupRadiiDrag(c) {
   const hit = (ev) => {
     const [px, py] = canvasPoint(ev, c), r2 = pickRadius(c) ** 2;
