@@ -87,13 +87,24 @@ def test_seeder_make_panel_carries_the_verdict_of_verification_json(page):
     assert links.count() == len([f for f in rec["files"] if not f.endswith(".png")]) + 1
     assert all("not-ok" in (links.nth(k).get_attribute("class") or "")
                for k in range(links.count()))
-    # an edit of the design: the cut belongs to an earlier version
+    dxf = download(page, "#g-files a:text-is('gear2.dxf')").read_text(errors="replace")
+    assert "SECTION" in dxf and "ENTITIES" in dxf
+    drawn = page.evaluate("Object.entries(window.__plantmech.teeth.gears)"
+                          ".filter(([, e]) => e.drawn).map(([k]) => k).sort()")
+    assert drawn == ["gear2", "gear3", "planet", "sun"]
+    assert "Teeth as cut" in page.locator("#teeth-note").inner_text()
+    # an edit of the design: the cut belongs to an earlier version (its teeth hidden)
     inp = page.locator("#edit input[data-field='trajectory.points.12.0']")
     inp.fill(str(float(inp.input_value()) + 1.0))
     inp.press("Enter")
     settle(page)
     assert "STALE" in page.locator("#g-stale").inner_text()
     assert "earlier version" in page.locator("#make-headline").inner_text()
+    assert "design changed" in page.locator("#teeth-note").inner_text()
+    page.click("#undo")  # the cut design is back: so are its teeth, and no stale label
+    settle(page)
+    assert "Teeth as cut" in page.locator("#teeth-note").inner_text()
+    assert page.locator("#g-stale").inner_text() == ""
     # another example: nothing of the seeder's cut stays on offer
     load(page, "rice_transplanter")
     for sel in ("#g-verdict", "#g-files", "#g-status", "#make-headline", "#g-stale"):
