@@ -1021,7 +1021,7 @@ async function startOptimize() {
     const r = await api("/api/optimize", body);
     state.optTask = r.task; state.optResult = null; state.optSelected = null;
     state.optKey = JSON.stringify(body.design);
-    state.optStart = { design: clone(body.design), met: state.fullResult ? checksMet(state.fullResult.checks) : null };
+    state.optStart = { design: clone(body.design), checks: state.fullResult ? state.fullResult.checks : null };
     (state.running ||= new Set()).add(r.task);
     $("opt-cancel").disabled = false; $("opt-start").disabled = true; $("opt-changes").innerHTML = "";
     markStale();
@@ -1071,7 +1071,12 @@ async function pollOptimize(task) {
     return;
   }
   const r = st.result; state.optResult = r;
-  const after = checksMet(r.result_checks), before = state.optStart && state.optStart.met;
+  // the start and the result counted on the same checks: the run's rows the start has too
+  const startRows = state.optStart && state.optStart.checks;
+  const named = new Map((startRows || []).map((c) => [c.name, c]));
+  const common = (r.result_checks || []).filter((c) => named.has(c.name));
+  const after = checksMet(startRows ? common : r.result_checks);
+  const before = startRows ? checksMet(common.map((c) => ({ ...named.get(c.name), required: c.required }))) : null;
   const worse = before && after[0] < before[0];
   const counts = before ? `checks met: start ${before[0]}/${before[1]} → result ${after[0]}/${after[1]}` : `checks met by the result: ${after[0]}/${after[1]}`;
   const files = r.files.map((f) => `<a href="/api/tasks/${task}/files/${f}" download>${f}</a>`).join(" ");
@@ -1081,7 +1086,7 @@ async function pollOptimize(task) {
   const changes = [];
   const walk = (a, b, path) => {
     if (typeof a === "number" && typeof b === "number") { if (Math.abs(a - b) > 1e-9 * Math.max(1, Math.abs(a))) changes.push([path, a, b]); return; }
-    if (a && b && typeof a === "object" && typeof b === "object") for (const k of Object.keys(b)) walk(a[k], b[k], path ? `${path}.${k}` : k);
+    if (a && b && typeof a === "object" && typeof b === "object") { for (const k of Object.keys(b)) if (path || !["name", "description"].includes(k)) walk(a[k], b[k], path ? `${path}.${k}` : k); }
     else if (JSON.stringify(a) !== JSON.stringify(b)) changes.push([path, a, b]);
   };
   if (state.optStart) walk(state.optStart.design, r.best_design, "");
