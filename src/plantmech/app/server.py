@@ -755,9 +755,10 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
         if mechanism == "planetary":  # the fields its [optimize.variables] frees
             names = ["planetary"]
-        else:
-            names = [p for p in PROBLEMS if p != "planetary"
-                     and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
+        elif mechanism == "sugarcane_seeder":
+            names = [p for p in PROBLEMS if p.startswith("seeder-")]
+        else:  # the transplanter problem takes a rice_transplanter design only
+            names = ["transplanter"] if mechanism == "rice_transplanter" else []
         out = []
         for p in names:  # the app requires manufacturability (the job's defaults with it)
             algo, gen, pop, stages = job_defaults(p)

@@ -974,10 +974,12 @@ async function refreshProblems() {
   // a general train is optimized over the fields its file frees: without them there is
   // nothing to run, and the page says so instead of offering a run that can only fail
   const free = state.design.mechanism !== "planetary" || !!state.design.optimize;
+  const none = !r.problems.length;
   const running = !$("opt-cancel").disabled;
-  if (!running) $("opt-start").disabled = !free;
-  if (!free && !running) $("opt-status").textContent = "this file frees no field: add [optimize.variables] (dotted paths with bounds) to optimize it";
-  else if (free && !running && $("opt-status").textContent.startsWith("this file frees no field")) $("opt-status").textContent = "";
+  if (!running) $("opt-start").disabled = !free || none;
+  const why = none ? `no optimizer problem takes a ${state.design.mechanism} design yet: edit its numbers by hand`
+    : (!free ? "this file frees no field: add [optimize.variables] (dotted paths with bounds) to optimize it" : "");
+  if (!running && (why || /^(this file frees no field|no optimizer problem)/.test($("opt-status").textContent))) $("opt-status").textContent = why;
 }
 
 // Results belong to the design they were computed for: another example or file clears
@@ -1033,15 +1035,14 @@ async function startOptimize() {
 }
 
 // progress in order: a stage is a run of generations under one name; a new name, or the
-// generation count starting again, is the next stage (restarts of a staged job)
+// generation count starting again, is the next stage (the restarts of a staged job).
+// Each stage: its name and the index of its first generation in the history.
 function stagesOf(hist) {
   const out = [];
-  for (const h of hist) {
-    const last = out[out.length - 1];
-    if (!last || h.stage !== last.name || h.generation < last.generation) out.push({ name: h.stage, generation: h.generation, generations: h.generations, start: out.length ? out[out.length - 1].end : 0, end: 0 });
-    const cur = out[out.length - 1]; cur.generation = h.generation; cur.generations = h.generations; cur.end = cur.start + 1;
-  }
-  let n = 0; for (const s of out) { s.start = n; n += 1; }
+  hist.forEach((h, i) => {
+    const prev = i ? hist[i - 1] : null;
+    if (!prev || h.stage !== prev.stage || h.generation <= prev.generation) out.push({ name: h.stage, first: i });
+  });
   return out;
 }
 
@@ -1059,7 +1060,10 @@ async function pollOptimize(task) {
     const k = stages.length;
     $("opt-status").textContent = pr ? `running ${st.elapsed_s.toFixed(0)} s — stage ${k} (${pr.stage || "optimizer"}): generation ${pr.generation}/${pr.generations}, best violation in this stage ${pr.best_violation.toPrecision(4)}, designs meeting all: ${pr.feasible_in_population}`
       : `starting (${st.elapsed_s.toFixed(0)} s)…`;
-    drawHistory(hist.map((h, i) => i + 1), hist.map((h) => h.best_violation), `generation (all ${k} stage${k === 1 ? "" : "s"} in order; each stage starts afresh)`);
+    // every stage shaded and named: its best violation starts afresh
+    const spans = stages.map((st, j) => ({ from: st.first + 0.5, to: j + 1 < k ? stages[j + 1].first + 0.5 : hist.length + 0.5,
+      label: `stage ${j + 1}`, color: j % 2 ? "rgba(37,99,235,0.08)" : "rgba(107,114,128,0.10)" }));
+    drawHistory(hist.map((h, i) => i + 1), hist.map((h) => h.best_violation), `generation (all ${k} stage${k === 1 ? "" : "s"} in order; each stage starts afresh)`, spans);
     setTimeout(() => pollOptimize(task), 500);
     return;
   }
@@ -1099,8 +1103,9 @@ async function pollOptimize(task) {
   drawPareto();
 }
 
-function drawHistory(x, y, xlabel) {
-  linePlot($("opt-history"), { title: "convergence", xlabel, ylabel: "best total violation", logy: true,
+function drawHistory(x, y, xlabel, spans = []) {
+  linePlot($("opt-history"), { title: "convergence", xlabel, ylabel: "best total violation", logy: true, spans,
+    xmin: x.length ? Math.min(...x) - 0.5 : undefined, xmax: x.length ? Math.max(...x) + 0.5 : undefined,
     series: [{ x, y: y.map((v) => Math.max(v, 1e-6)), color: "#111" }], empty: "no run yet" });
 }
 
