@@ -996,7 +996,8 @@ function clearTasks() {
 }
 
 function markStale() {
-  const key = state.design ? JSON.stringify(state.design) : null;
+  // (the design serialized only while there is a result to compare it with)
+  const key = state.design && (state.gearKey || state.optKey) ? JSON.stringify(state.design) : null;
   const gStale = !!state.gearKey && state.gearKey !== key, oStale = !!state.optKey && state.optKey !== key;
   $("make-panel").classList.toggle("stale", gStale);
   $("opt-panel").classList.toggle("stale", oStale);
