@@ -408,6 +408,7 @@ def test_optimize_reports_stages_counts_changes_tradeoff_and_cancel(page):
     page.mouse.click(x, y)
     page.wait_for_function("window.__plantmech.name.includes('optimized')")
     settle(page)
+    assert page.locator("#opt-stale").inner_text() == ""  # the run's own design
     page.click("#undo")
     page.wait_for_function(f"window.__plantmech.name === {json.dumps(name)}")
     settle(page)

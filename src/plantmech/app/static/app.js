@@ -17,7 +17,7 @@ const state = {
   undo: [], redo: [], frame: 0, playing: true, speed: 1, lastT: null,
   view: null, drag: null, inflight: false, pending: null, seq: 0, shown: 0,
   fieldErrors: [], optTask: null, optResult: null, optSelected: null, gearTask: null,
-  hover: -1, lastFeasible: null, gearKey: null, optKey: null,
+  hover: -1, lastFeasible: null, gearKey: null, optKeys: new Set(),
 };
 window.__plantmech = state; // for the tests and the benchmark
 window.__dragTimes = [];
@@ -986,7 +986,7 @@ async function refreshProblems() {
 // them (a running task is cancelled); an edit of the design labels them stale.
 function clearTasks() {
   for (const t of [state.optTask, state.gearTask]) if (t && state.running && state.running.has(t)) api(`/api/tasks/${t}/cancel`, {}).catch(() => {});
-  state.optTask = null; state.optResult = null; state.optSelected = null; state.optKey = null;
+  state.optTask = null; state.optResult = null; state.optSelected = null; state.optKeys = new Set();
   state.gearTask = null; state.gearKey = null; state.teeth = null; state.gearVerdict = null;
   for (const id of ["opt-status", "opt-changes", "g-status", "g-files", "g-images", "g-verdict", "make-headline"]) $(id).innerHTML = "";
   $("opt-cancel").disabled = true; $("opt-start").disabled = false; $("g-start").disabled = false;
@@ -997,8 +997,9 @@ function clearTasks() {
 
 function markStale() {
   // (the design serialized only while there is a result to compare it with)
-  const key = state.design && (state.gearKey || state.optKey) ? JSON.stringify(state.design) : null;
-  const gStale = !!state.gearKey && state.gearKey !== key, oStale = !!state.optKey && state.optKey !== key;
+  const key = state.design && (state.gearKey || state.optKeys.size) ? JSON.stringify(state.design) : null;
+  // a run belongs to the design it started from and to the designs loaded from it
+  const gStale = !!state.gearKey && state.gearKey !== key, oStale = !!state.optKeys.size && !state.optKeys.has(key);
   $("make-panel").classList.toggle("stale", gStale);
   $("opt-panel").classList.toggle("stale", oStale);
   const g = $("g-stale"), o = $("opt-stale");
@@ -1023,7 +1024,7 @@ async function startOptimize() {
   try {
     const r = await api("/api/optimize", body);
     state.optTask = r.task; state.optResult = null; state.optSelected = null;
-    state.optKey = JSON.stringify(body.design);
+    state.optKeys = new Set([JSON.stringify(body.design)]);
     state.optStart = { design: clone(body.design), checks: state.fullResult ? state.fullResult.checks : null };
     (state.running ||= new Set()).add(r.task);
     $("opt-cancel").disabled = false; $("opt-start").disabled = true; $("opt-changes").innerHTML = "";
@@ -1128,14 +1129,20 @@ function drawPareto() {
     xlabel: a.replaceAll("_", " "), ylabel: b.replaceAll("_", " "), selected: state.optSelected });
 }
 
+function loadFromRun(design, name) {
+  loadDesign(design, name, true);
+  state.optKeys.add(JSON.stringify(state.design));
+  markStale();
+}
+
 function pickPareto(ev) {
   const r = state.optResult; if (!r) return;
-  if ($("opt-pareto").dataset.kind === "tradeoff") { loadDesign(r.best_design, `${state.name} (optimized, best)`, true); return; }
+  if ($("opt-pareto").dataset.kind === "tradeoff") { loadFromRun(r.best_design, `${state.name} (optimized, best)`); return; }
   const i = pickPoint($("opt-pareto"), ev);
   if (i === null) return;
   state.optSelected = i;
   const d = r.pareto_designs ? r.pareto_designs[i] : r.best_design;
-  loadDesign(d, `${state.name} (optimized, point ${i + 1})`, true);
+  loadFromRun(d, `${state.name} (optimized, point ${i + 1})`);
   drawPareto();
 }
 
