@@ -150,6 +150,18 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
         else:
             objectives = [k for k in pareto if k in (rec.get("objectives_minimized") or [])]
         files = ["best.toml", "run.json", "history.csv", "pareto.csv"]
+        # nothing meets everything: the run's trade-off archive (agronomic against
+        # manufacturability) is what the page draws
+        tradeoff = None
+        for rel in ("tradeoff.csv", "layer2/tradeoff.csv"):
+            if (run_dir / rel).is_file():
+                tradeoff = _read_csv(run_dir / rel)
+                if "/" not in rel:
+                    files.append(rel)
+                break
+        from plantmech.optimize.jobs import summary_lines
+
+        verified = rec.get("verified_full_resolution")
         from plantmech.design import load_design
 
         best_json = load_design(run_dir / "best.toml").model_dump(mode="json",
@@ -159,7 +171,11 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
                         "history": hist, "pareto": pareto, "objectives": objectives,
                         "pareto_designs": designs, "best_design": best_json,
                         "best_toml": best, "files": files,
-                        "note": rec.get("note")}))
+                        "note": rec.get("note"), "tradeoff": tradeoff,
+                        # the rows the run's verdict judges, and its printed summary
+                        "result_checks": (verified or {}).get("objectives")
+                        or rec.get("objectives") or [],
+                        "summary": summary_lines(rec)}))
     except Exception as exc:  # noqa: BLE001 - reported to the page, never a traceback
         q.put(("error", f"{type(exc).__name__}: {exc}"))
 
@@ -184,8 +200,14 @@ def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
             teeth = scene.teeth_for_scene(drawn, outlines)
         except Exception as exc:  # noqa: BLE001 - the page then draws pitch curves only
             teeth = {"error": f"{type(exc).__name__}: {exc}"}
+        from plantmech.gears.findings import describe, headline
+
+        # the verdict of verification.json as `plantmech gears` prints it, with its findings
         q.put(("done", {"record": rec, "files": list(rec["files"]) + ["verification.json"],
-                        "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth}))
+                        "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth,
+                        "verdict": rec["verdict"], "headline": headline(rec),
+                        "findings": [{"gear": f["gear"], "check": f["check"],
+                                      "text": describe(f)} for f in rec["findings"]]}))
     except Exception as exc:  # noqa: BLE001
         q.put(("error", f"{type(exc).__name__}: {exc}"))
 

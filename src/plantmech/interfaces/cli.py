@@ -391,7 +391,7 @@ def _gears(args) -> int:
 
 
 def _gears_body(args, design, run) -> int:
-    from plantmech.gears.findings import VERDICT_OK, describe
+    from plantmech.gears.findings import VERDICT_OK, describe, headline
     from plantmech.gears.manufacturability import rules_for
     from plantmech.workflows import run_gears
 
@@ -435,9 +435,7 @@ def _gears_body(args, design, run) -> int:
     for f in rec["findings"]:
         print(f"  NOT OK {describe(f)}")
     ok = rec["verdict"] == VERDICT_OK
-    print("verdict: ok - every gear can be cut, the pairs mesh, every file is what it claims"
-          if ok else f"verdict: NOT MET - {rec['verdict']}: {len(rec['findings'])} findings on "
-          f"{len(failed)} gears or pairs")
+    print(f"verdict: {headline(rec)}")
     return EXIT_OK if ok else EXIT_NOT_MET
 
 

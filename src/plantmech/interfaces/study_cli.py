@@ -94,9 +94,8 @@ def _body(args, design, run, spec) -> int:
     from plantmech.outputs import signals
     from plantmech.studies.engine import StudyStateError
     from plantmech.studies.parameters import StudyInputError
-    from plantmech.workflows import InfeasibleDesign
-
     from plantmech.studies.spec import StudySpecError
+    from plantmech.workflows import InfeasibleDesign
 
     try:  # the spec against the design, before any work: a refusal keeps nothing
         if spec.kind == "multi-start":

@@ -85,10 +85,9 @@ def _body(args, design, run) -> int:
               "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
               "planetary trains", file=sys.stderr)
         return EXIT_INPUT
-    try:  # the inputs read before --out is made: a refusal leaves nothing behind
+    try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
-        out = prepare_out_dir(args.out, [Path(args.design), gears_dir])
-    except (GearFileError, OutputError) as exc:
+    except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if design.mechanism == "planetary":
