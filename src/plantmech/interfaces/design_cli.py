@@ -55,5 +55,6 @@ def _body(args, design, run) -> int:
     print(_wrote(run, [p for p in outcome.written if p.parent == run.path]))
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
-                          "the workshop files are written (design.toml, gears/)"))
+                          "the workshop files are written (design.toml, gears/)",
+                       rec.get("caveats", ())))
     return v["exit_code"]
