@@ -128,3 +128,71 @@ def test_material_is_read_from_the_design_file():
     doc["manufacturing"] = {"material": "wood"}
     with pytest.raises(DesignError, match="manufacturing.material"):
         load_design(doc, name="d.toml")
+
+
+def test_planetary_contacts_follow_the_ellipse():
+    """Three identical ellipses (A = 25, e = 0.18) rolling about their foci: at every
+    contact each gear's radius of curvature is the ellipse's, (r (2A - r))^1.5 / (A B) at
+    focal radius r (B^2 / A at the near vertex, A^2 / B at the minor one); arm 2 is found by
+    the carrier shift that reproduces its contact radii."""
+    from plantmech.design import load_design
+
+    design = load_design(EXAMPLES / "rotary_transplanter_elliptic.toml")
+    A, e = 25.0, 0.18
+    B = A * np.sqrt(1 - e**2)
+    psi = np.linspace(0, 2 * np.pi, 721)[:-1]
+    geo = st.planetary_contacts(design, psi)
+    assert set(geo) == {"sun_idler1_1", "idler1_planet_1", "sun_idler1_2", "idler1_planet_2"}
+    for g in geo.values():
+        assert g["shift_error_mm"] < 1e-3 and g["module_mm"] > 0
+        r = g["radius_driven"]
+        expect = (r * (2 * A - r)) ** 1.5 / (A * B)
+        assert np.allclose(g["rho"][0], expect, rtol=2e-3)
+        # the two gears touch where they are alike: the same curvature
+        assert np.allclose(g["rho"][1], g["rho"][0], rtol=2e-3)
+        assert g["rho"][0].min() == pytest.approx(B**2 / A, rel=2e-3)
+        assert g["rho"][0].max() == pytest.approx(A**2 / B, rel=2e-3)
+
+
+def test_circular_planetary_strength_equals_the_hand_calculation(tmp_path):
+    """The elliptic train made circular (e = 0, one arm): three 25 mm gears at module 2.5
+    (20 teeth each, a standard module); from the multibody loads, the table's flank stress at
+    its worst step equals ISO 6336-2's by hand from that step's tooth force (mu = 0: F_t =
+    T / r), and the root stress ISO 6336-3's with the form factors of 20 teeth."""
+    from plantmech.contact.loads import LoadSpec
+    from plantmech.contact.outlines import read_gear_dxf
+    from plantmech.contact.planetary import gear_file_names, planetary_loads
+    from plantmech.design import load_design
+    from plantmech.interfaces.cli import main
+
+    text = (EXAMPLES / "rotary_transplanter_elliptic.toml").read_text()
+    text = text.replace("eccentricity = 0.18", "eccentricity = 0.0").replace("arms = 2 ",
+                                                                             "arms = 1 ")
+    text = text.replace("special_module = true", "special_module = false")
+    path = tmp_path / "circular.toml"
+    path.write_text(text)
+    gdir = tmp_path / "g"
+    assert main(["gears", str(path), "--out", str(gdir), "--module", "2.5"]) == 0
+    design = load_design(path)
+    gears = {n: read_gear_dxf(gdir / f"{n}.dxf", n) for n in gear_file_names(design)}
+    assert all(g.teeth == 20 for g in gears.values())
+    loads = planetary_loads(design, gears, LoadSpec(), samples=720, steps=360)
+    rec = st.strength_record(design, gears, loads, 12.0)
+    rows = {g["gear"]: g for g in rec["gears"]}
+    assert set(rows) == {"idler1", "sun", "planet"}
+    K_A, b, m, r = st.Rating().K_A, 12.0, 2.5, 25.0
+    eps = _hand_contact_ratio(20, 20, m)
+    force = {k[len("tooth_force_"):-2]: v for k, v in loads["series"].items()
+             if k.startswith("tooth_force_")}
+    psi = np.asarray(loads["series"]["carrier_angle_deg"])
+    w = rows["planet"]["flank"]
+    F = float(np.interp(w["carrier_angle_deg"], psi, force["idler1_planet"]))
+    hand_h = 2.495 * 189.8 * np.sqrt((4 - eps) / 3) * np.sqrt(K_A * F * 2 / (b * 2 * r))
+    assert w["stress_MPa"] == pytest.approx(hand_h, rel=0.02)
+    assert w["tangential_force_N"] == pytest.approx(F, rel=0.01)
+    yf, ys = st.form_factors(np.array([20.0]), A20, 1.25, 0.38, eps=np.array([eps]))
+    root = rows["planet"]["root"]
+    F = float(np.interp(root["carrier_angle_deg"], psi, force["idler1_planet"]))
+    assert root["stress_MPa"] == pytest.approx(K_A * F / (b * m) * yf[0] * ys[0], rel=0.02)
+    assert root["safety"] == pytest.approx(2 * 250 / root["stress_MPa"], rel=1e-3)
+    assert rec["shafts"][0]["gear"] == "planet"

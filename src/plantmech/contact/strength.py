@@ -335,12 +335,84 @@ def _module_of(design, gears) -> float:
     return float(internal_perimeter(pair)[0]) / (np.pi * gears["internal"].teeth)
 
 
+def _periodic_interp(theta, grid_values):
+    """Values of a quantity tabulated on the uniform body-angle grid 2 pi k / N, at
+    ``theta`` (rad, any real), linear."""
+    n = grid_values.shape[-1]
+    grid = TWO_PI * np.arange(n) / n
+    return np.interp(np.mod(theta, TWO_PI), grid, grid_values, period=TWO_PI)
+
+
+def planetary_contacts(design, psi, gears: dict | None = None) -> dict:
+    """Per pair and arm (the loads' mesh names ``<driver>_<follower>[_<arm>]``): at carrier
+    angles ``psi`` (rad, the carrier's own sense from the start) the signed radii of
+    curvature (mm, a ring's material concave: negative) of the follower (gear 1, the one the
+    mesh torque is on) and the driver (gear 2) at the contact, the follower's pitch radius
+    there, the lean mu (rad), the body angles of the contact (``trains.model.
+    contact_angles``; arm j's found by the carrier shift that gives its contact radii), and
+    the pair's module: its follower's pitch perimeter over pi z, z the teeth found on its
+    file's outline (``gears``), else ``trains.gearing.pair_modules`` (the modules
+    ``plantmech gears`` cuts without --module)."""
+    from plantmech.geometry.periodic import polar_curvature_radius
+    from plantmech.trains.curves import second_derivative
+    from plantmech.trains.gearing import _perimeter, built_train, gear_names, pair_modules
+    from plantmech.trains.model import contact_angles, simulate
+
+    built = built_train(design)
+    motion = simulate(built, design.samples)
+    names = gear_names(design)
+    modules = [m["module_mm"] for m in pair_modules(design, built)]
+    for k, (_, follower) in enumerate(names):
+        if gears and follower in gears and gears[follower].teeth:
+            modules[k] = _perimeter(built.followers[k], 3000) / (np.pi * gears[follower].teeth)
+    J = motion.tip.shape[1]
+    psi = np.asarray(psi, dtype=float)
+    curv = []
+    for k in range(len(built.laws)):
+        kind = built.train.pairs[k].kind
+        out = []
+        for curve, ring in ((built.followers[k], kind == "internal_ring_follower"),
+                            (built.drivers[k], kind == "internal")):
+            rc = polar_curvature_radius(curve.r[:1], curve.dr[:1],
+                                        second_derivative(curve)[:1], 1.0, 0.0)[0]
+            out.append((-rc if ring else rc, curve.r[0], curve.dr[0]))
+        curv.append(out)
+    grid = motion.carrier_angle
+    result = {}
+    for j in range(J):
+        # arm j meets the fixed parts as arm 0 does a carrier shift earlier or later: the
+        # shift whose follower radii are arm j's (motion.contact_radii)
+        best = None
+        for shift in ((0.0,) if j == 0 else (TWO_PI * j / J, -TWO_PI * j / J)):
+            ang = contact_angles(built, grid + shift)
+            err = max(float(np.abs(_periodic_interp(ang[k][1][0], curv[k][0][1])
+                                   - motion.contact_radii[k][1][0, j]).max())
+                      for k in range(len(built.laws)))
+            if best is None or err < best[0]:
+                best = (err, shift)
+        angles = contact_angles(built, psi + best[1])
+        for k in range(len(built.laws)):
+            th_f, th_d = angles[k][1][0], angles[k][0][0]
+            (rho_f, r_f, _), (rho_d, r_d, dr_d) = curv[k]
+            label = f"{names[k][0]}_{names[k][1]}" + ("" if J == 1 else f"_{j + 1}")
+            result[label] = {
+                "arm": j + 1, "gears": (names[k][1], names[k][0]), "module_mm": modules[k],
+                "rho": (_periodic_interp(th_f, rho_f), _periodic_interp(th_d, rho_d)),
+                "radius_driven": _periodic_interp(th_f, r_f),
+                "mu": np.arctan(np.abs(_periodic_interp(th_d, dr_d))
+                                / _periodic_interp(th_d, r_d)),
+                "body_angle": (np.mod(th_f, TWO_PI), np.mod(th_d, TWO_PI)),
+                "shift_error_mm": best[0]}
+    return result
+
+
 def strength_record(design, gears: dict, loads: dict, face_width_mm: float) -> dict:
-    """The strength table of a differential transplanter's gears and the planet's shaft from
-    ``plantmech verify``'s loads (``contact/transplanter_loads.differential_loads``): per
-    gear the largest root and flank stress over every arm and carrier step and the smallest
-    safety with its arm, carrier angle and tooth; the shaft in the planet's bore; the
-    findings (``gears.findings``) of every safety below its minimum."""
+    """The strength table of a train's gears and the planet's shaft from ``plantmech
+    verify``'s loads (the differential transplanter's, ``contact/transplanter_loads``; a
+    general planetary train's, ``contact/planetary``): per gear the largest root and flank
+    stress over every arm and carrier step and the smallest safety with its arm, carrier
+    angle and tooth; the shaft in the planet's bore; the findings (``gears.findings``) of
+    every safety below its minimum."""
     from plantmech.gears.findings import finding
     from plantmech.gears.manufacturability import rules_for
 
@@ -348,22 +420,31 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float) -> d
     material = material_of(design)
     rating = Rating()
     alpha = rules.alpha
-    m = _module_of(design, gears)
     series = loads["series"]
     psi = np.radians(np.asarray(series["carrier_angle_deg"], dtype=float))
-    geo = differential_contacts(design, psi)
-    worst: dict[str, dict] = {}
+    if design.mechanism == "rice_transplanter":
+        geo = differential_contacts(design, psi)
+        m = _module_of(design, gears)
+        for g in geo.values():
+            g["module_mm"] = m
+    else:
+        geo = planetary_contacts(design, psi, gears)
+    worst: dict[tuple, dict] = {}
     shaft_load = {"torque": 0.0, "normal": 0.0}
+    order: list[str] = []
     for name, g in geo.items():
         force = np.asarray(series[f"tooth_force_{name}_N"], dtype=float)
-        torque = force * g["radius_driven"] * 1e-3  # N m on the planet
+        torque = force * g["radius_driven"] * 1e-3  # N m on the driven gear
         F_t = tangential_force(torque, g["radius_driven"], g["mu"], alpha)
+        m = g["module_mm"]
         s = pair_stresses(F_t, face_width_mm, m, *g["rho"], alpha, rules.addendum,
                           rules.dedendum, material, rating)
-        F_n = F_t / np.cos(alpha)
-        shaft_load["torque"] = max(shaft_load["torque"], float(np.abs(torque).max()))
-        shaft_load["normal"] = max(shaft_load["normal"], float(F_n.max()))
+        if g["gears"][0] == "planet":
+            shaft_load["torque"] = max(shaft_load["torque"], float(np.abs(torque).max()))
+            shaft_load["normal"] = max(shaft_load["normal"], float((F_t / np.cos(alpha)).max()))
         for idx, gear in enumerate(g["gears"]):
+            if gear not in order:
+                order.append(gear)
             root = s[f"sigma_F_{idx + 1}_MPa"]
             for kind, stress in (("root", root), ("flank", s["sigma_H_MPa"])):
                 t = int(np.nanargmax(stress))
@@ -372,22 +453,24 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float) -> d
                     continue
                 body = float(g["body_angle"][idx][t])
                 worst[key] = {
-                    "stress_MPa": float(stress[t]), "arm": g["arm"],
+                    "stress_MPa": float(stress[t]), "arm": g["arm"], "module_mm": m,
                     "carrier_angle_deg": round(float(np.degrees(psi[t])), 2),
-                    "tooth": int(gears[gear].tooth_at(body)),
+                    "tooth": int(gears[gear].tooth_at(body)) if gear in gears else None,
                     "body_angle_deg": round(float(np.degrees(body)), 2),
                     "equivalent_teeth": round(float(s[f"z_{idx + 1}"][t]), 2),
                     "tangential_force_N": round(float(F_t[t]), 1),
                     "working_pressure_angle_deg": round(float(np.degrees(alpha + g["mu"][t])),
                                                         2)}
     table, findings, checks = [], [], []
-    for gear in ("planet", "internal"):
-        row = {"gear": gear, "teeth": gears[gear].teeth, "module_mm": round(m, 4)}
+    for gear in order:
+        row = {"gear": gear, "teeth": gears[gear].teeth,
+               "module_mm": round(worst[(gear, "root")]["module_mm"], 4)}
         for kind, limit, smin in (("root", material.root_limit_MPa, material.min_root_safety),
                                   ("flank", material.sigma_Hlim_MPa,
                                    material.min_flank_safety)):
             w = worst[(gear, kind)]
             safety = limit / w["stress_MPa"] if w["stress_MPa"] > 0 else np.inf
+            w = {k: v for k, v in w.items() if k != "module_mm"}
             row[kind] = dict(w, stress_MPa=round(w["stress_MPa"], 2),
                              safety=round(float(safety), 3), min_safety=smin,
                              limit_MPa=limit)

@@ -238,9 +238,10 @@ def _record_strength(rec: dict, design, gears, loads, face_width_mm: float) -> N
     if loads is None:
         rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
         return
-    if design.mechanism != "rice_transplanter":
+    if design.mechanism not in ("rice_transplanter", "planetary"):
         rec["strength"] = {"not_computed": "the replacement-gear rating is wired for the "
-                           "differential transplanter only (contact/strength.py)"}
+                           "differential transplanter and the general planetary train "
+                           "(contact/strength.py); this train's contact geometry is not"}
         return
     from plantmech.contact.strength import strength_record
 
