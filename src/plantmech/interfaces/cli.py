@@ -360,11 +360,11 @@ def _optimize_body(args, design, run) -> int:
     for line in summary_lines(outcome.record):
         print(line)
     written = list(outcome.written)
+    cav = _optimize_caveats(design, out, outcome.record)
     if args.report:
         from plantmech.interfaces.report_cli import optimize_report
 
         written += optimize_report(args, out, outcome)
-    cav = _optimize_caveats(design, out, outcome.record)
     print(_wrote(run, written))
     v = outcome.record["verdict"]
     print(verdict_line(v, "best.toml meets every objective"
