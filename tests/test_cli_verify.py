@@ -264,6 +264,11 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     assert rec["teeth_found_on_outlines"] == {"sun": 20, "middle": 20, "planet": 20}
     assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
     assert len(rec["loads"]["tangential_tooth_force_N"]) == 4  # 2 pairs x 2 arms
+    # the strength table: every gear of both pairs, the sun's worst tooth located
+    rows = {g["gear"]: g for g in rec["strength"]["gears"]}
+    assert set(rows) == {"sun", "middle", "planet"}
+    assert 1 <= rows["sun"]["flank"]["tooth"] <= 20
+    assert all(rows[g][k]["safety"] > 0 for g in rows for k in ("root", "flank"))
     assert rec["ok"] and rc == 0
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000

@@ -196,3 +196,25 @@ def test_circular_planetary_strength_equals_the_hand_calculation(tmp_path):
     assert root["stress_MPa"] == pytest.approx(K_A * F / (b * m) * yf[0] * ys[0], rel=0.02)
     assert root["safety"] == pytest.approx(2 * 250 / root["stress_MPa"], rel=1e-3)
     assert rec["shafts"][0]["gear"] == "planet"
+
+
+def test_khv_contacts_of_a_circular_train():
+    """A K-H-V train with a circular sun (radius 40 mm): the middle turning once per carrier
+    turn has the sun's radius (a = 80 mm), so every contact's replacement gears are two 40 mm
+    circles, the driven radius 40 mm and mu = 0; the sun's contact body angle runs back
+    with the carrier (carrier0 - psi)."""
+    from plantmech.design import load_design
+
+    doc = tomllib.loads((EXAMPLES / "rice_transplanter_khv.toml").read_text())
+    doc["sun_gear"]["radii_mm"] = [40.0] * len(doc["sun_gear"]["radii_mm"])
+    design = load_design(doc, name="circular_khv.toml")
+    psi = np.linspace(0, 2 * np.pi, 73)[:-1]
+    geo = st.khv_contacts(design, psi)
+    assert len(geo) == 2 * design.carrier.arms
+    for g in geo.values():
+        assert np.allclose(g["rho"][0], 40.0, rtol=1e-4)
+        assert np.allclose(g["rho"][1], 40.0, rtol=1e-4)
+        assert np.allclose(g["radius_driven"], 40.0, rtol=1e-6) and np.allclose(g["mu"], 0)
+    c0 = np.radians(design.carrier.initial_angle_deg)
+    sun_angle = geo["sun_middle_1"]["body_angle"][1]
+    assert np.allclose(np.exp(1j * sun_angle), np.exp(1j * (c0 - psi)))

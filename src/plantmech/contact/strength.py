@@ -325,6 +325,54 @@ def differential_contacts(design, psi) -> dict:
     return out
 
 
+def khv_contacts(design, psi, gears: dict | None = None) -> dict:
+    """Per arm j of a K-H-V train (the loads' meshes ``sun_middle_{j+1}``,
+    ``middle_planet_{j+1}``, ``contact/transplanter_loads.khv_loads``): the signed radii of
+    curvature (mm) of the driven and the driving gear at the contact, the driven gear's
+    pitch radius, mu, and the module (the sun's pitch perimeter over pi z, z its outline's
+    teeth; else the design's sun teeth). The sun contact lies at contact progress sigma =
+    psi + 2 pi j / J (the sun's body angle carrier0 - sigma, its file's frame); the middle
+    meets the planet at sigma' with M(sigma') = M(sigma) + pi, where the planet (the sun's
+    mirror) has the sun's radius r_s(sigma'); the middle is the sun's mate at a: rho = a -
+    r_s, phi' = r_s / (a - r_s). The middle's and the planet's teeth are not located (their
+    file frames follow the contact analysis, ``contact/khv.py``)."""
+    from plantmech.gears.manufacturability import shape_pair
+    from plantmech.gears.teeth import PitchPolyline
+    from plantmech.mechanisms.transplanter_design import simulate_transplanter
+
+    pair, *_ = simulate_transplanter(design, samples=360)
+    sg, rs, a = pair.sigma, pair.r_sun[0], float(pair.a[0])
+    h = sg[1] - sg[0]
+    r1 = np.gradient(rs, h)
+    r2 = np.gradient(r1, h)
+    (sun, mid), mu = shape_pair(sg[:-1], rs[None, :-1], r1[None, :-1], r2[None, :-1], a)
+    rho_s, rho_m, mu = sun.curvature_radius[0], mid.curvature_radius[0], mu[0]
+    Mt = pair.M[0]
+    c0 = float(np.radians(design.carrier.initial_angle_deg))
+    teeth = gears["sun"].teeth if gears and "sun" in gears else design.sun_gear.teeth
+    perim = PitchPolyline.from_polar(sg[:-1], rs[:-1], len(sg) - 1).perimeter
+    m = perim / (np.pi * teeth)
+    J = int(design.carrier.arms)
+    out = {}
+
+    def at(v, x):
+        return np.interp(np.mod(x, TWO_PI), sg[:-1], v, period=TWO_PI)
+
+    for j in range(J):
+        sig = np.asarray(psi, dtype=float) + TWO_PI * j / J
+        s2 = np.interp(np.mod(np.interp(np.mod(sig, TWO_PI), sg, Mt) + np.pi, Mt[-1]), Mt, sg)
+        none = np.full(sig.shape, np.nan)
+        out[f"sun_middle_{j + 1}"] = {
+            "arm": j + 1, "gears": ("middle", "sun"), "module_mm": m,
+            "rho": (at(rho_m, sig), at(rho_s, sig)), "radius_driven": a - at(rs[:-1], sig),
+            "mu": at(mu, sig), "body_angle": (none, np.mod(c0 - sig, TWO_PI))}
+        out[f"middle_planet_{j + 1}"] = {
+            "arm": j + 1, "gears": ("planet", "middle"), "module_mm": m,
+            "rho": (at(rho_s, s2), at(rho_m, s2)), "radius_driven": at(rs[:-1], s2),
+            "mu": at(mu, s2), "body_angle": (none, none)}
+    return out
+
+
 def _module_of(design, gears) -> float:
     """The module (mm) the gear files were cut with: the internal gear's pitch perimeter
     over pi z (z: the teeth found on its outline)."""
@@ -427,6 +475,8 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float) -> d
         m = _module_of(design, gears)
         for g in geo.values():
             g["module_mm"] = m
+    elif design.mechanism == "rice_transplanter_khv":
+        geo = khv_contacts(design, psi, gears)
     else:
         geo = planetary_contacts(design, psi, gears)
     worst: dict[tuple, dict] = {}
@@ -452,11 +502,13 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float) -> d
                 if key in worst and worst[key]["stress_MPa"] >= stress[t]:
                     continue
                 body = float(g["body_angle"][idx][t])
+                body_deg = round(float(np.degrees(body)), 2) if np.isfinite(body) else None
                 worst[key] = {
                     "stress_MPa": float(stress[t]), "arm": g["arm"], "module_mm": m,
                     "carrier_angle_deg": round(float(np.degrees(psi[t])), 2),
-                    "tooth": int(gears[gear].tooth_at(body)) if gear in gears else None,
-                    "body_angle_deg": round(float(np.degrees(body)), 2),
+                    "tooth": int(gears[gear].tooth_at(body))
+                    if gear in gears and np.isfinite(body) else None,
+                    "body_angle_deg": body_deg,
                     "equivalent_teeth": round(float(s[f"z_{idx + 1}"][t]), 2),
                     "tangential_force_N": round(float(F_t[t]), 1),
                     "working_pressure_angle_deg": round(float(np.degrees(alpha + g["mu"][t])),

@@ -238,10 +238,11 @@ def _record_strength(rec: dict, design, gears, loads, face_width_mm: float) -> N
     if loads is None:
         rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
         return
-    if design.mechanism not in ("rice_transplanter", "planetary"):
-        rec["strength"] = {"not_computed": "the replacement-gear rating is wired for the "
-                           "differential transplanter and the general planetary train "
-                           "(contact/strength.py); this train's contact geometry is not"}
+    if design.mechanism == "sugarcane_seeder":
+        rec["strength"] = {"not_computed": "the replacement-gear rating reads the contact "
+                           "geometry of the transplanters and the general planetary train "
+                           "(contact/strength.py); write the seeder as a mechanism = "
+                           "\"planetary\" file (examples/planetary/) to rate it"}
         return
     from plantmech.contact.strength import strength_record
 
@@ -266,7 +267,7 @@ def _strength_lines(st: dict) -> list[str]:
                 f"    {'ok  ' if w['safety'] >= w['min_safety'] else 'FAIL'} {g['gear']:<9} "
                 f"{kind:<5} {w['stress_MPa']:8.1f} MPa  safety {w['safety']:6.2f} (min "
                 f"{w['min_safety']:g})  at arm {w['arm']}, carrier {w['carrier_angle_deg']:.1f}"
-                f" deg, tooth {w['tooth']} (replacement z {w['equivalent_teeth']:g}, F_t "
+                f" deg, tooth {w['tooth'] or '-'} (replacement z {w['equivalent_teeth']:g}, F_t "
                 f"{w['tangential_force_N']:.0f} N)")
     for sh in st["shafts"]:
         if "skipped" in sh:
