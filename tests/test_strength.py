@@ -218,3 +218,15 @@ def test_khv_contacts_of_a_circular_train():
     c0 = np.radians(design.carrier.initial_angle_deg)
     sun_angle = geo["sun_middle_1"]["body_angle"][1]
     assert np.allclose(np.exp(1j * sun_angle), np.exp(1j * (c0 - psi)))
+
+
+def test_tangential_force_grows_with_the_working_pressure_angle():
+    # T = 10 N m at r = 50 mm: T / r = 200 N; at mu = 40.7 deg and a 25 deg tool the flank
+    # pushes at 65.7 deg: F_t = 200 cos 25 / cos 65.7 = 2.2 x 200 N
+    a25 = np.radians(25.0)
+    f = st.tangential_force(10.0, 50.0, np.radians(40.7), a25)
+    assert f == pytest.approx(200 * np.cos(a25) / np.cos(np.radians(65.7)), rel=1e-9)
+    assert f / 200 == pytest.approx(2.2, abs=0.01)
+    # a locking mesh (alpha + mu >= 89 deg): finite, at the 89 deg force, never negative
+    lock = st.tangential_force(10.0, 50.0, np.radians(80.0), a25)
+    assert lock == pytest.approx(200 * np.cos(a25) / np.cos(np.radians(89.0)))

@@ -178,6 +178,8 @@ def form_factors(z, alpha: float, dedendum: float, rack_tip_radius: float, eps=N
     return y_f, y_s
 
 
+#: the working pressure angle (deg) the force model stops at (cos 89 deg = 0.017)
+MAX_WORKING_DEG = 89.0
 #: tooth count a ring's replacement is rated at (ISO 6336-3's basic-rack approximation)
 RACK_TEETH = 2000.0
 
@@ -211,8 +213,12 @@ def pair_stresses(F_t, b: float, m: float, rho1, rho2, alpha: float, addendum: f
 def tangential_force(torque, r, mu, alpha: float):
     """F_t (N) of the replacement gear from the mesh torque on a gear (N m) at pitch radius
     r (mm) of the contact, whose pitch tangent leans mu (rad) off the normal to the radius:
-    F_n = |T| / (r cos(alpha + |mu|)) (the flank leaning the far way), F_t = F_n cos alpha."""
-    cos_w = np.cos(alpha + np.abs(np.asarray(mu, dtype=float)))
+    F_n = |T| / (r cos(alpha + |mu|)) (the flank leaning the far way), F_t = F_n cos alpha;
+    a working pressure angle alpha + |mu| at or beyond ``MAX_WORKING_DEG`` (the flank pushes
+    along the radius: the mesh locks) is taken at it, so the stresses come out huge and the
+    safeties near zero, never negative or infinite."""
+    cos_w = np.maximum(np.cos(alpha + np.abs(np.asarray(mu, dtype=float))),
+                       np.cos(np.radians(MAX_WORKING_DEG)))
     return np.abs(np.asarray(torque, dtype=float)) * 1e3 / (np.asarray(r) * cos_w) \
         * np.cos(alpha)
 
