@@ -176,7 +176,31 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     assert "loads: energy balance error" in {c["name"] for c in rec["checks"]}
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
-    assert "internal -> planet (arm 3)" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "internal -> planet (arm 3)" in printed
+    # the strength table: per gear the worst root and flank stress with its place, the shaft
+    st = rec["strength"]
+    assert [g["gear"] for g in st["gears"]] == ["planet", "internal"]
+    for g in st["gears"]:
+        for kind in ("root", "flank"):
+            w = g[kind]
+            assert w["stress_MPa"] > 0 and w["arm"] in (1, 2, 3)
+            assert 1 <= w["tooth"] <= g["teeth"] and 0 <= w["carrier_angle_deg"] < 360
+            assert w["safety"] == pytest.approx(w["limit_MPa"] / w["stress_MPa"], rel=2e-3)
+            assert f"{g['gear']:<9} {kind:<5}" in printed
+    (shaft,) = st["shafts"]
+    assert shaft["gear"] == "planet" and shaft["diameter_mm"] > 3 and shaft["wall_mm"] > 0
+    assert shaft["torque_N_m"] > 0 and "planet shaft d" in printed
+    names = {c["name"] for c in rec["checks"]}
+    assert {"strength: planet root safety", "strength: planet shaft safety"} <= names
+    # the planet's bore shrunk to 3 mm under the same loads: a finding
+    from plantmech.contact.strength import MATERIALS, shaft_rating
+
+    row, checks, found = shaft_rating("planet", 3.0, shaft["torque_N_m"],
+                                      shaft["normal_force_N"], st["face_width_mm"],
+                                      MATERIALS["steel"], None)
+    assert row["safety"] < 1 and found[0]["check"] == "shaft_strength"
+    assert not checks[0]["ok"]
 
     from plantmech.contact.outlines import read_gear_dxf
 
@@ -240,6 +264,11 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     assert rec["teeth_found_on_outlines"] == {"sun": 20, "middle": 20, "planet": 20}
     assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
     assert len(rec["loads"]["tangential_tooth_force_N"]) == 4  # 2 pairs x 2 arms
+    # the strength table: every gear of both pairs, the sun's worst tooth located
+    rows = {g["gear"]: g for g in rec["strength"]["gears"]}
+    assert set(rows) == {"sun", "middle", "planet"}
+    assert 1 <= rows["sun"]["flank"]["tooth"] <= 20
+    assert all(rows[g][k]["safety"] > 0 for g in rows for k in ("root", "flank"))
     assert rec["ok"] and rc == 0
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000

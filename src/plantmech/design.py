@@ -474,6 +474,17 @@ class Manufacturing(_Strict):
     min_module_mm: float = Field(1.0, gt=0, le=50, allow_inf_nan=False, strict=True,
                                  description="smallest module the gears may have (strength), mm "
                                              "(seeder; the transplanters use limits.min_module_mm)")
+    modules_mm: list[Annotated[float, Strict(), Field(gt=0, le=50, allow_inf_nan=False)]] | None = (
+        Field(None, min_length=1, max_length=100,
+              description="the modules the workshop has cutters for, mm; default: ISO 54 "
+                          "series I and II (gears/modules.py); a gear cut at another module is "
+                          "a finding"))
+    special_module: StrictBool = Field(False, description="true: the workshop has a special "
+                                       "cutter, a module outside the list is accepted")
+    material: Literal["steel", "cast_iron", "pom", "pa66"] = Field(
+        "steel", description="gear material for the strength table of `plantmech verify` "
+        "(contact/strength.py: C45 steel, grey cast iron GJL-250 by ISO 6336; POM, PA66 by "
+        "VDI 2736)")
 
     @model_validator(mode="after")
     def _root_clearance(self):

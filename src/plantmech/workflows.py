@@ -240,6 +240,7 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     from dataclasses import asdict
 
     from plantmech.gears import findings as fnd
+    from plantmech.gears.modules import module_finding
     from plantmech.gears.outline import fold_backs, teeth_on_outline
     from plantmech.gears.teeth import gear_checks, mesh_check, placed
     from plantmech.outputs import gear_files as gf
@@ -319,11 +320,17 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         mesh = mesh_check(pair, steps)
         record["mesh"].append(mesh)
         findings += fnd.mesh_findings(mesh, spec.module, backlash, limits)
+        # a module no stock cutter has (gears.modules)
+        findings += [f for f in [module_finding(pair.name, spec.module,
+                                                design.manufacturing)] if f]
         ga, gb = placed(pair, pair.phi_a[0], pair.phi_b[0])
         gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb, names)
         record["files"].append(f"{pair.name}_mesh.png")
     record["all_pairs_mesh"] = all(m["ok"] for m in record["mesh"])
     findings += pitch_curve_findings(design)
     record["verdict"] = fnd.verdict(findings)
+    from plantmech.outputs.caveats import limits_from_file
+
+    record["caveats"] = limits_from_file(design)  # the file's limits the verdict rests on
     write_json(out / "verification.json", record)
     return record

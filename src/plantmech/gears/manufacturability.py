@@ -38,9 +38,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-# ISO 54 first-choice modules (mm), the modules a workshop has cutters for
-STANDARD_MODULES = (0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0,
-                    12.0, 16.0, 20.0)
+from plantmech.gears.modules import FIRST_SERIES
 
 
 def _inv(a):
@@ -331,7 +329,7 @@ def choose_module(perimeter, low, high) -> np.ndarray:
     P = np.atleast_1d(np.asarray(perimeter, dtype=float))
     low = np.broadcast_to(np.asarray(low, dtype=float), P.shape)
     high = np.broadcast_to(np.asarray(high, dtype=float), P.shape)
-    std = np.asarray(STANDARD_MODULES)
+    std = np.asarray(FIRST_SERIES)
     fits = (std[None, :] <= high[:, None]) & (std[None, :] >= low[:, None])
     m0 = np.where(fits.any(axis=1), np.where(fits, std[None, :], -np.inf).max(axis=1),
                   np.minimum(high, P / np.pi))

@@ -27,6 +27,7 @@ import time
 from pathlib import Path
 
 from plantmech import __version__
+from plantmech.outputs.caveats import caveats
 from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
     EXIT_INPUT,
@@ -216,6 +217,8 @@ def _inverse_body(args, design, run) -> int:
     v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
                                s.get("manufacturing_checks", []), infeasible=not res.feasible,
                                problems=problems)
+    cav = s["caveats"] = caveats(design, s["trajectory_checks"] + s.get("objectives", [])
+                                 + s.get("manufacturing_checks", []))
     write_json(out / "summary.json", s)
     _print_summary(s)
     if args.report:
@@ -227,7 +230,7 @@ def _inverse_body(args, design, run) -> int:
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
     print(verdict_line(v, "feasible, every planning check and attitude objective met, "
-                          "pitch curves cuttable"))
+                          "pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -269,6 +272,7 @@ def _forward_body(args, design, run) -> int:
         return EXIT_INFEASIBLE
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
+    cav = job.summary["caveats"] = caveats(design, job.summary["objectives"])
     written = write_forward_outputs(out, job)
     figures = []
     if not args.no_plots:
@@ -285,7 +289,7 @@ def _forward_body(args, design, run) -> int:
 
         written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
-    print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
+    print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -304,6 +308,7 @@ def _forward_transplanter(args, design, run) -> int:
         return EXIT_INPUT
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
+    cav = job.summary["caveats"] = caveats(design, job.summary["objectives"])
     written = write_transplanter_outputs(out, job)
     figures = []
     if not args.no_plots:
@@ -334,7 +339,7 @@ def _forward_transplanter(args, design, run) -> int:
 
         written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
-    print(verdict_line(v, "every objective met, pitch curves cuttable"))
+    print(verdict_line(v, "every objective met, pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -368,6 +373,7 @@ def _optimize_body(args, design, run) -> int:
     for line in summary_lines(outcome.record):
         print(line)
     written = list(outcome.written)
+    cav = _optimize_caveats(design, out, outcome.record)
     if args.report:
         from plantmech.interfaces.report_cli import optimize_report
 
@@ -377,8 +383,29 @@ def _optimize_body(args, design, run) -> int:
     print(verdict_line(v, "best.toml meets every objective"
                        + (" and manufacturability check" if outcome.record.get(
                            "manufacturability_required") else "")
-                       + ", re-checked at full resolution"))
+                       + ", re-checked at full resolution", cav))
     return v["exit_code"]
+
+
+def _optimize_caveats(design, out, record: dict) -> list:
+    """The optimize verdict's caveats (``outputs.caveats``: the file's limits, the thin
+    margins of the re-checked best design, what the optimizer changed of the file), added
+    to run.json."""
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.files import write_json
+
+    best = None
+    if (out / "best.toml").is_file():
+        try:
+            best = load_design(out / "best.toml")
+        except DesignError:
+            best = None
+    rows = (record.get("verified_full_resolution") or {}).get("objectives") \
+        or record.get("objectives") or []
+    cav = record["caveats"] = caveats(design, rows, best, record)
+    if (out / "run.json").is_file():
+        write_json(out / "run.json", record)
+    return cav
 
 
 def _gears(args) -> int:
@@ -393,6 +420,7 @@ def _gears(args) -> int:
 def _gears_body(args, design, run) -> int:
     from plantmech.gears.findings import VERDICT_OK, describe, headline
     from plantmech.gears.manufacturability import rules_for
+    from plantmech.outputs.caveats import lines as caveat_lines
     from plantmech.workflows import run_gears
 
     out = run.path
@@ -434,6 +462,8 @@ def _gears_body(args, design, run) -> int:
         gears_report(args, out, design, rec, run=run)
     for f in rec["findings"]:
         print(f"  NOT OK {describe(f)}")
+    for line in caveat_lines(rec.get("caveats", [])):
+        print(line)
     ok = rec["verdict"] == VERDICT_OK
     print(f"verdict: {headline(rec)}")
     return EXIT_OK if ok else EXIT_NOT_MET

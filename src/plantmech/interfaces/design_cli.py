@@ -63,5 +63,6 @@ def _body(args, design, run) -> int:
         print(f"report: {run.final(report)}")
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
-                          "the workshop files are written (design.toml, gears/)"))
+                          "the workshop files are written (design.toml, gears/)",
+                       rec.get("caveats", ())))
     return v["exit_code"]

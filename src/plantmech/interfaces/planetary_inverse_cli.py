@@ -72,6 +72,9 @@ def inverse_planetary(args, design, run) -> int:
         written.append(out / "inverse.csv")
     summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = summary["verdict"] = verdict(job["rows"], infeasible=not res.feasible)
+    from plantmech.outputs.caveats import caveats
+
+    cav = summary["caveats"] = caveats(design, job["rows"])
     write_json(out / "summary.json", summary)
     written.append(out / "summary.json")
     if not args.no_plots:
@@ -106,5 +109,5 @@ def inverse_planetary(args, design, run) -> int:
     else:
         summary_note = ("feasible; the written design's forward tip passes through every "
                         "type-value point and meets every limit of [limits]")
-    print(verdict_line(v, summary_note))
+    print(verdict_line(v, summary_note, cav))
     return v["exit_code"]

@@ -124,6 +124,7 @@ def _body(args, design, run) -> int:
         spec = _load_spec(args, gears_dir)
         loads = _record_loads(
             rec, lambda: seeder_loads(train, simulate(train, samples=3600), gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -161,8 +162,10 @@ def _run_transplanter(args, design, gears, out) -> dict:
     if not args.no_loads:
         from plantmech.contact.transplanter_loads import differential_loads, khv_loads
 
+        spec = _load_spec(args, Path(args.gears))
         loads = _record_loads(rec, lambda: (khv_loads if khv else differential_loads)(
-            design, gears, _load_spec(args, Path(args.gears))))
+            design, gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -203,8 +206,9 @@ def _run_planetary(args, design, gears, out) -> dict:
     rec = planetary_record(contact, _limits(args))
     loads = None
     if not args.no_loads:
-        loads = _record_loads(rec, lambda: planetary_loads(
-            design, gears, _load_spec(args, Path(args.gears))))
+        spec = _load_spec(args, Path(args.gears))
+        loads = _record_loads(rec, lambda: planetary_loads(design, gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -235,6 +239,57 @@ def _record_loads(rec: dict, compute):
     return loads
 
 
+def _record_strength(rec: dict, design, gears, loads, face_width_mm: float) -> None:
+    """The strength table (``contact/strength.py``) into ``rec`` and its safeties into the
+    checks and the verdict; said "not computed" where there are no loads or no rating for
+    the train."""
+    if loads is None:
+        rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
+        return
+    if design.mechanism == "sugarcane_seeder":
+        rec["strength"] = {"not_computed": "the replacement-gear rating reads the contact "
+                           "geometry of the transplanters and the general planetary train "
+                           "(contact/strength.py); write the seeder as a mechanism = "
+                           "\"planetary\" file (examples/planetary/) to rate it"}
+        return
+    from plantmech.contact.strength import strength_record
+
+    st = strength_record(design, gears, loads, face_width_mm)
+    rec["strength"] = st
+    rec["checks"] += st["checks"]
+    rec["ok"] = rec["ok"] and all(c["ok"] for c in st["checks"])
+
+
+def _strength_lines(st: dict) -> list[str]:
+    """The printed strength table: per gear the root and flank stress and safety at the
+    worst contact (arm, carrier angle, tooth); the shafts."""
+    if "not_computed" in st:
+        return [f"  strength not computed: {st['not_computed']}"]
+    mat = st["material"]
+    lines = [f"  strength ({st['method']}; {mat['label']}, K_A {st['rating']['K_A']:g}, "
+             f"face width {st['face_width_mm']:g} mm):"]
+    for g in st["gears"]:
+        for kind in ("root", "flank"):
+            w = g[kind]
+            lines.append(
+                f"    {'ok  ' if w['safety'] >= w['min_safety'] else 'FAIL'} {g['gear']:<9} "
+                f"{kind:<5} {w['stress_MPa']:8.1f} MPa  safety {w['safety']:6.2f} (min "
+                f"{w['min_safety']:g})  at arm {w['arm']}, carrier {w['carrier_angle_deg']:.1f}"
+                f" deg, tooth {w['tooth'] or '-'} (replacement z {w['equivalent_teeth']:g}, F_t "
+                f"{w['tangential_force_N']:.0f} N)")
+    for sh in st["shafts"]:
+        if "skipped" in sh:
+            lines.append(f"    shaft of the {sh['gear']}: not checked ({sh['skipped']})")
+            continue
+        lines.append(
+            f"    {'ok  ' if sh['ok'] else 'FAIL'} {sh['gear']} shaft d {sh['diameter_mm']:.1f}"
+            f" mm: torque {sh['torque_N_m']:.2f} N m, torsion {sh['torsion_MPa']:.0f} MPa, "
+            f"bending {sh['bending_MPa']:.0f} MPa, von Mises {sh['von_mises_MPa']:.0f} MPa, "
+            f"safety {sh['safety']:.2f} (min {sh['min_safety']:g}), wall "
+            f"{sh.get('wall_mm', float('nan')):.1f} mm")
+    return lines
+
+
 def _load_spec(args, gears_dir: Path):
     """The loads' inputs from the command line (face width: the gears' record's)."""
     from plantmech.contact.loads import LoadSpec
@@ -246,8 +301,9 @@ def _load_spec(args, gears_dir: Path):
 
 
 def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
-    """Write verification.json, print the figures, the checks and the verdict (last, the
-    same object as the record's ``verdict``); the exit code is the verdict's."""
+    """Write verification.json, print the figures, the checks, the caveats and the verdict
+    (last, the same object as the record's ``verdict``); the exit code is the verdict's."""
+    from plantmech.outputs.caveats import caveats
     from plantmech.outputs.files import check_line, write_json
     from plantmech.outputs.verdict import verdict, verdict_line
 
@@ -265,6 +321,7 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
                    "loads", {}) else "")
     if not_run:
         rec["not_checked"] = [not_run]
+    rec["caveats"] = caveats(design, rec["checks"])
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
           f"({rec['step_deg']:.2f} deg), {rec['wall_time_s']:.1f} s")
@@ -308,11 +365,14 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
                   f"{imp['peak_input_torque_N_m']:.1f} N m")
     elif "loads" in rec:
         print(f"  loads skipped: {rec['loads']['skipped']}")
+    if "strength" in rec:
+        for line in _strength_lines(rec["strength"]):
+            print(line)
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
     print("wrote: " + ", ".join(str(run.final(out / f)) for f in files))
     print(verdict_line(v, "the gear files drive the train within every limit"
-                       + (f"; {not_run}" if not_run else "")))
+                       + (f"; {not_run}" if not_run else ""), rec["caveats"]))
     return v["exit_code"]
 
 

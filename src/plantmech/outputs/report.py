@@ -485,6 +485,10 @@ def build_report(summary: dict, figures=(), animation: Animation | None = None,
              f"&middot; {when}</p>",
              f'<div id="verdict" class="verdict {"ok" if ok else "fail"}">'
              f'{"&#10003;" if ok else "&#10007;"} {html.escape(text)}</div>']
+    if summary.get("caveats"):  # what the verdict rests on (outputs/caveats.py)
+        parts.append('<ul id="caveats" class="meta">' + "".join(
+            f"<li>caveat: {html.escape(str(c['text'] if isinstance(c, dict) else c))}</li>"
+            for c in summary["caveats"]) + "</ul>")
     if animation is not None:
         parts += [f'<h2 id="animation">{html.escape(animation.title)}</h2>',
                   _legend(animation), _svg_animation(animation),

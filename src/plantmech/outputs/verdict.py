@@ -25,11 +25,15 @@ def verdict(*check_lists, infeasible: bool = False, problems: list[str] | None =
             "exit_code": EXIT_OK if ok else EXIT_NOT_MET, "failed": failed}
 
 
-def verdict_line(v: dict, what: str) -> str:
-    """The line every command prints last."""
+def verdict_line(v: dict, what: str, caveats=()) -> str:
+    """The line every command prints last, after its ``caveats`` (``outputs.caveats``: dicts
+    or texts), one "caveat:" line each."""
+    from plantmech.outputs.caveats import lines
+
+    head_lines = "".join(f"{line}\n" for line in lines(caveats))
     if v["status"] == "ok":
-        return f"verdict: ok - {what}"
+        return f"{head_lines}verdict: ok - {what}"
     head = "INFEASIBLE" if v["status"] == "infeasible" else "NOT MET"
     n = len(v["failed"])
     listed = ", ".join(v["failed"][:8]) + (f" and {n - 8} more" if n > 8 else "")
-    return f"verdict: {head}" + (f" - {n} not met: {listed}" if n else "")
+    return f"{head_lines}verdict: {head}" + (f" - {n} not met: {listed}" if n else "")
