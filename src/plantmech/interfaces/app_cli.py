@@ -13,6 +13,11 @@ import sys
 def _run(args) -> int:
     from pathlib import Path
 
+    from plantmech.extras import refused
+
+    if refused("app", "'plantmech app'"):
+        return 2
+
     from plantmech.design import DesignError
 
     initial = Path(args.design) if args.design else None

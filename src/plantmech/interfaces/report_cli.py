@@ -135,6 +135,10 @@ def register(subparsers) -> None:
 
 
 def _study_report(args) -> int:
+    from plantmech.extras import refused
+
+    if refused("studies", "'plantmech report' (a study's results are Parquet files)"):
+        return 2
     from plantmech.outputs.study_report import (
         StudyReportError,
         load_study,

@@ -55,6 +55,10 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    from plantmech.extras import refused
+
+    if refused("studies", "'plantmech study'"):
+        return EXIT_INPUT
     from plantmech.design import DesignError, load_design
     from plantmech.interfaces.cli import refuse_planetary
     from plantmech.outputs.files import OutputError, prepare_out_dir
