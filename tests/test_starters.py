@@ -20,6 +20,10 @@ def test_starter_is_the_example_under_a_commented_header(kind, tmp_path):
     assert text.endswith(example)
     assert all(line.startswith("#") for line in head.splitlines())
     assert f"plantmech forward {path} --out out/forward --report" in head
+    # the first command to run is the whole job, and the docs are named as a pip user has them
+    then = head.split("# Then run")[1].splitlines()[1]
+    assert then == f"#   plantmech design {path} --out out/design"
+    assert "plantmech docs design-file" in head and "docs/" not in head
     # the written file is a valid design, the same as the example
     assert load_design(path) == load_design(example_path(STARTERS[kind].example))
 

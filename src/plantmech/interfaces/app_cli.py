@@ -81,7 +81,7 @@ def _workers(text: str) -> int:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("app", help="interactive design app in the browser "
-                              "(local server on 127.0.0.1)")
+                              "(local server on 127.0.0.1; needs plantmech[app])")
     p.add_argument("design", nargs="?", help="design file (TOML) to open; never overwritten")
     p.add_argument("--port", type=_port, default=8765, help="port on 127.0.0.1 (default 8765)")
     p.add_argument("--host", default="127.0.0.1", choices=("127.0.0.1", "localhost"),

@@ -18,7 +18,7 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed of the optimizer "
                    "(same seed, same result)")
     p.add_argument("--generations", type=_number(int, 1, strict=False), default=None,
-                   help="optimizer generations (default per problem, docs/optimization.md)")
+                   help="optimizer generations (default per problem, plantmech docs optimization)")
     p.add_argument("--module", type=_number(float, 0.0), default=None,
                    help="tooth module, mm (default: the largest the pitch curves allow)")
     p.add_argument("--time-limit", type=_number(float, 0.0), default=None,

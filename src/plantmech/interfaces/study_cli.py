@@ -32,7 +32,7 @@ def _positive_int(text: str) -> int:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
-                              "optimization on Dask")
+                              "optimization on Dask (needs plantmech[studies])")
     p.add_argument("design", help="design file (TOML); never overwritten")
     p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
                    "'sweep' or 'multi-start' (examples/studies/)")
