@@ -241,12 +241,13 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
     from plantmech.optimize.runner import _out_of_time as out_of_time
     from plantmech.optimize.runner import run
 
-    current, records, tally = design, [], _Tally()
+    current, records, tally = design, [], _Tally(seed)
     for k, stage in enumerate(stages):
         judged = final is None or final(k)
         p = build(current, stage)
         r = run(p, algorithm, seed + k, max(1, int(round(generations * stage[-1]))), pop,
-                progress, stop_when_feasible=True, hook=hook)
+                progress, stop_when_feasible=True, hook=hook,
+                stage=f"stage {k + 1}/{len(stages)}" if len(stages) > 1 else None)
         tally.add(r, judged)
         current = p.decode(r.best_x)
         records.append({"stage": list(stage), "generations": r.generations,
@@ -260,24 +261,36 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
 
 
 class _Tally:
-    """Evaluations, wall time and the first feasible design summed over several runs."""
+    """Evaluations, wall time, the first feasible design and the convergence history
+    summed over several runs (the stages of one job)."""
 
-    def __init__(self):
-        self.evals, self.wall, self.first = 0, 0.0, None
+    def __init__(self, seed: int):
+        self.seed, self.evals, self.wall, self.first = seed, 0, 0.0, None
+        self.history, self.stages = [], 0
 
     def add(self, r, judged: bool = True) -> None:
         """Count run ``r``; its first feasible design only if ``judged`` (its problem
-        holds the job's own objectives, not a stage's relaxed ones)."""
+        holds the job's own objectives, not a stage's relaxed ones). Its history joins the
+        job's, each row with its stage (1, 2, ... over the job), whether the stage holds
+        the job's own limits (``judged``), and the evaluations and wall time from the
+        job's start."""
         if judged and r.first_feasible_s is not None and self.first is None:
             self.first = (self.wall + r.first_feasible_s,
                           self.evals + r.first_feasible_evaluations)
+        for h in r.history:
+            self.history.append(dict(h, evaluations=h["evaluations"] + self.evals,
+                                     wall_s=round(h["wall_s"] + self.wall, 3),
+                                     stage=self.stages + h.get("stage", 1),
+                                     judged=bool(judged and h.get("judged", True))))
+        self.stages += max((h.get("stage", 1) for h in r.history), default=1)
         self.evals += r.evaluations
         self.wall += r.wall_s
 
     def onto(self, r):
-        """``r`` with the totals (its own counts replaced)."""
+        """``r`` with the job's totals, history and seed (its own replaced)."""
         r.evaluations, r.wall_s = self.evals, self.wall
         r.first_feasible_s, r.first_feasible_evaluations = self.first or (None, None)
+        r.history, r.seed = self.history, self.seed
         return r
 
 
@@ -294,7 +307,7 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
     def build(d, stage):
         return SeederLayer1(d, bound_mm=stage[0], gear_shape=gear_shape)
 
-    best, records, tally = None, [], _Tally()
+    best, records, tally = None, [], _Tally(seed)
     for k in range(shifts + 1 if shifts else 0):
         d = shift_seeding_point(design, k)
         p, r, rec = staged(d, build, (LAYER1_SCOUT,), algorithm, seed, generations, pop,

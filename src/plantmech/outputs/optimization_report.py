@@ -80,9 +80,12 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
     (out / "best.toml").write_text(design_toml(problem.decode(best_x), header),
                                    encoding="utf-8")
     hist = result.history
-    write_csv(out / "history.csv", {k: np.array([h[k] for h in hist], dtype=float)
-                                    for k in ("generation", "evaluations", "best_violation",
-                                              "feasible_in_population", "wall_s")})
+    cols = {k: np.array([h[k] for h in hist], dtype=float)
+            for k in ("generation", "evaluations", "best_violation",
+                      "feasible_in_population", "wall_s")}
+    cols["best_so_far"] = best_so_far(hist)
+    cols["stage"] = np.array([h.get("stage", 1) for h in hist], dtype=float)
+    write_csv(out / "history.csv", cols)
     cols = {}
     for i, v in enumerate(problem.variables):
         cols[variable_column(v.name, v.unit)] = result.pareto_x[:, i]
@@ -217,24 +220,57 @@ def plot_run(out: Path, result, problem) -> list[Path]:
 VIOLATION_FLOOR = 1e-6
 
 
+def best_so_far(history: list[dict]) -> np.ndarray:
+    """The least total violation found so far at each row of a run's history, restarted
+    at each stage (a stage's limits are its own: its violations are not comparable with
+    the previous stage's); never rises within a stage."""
+    out, best, stage = np.empty(len(history)), np.inf, None
+    for i, h in enumerate(history):
+        if h.get("stage", 1) != stage:
+            best, stage = np.inf, h.get("stage", 1)
+        best = min(best, h["best_violation"])
+        out[i] = best
+    return out
+
+
 def convergence_figure(result):
-    """Best total relative violation per evaluation (Figure). The floor line that marks
-    'every objective met' is drawn only when a design met them all."""
+    """The best design so far (least total relative violation) against evaluations, over
+    the whole job: every stage, each shaded and named (a relaxed stage's violation is
+    against its own limits). The floor line that marks 'every objective met' is drawn only
+    when a design met them all."""
     from matplotlib.figure import Figure
 
     hist = result.history
     fig = Figure(figsize=(10, 4.5), layout="constrained")
     ax = fig.subplots()
-    ev = [h["evaluations"] for h in hist]
-    ax.semilogy(ev, [max(h["best_violation"], VIOLATION_FLOOR) for h in hist], "k.-",
-                label="best design so far")
-    ax.set_xlabel("evaluations")
-    ax.set_ylabel("best total relative violation / -")
+    ev = np.array([h["evaluations"] for h in hist], dtype=float)
+    stage = np.array([h.get("stage", 1) for h in hist])
+    best = np.maximum(best_so_far(hist), VIOLATION_FLOOR)
+    n, labels = (int(stage.max()) if len(stage) else 1), set()
+    for k in range(1, n + 1):
+        rows = np.flatnonzero(stage == k)
+        if not len(rows):
+            continue
+        judged = all(hist[i].get("judged", True) for i in rows)
+        label = ("best design so far" if judged
+                 else "best so far, against the stage's relaxed limits")
+        ax.semilogy(ev[rows], best[rows], ".-", color="k" if judged else "0.55",
+                    label=None if label in labels else label)
+        labels.add(label)
+        if n > 1:
+            lo = ev[rows[0]] - (ev[rows[0]] - ev[rows[0] - 1]) / 2 if rows[0] else 0.0
+            hi = ev[rows[-1]]
+            if k % 2:
+                ax.axvspan(lo, hi, color="tab:blue", alpha=0.06, lw=0)
+            ax.text((lo + hi) / 2, 1.0, f"stage {k}/{n}", transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize=7)
+    ax.set_xlabel("evaluations (from the start of the job)")
+    ax.set_ylabel("least total relative violation so far / -")
     met = bool(result.feasible)
     verdict = ("every objective met" if met
                else "NOT met: the best design misses an objective")
-    ax.set_title(f"Convergence: {result.problem}, {result.algorithm}, seed {result.seed} "
-                 f"({verdict})")
+    ax.set_title(f"Convergence of {result.problem} ({result.algorithm}, random seed "
+                 f"{result.seed}): {verdict}", pad=14 if n > 1 else 6)
     if met:
         ax.axhline(VIOLATION_FLOOR, color="tab:green", lw=1, ls=":",
                    label=f"{VIOLATION_FLOOR:g}: violation 0, every objective met")
