@@ -138,7 +138,8 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
                     "docs/manufacturability.md")
     header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
               "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec)))
-    (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")
+    (out / "design.toml").write_text(design_toml(final, header, Path(design_input)),
+                                     encoding="utf-8")
     written.append(out / "design.toml")
     failed = _failed(check)
     cuttable = not any(n.startswith(("cuttable_module", "working_pressure_angle",

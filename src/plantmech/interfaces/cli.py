@@ -172,7 +172,7 @@ def _inverse_body(args, design, run) -> int:
     out = run.path
     t0 = time.perf_counter()
     try:
-        job = run_seeder_inverse(design)
+        job = run_seeder_inverse(design, speeds=True)
     except TrajectoryError as exc:
         print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -212,8 +212,8 @@ def _inverse_body(args, design, run) -> int:
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
-    print(verdict_line(v, "feasible, every planning check and attitude objective met, "
-                          "pitch curves cuttable"))
+    print(verdict_line(v, "feasible, every planning check, attitude and speed objective "
+                          "met, pitch curves cuttable"))
     return v["exit_code"]
 
 
@@ -470,9 +470,9 @@ def _print_summary(s: dict) -> None:
             where += f" (carrier angle {a:.1f}-{b:.1f} deg)"
         print(f"  {d['severity'].upper()} [{d['kind']}]{where}: {d['message']}")
     from plantmech.outputs.files import check_line
+    from plantmech.workflows import seeder_checks
 
-    for c in s["trajectory_checks"] + s.get("objectives", []) + s.get("manufacturing_checks",
-                                                                        []):
+    for c in seeder_checks(s):
         print(check_line(c))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "

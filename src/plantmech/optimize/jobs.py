@@ -174,7 +174,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     p2 = P.SeederLayer2(d2, gear_shape=manufacturability)
     r2 = run(p2, "nsga2", seed, user_gen or DEFAULTS["seeder-layer2"][1],
              user_pop or DEFAULTS["seeder-layer2"][2], progress)
-    w2, rec2 = write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)", recheck)
+    w2, rec2 = write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)", recheck,
+                         source=Path(design_input))
     written += w2
     (out / "best.toml").write_text((l2_dir / "best.toml").read_text(), encoding="utf-8")
     rec = {
@@ -550,21 +551,25 @@ def verify(design, tooth_fit: bool = True) -> dict:
         from plantmech.workflows import run_transplanter
 
         objs = run_transplanter(design).summary["objectives"]
-    elif design.train is not None:
+    elif design.train is not None:  # the train's objectives, after its path's Table 1
+        from plantmech.objectives.seeder import planning_checks
         from plantmech.workflows import run_seeder_forward
 
-        objs = run_seeder_forward(design).summary["objectives"]
-    else:  # layer 1: Table 1, attitude and the speeds of the inverse design's motion
-        from plantmech.workflows import seeder_inverse_checks
+        job = run_seeder_forward(design)
+        objs = list(job.summary["objectives"])
+        if job.trajectory is not None:
+            objs = [c.as_dict() for c in planning_checks(
+                job.trajectory, design.trajectory.sections.model_dump(),
+                design.planning_limits)] + objs
+    else:  # layer 1: Table 1, attitude, speeds and pitch curves of the inverse design
+        from plantmech.workflows import run_seeder_inverse, seeder_checks
 
-        c = seeder_inverse_checks(design, design.trajectory.samples)
-        objs = [{"name": n, "value": None if not np.isfinite(v) else float(v), "unit": u,
-                 "limit": lim, "ok": bool(ok)}
-                for n, v, u, lim, ok in zip(c["names"], c["values"], c["units"], c["limits"],
-                                            c["ok"], strict=True)]
-        if c["infeasible"]:
-            objs.insert(0, {"name": "feasible_inverse", "value": c["infeasible"], "unit": "",
-                            "limit": "= 0 errors", "ok": False})
+        job = run_seeder_inverse(design, speeds=True)
+        objs = seeder_checks(job.summary)
+        errors = [x for x in job.result.diagnostics if x.severity == "error"]
+        if not job.result.feasible:
+            objs.insert(0, {"name": "feasible_inverse", "value": float(max(len(errors), 1)),
+                            "unit": "", "limit": "= 0 errors", "ok": False})
     if not tooth_fit:
         objs = [dict(o, required=False) if is_gear_shape_check(o["name"]) else o
                 for o in objs]
