@@ -91,7 +91,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         # nothing the job may move: the file names its free fields, or the design stands
         say(f"      not met: {', '.join(_failed(check))}")
         say("[2/3] not optimized: the file frees no field ([optimize.variables]: the dotted "
-            "paths the optimizer may move, docs/design-file.md)")
+            "paths the optimizer may move: plantmech docs design-file)")
         stage("optimize", skipped="the file has no [optimize.variables]")
     else:
         name = problem_for(design)
@@ -135,7 +135,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
                 say(f"      {line}")
             if name == "seeder-layered":
                 say("      why a seeder path can force uncuttable gears: "
-                    "docs/manufacturability.md")
+                    "plantmech docs manufacturability")
     header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
               "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec)))
     (out / "design.toml").write_text(design_toml(final, header, Path(design_input)),

@@ -35,7 +35,9 @@ def register(subparsers) -> None:
                               "optimization on Dask (needs plantmech[studies])")
     p.add_argument("design", help="design file (TOML); never overwritten")
     p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
-                   "'sweep' or 'multi-start' (examples/studies/)")
+                   "'sweep' or 'multi-start'; shipped ones: plantmech.example_path("
+                   "'studies/seeder_tolerance') and the other studies/ names of "
+                   "plantmech.list_examples()")
     p.add_argument("--out", required=True, help="output directory; rerun with the same "
                    "inputs and --out to resume a stopped study")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
