@@ -199,7 +199,7 @@ def test_cli_report_of_an_optimization(tmp_path):
     checked = run["verified_full_resolution"]["objectives"]
     for o in checked:
         assert table.count(f"<td>{o['name']}</td>") == 1, o["name"]
-    assert "objectives_full_resolution" in table and "<td>objectives</td>" not in table
+    assert "<td>objectives at full resolution</td>" in table and "<td>objectives</td>" not in table
     data = json.loads(re.search(r'id="animation-data">(.*?)</script>', text, re.S).group(1))
     assert len(data["links"]) == 3  # the best design's three arms
     assert (out / "mechanism.gif").stat().st_size > 1000

@@ -107,7 +107,7 @@ def one_objective_table(rec: dict) -> dict:
     """An optimization record for the report with one objective table per run: where the
     best design was re-checked at full resolution (``verified_full_resolution``), its
     re-checked objectives (the ones the verdict reads) replace the optimizer's own rows,
-    as ``objectives_full_resolution``; a layered job's layers alike."""
+    as "objectives at full resolution"; a layered job's layers alike."""
     out = {}
     for k, v in rec.items():
         out[k] = one_objective_table(v) if isinstance(v, dict) else v
@@ -116,7 +116,7 @@ def one_objective_table(rec: dict) -> dict:
         out.pop("objectives", None)
         out["verified_full_resolution"] = {k: v for k, v in checked.items()
                                            if k != "objectives"}
-        out["objectives_full_resolution"] = checked["objectives"]
+        out["objectives at full resolution"] = checked["objectives"]
     return out
 
 
