@@ -149,16 +149,41 @@ def starter_text(kind: str, file_name: str = "design.toml") -> str:
     return "\n".join(f"# {h}".rstrip() for h in lines) + "\n" + body
 
 
+#: the starting design a shipped study spec runs on, by the spec's name prefix
+STUDY_DESIGNS = {"seeder": "seeder-train", "transplanter": "transplanter",
+                 "planetary": "planetary"}
+
+
+def study_kinds() -> list[str]:
+    """``plantmech init`` kinds of the shipped study specs: ``studies/<name>``."""
+    return [n for n in list_examples() if n.startswith("studies/")]
+
+
+def study_text(kind: str, file_name: str = "study.toml") -> str:
+    """A shipped study spec (``kind`` = ``studies/<name>``) under a header of comments: the
+    starting design it runs on and the command."""
+    design = STUDY_DESIGNS[kind.split("/", 1)[1].split("_", 1)[0]]
+    design_file = f"{design.replace('-', '_')}.toml"
+    head = [f"Study spec written by `plantmech init {kind}`, copied from the shipped example",
+            f"'{kind}.toml'; it runs on a {design} design (`plantmech init {design} DIR`):",
+            f"  plantmech study DIR/{design_file} --spec {file_name} --out out/study --report",
+            "Needs plantmech[studies] (Dask, pyarrow). Every field: plantmech docs studies.", ""]
+    body = example_path(kind).read_text(encoding="utf-8")
+    return "\n".join(f"# {h}".rstrip() for h in head) + "\n" + body
+
+
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
     """Write the starting design of ``kind`` into ``directory`` (created if needed) as
-    ``file_name`` (default ``<kind>.toml``); never overwrites: raises FileExistsError."""
+    ``file_name`` (default ``<kind>.toml``); a study spec for ``studies/<name>``
+    (:func:`study_kinds`). Never overwrites: raises FileExistsError."""
     directory = Path(directory)
-    name = file_name or f"{kind.replace('-', '_')}.toml"
+    name = file_name or f"{kind.split('/')[-1].replace('-', '_')}.toml"
     target = directory / name
     if target.exists():
         raise FileExistsError(f"{target} exists; plantmech init never overwrites a file")
     directory.mkdir(parents=True, exist_ok=True)
-    text = starter_text(kind, str(target))
+    text = (study_text(kind, str(target)) if kind.startswith("studies/")
+            else starter_text(kind, str(target)))
     with open(target, "x", encoding="utf-8") as fh:
         fh.write(text)
     return target
