@@ -121,7 +121,8 @@ class _Recorder(Callback):
                              "wall_s": round(wall, 3)})
         if self.bar is not None:
             self.bar.update(1)
-            self.bar.set_postfix(best_so_far=f"{self.best_so_far:.4g}", feasible=n_feas)
+            # the least violation so far (the app reads this key from the bar)
+            self.bar.set_postfix(best_violation=f"{self.best_so_far:.4g}", feasible=n_feas)
         if self.hook is not None and self.hook(self.problem):
             self.stop = True
 
