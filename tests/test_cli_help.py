@@ -29,6 +29,11 @@ def test_help_leads_with_design(capsys):
     assert "plantmech inverse" not in out.split("options:")[1]
 
 
+def test_no_command_says_where_to_start(capsys):
+    err = _usage_error([], capsys)
+    assert "plantmech design my/transplanter.toml --out out" in err
+
+
 def test_did_you_mean_rule():
     assert did_you_mean("desing", ["design", "docs"]) == " (did you mean 'design'?)"
     assert did_you_mean("zzz", ["design"]) == ""

@@ -531,6 +531,9 @@ class _Parser(argparse.ArgumentParser):
         if m:
             choices = re.findall(r"'([^']*)'", m.group(2))
             message += typos.did_you_mean(m.group(1), choices)
+        if message.endswith("required: COMMAND"):
+            message += ("; start with 'plantmech init transplanter my' then 'plantmech design "
+                        "my/transplanter.toml --out out' ('plantmech --help': every command)")
         super().error(message)
 
 
