@@ -97,7 +97,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         name = problem_for(design)
         if check is not None:
             say(f"      not met: {', '.join(_failed(check))}")
-        say(f"[2/3] optimizing ({name}, seed {seed}; every objective and manufacturability "
+        say(f"[2/3] optimizing ({name}, random seed {seed}; every objective and manufacturability "
             "required)")
         opt_dir = out / "optimize"
         opt_dir.mkdir()
@@ -136,7 +136,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
             if name == "seeder-layered":
                 say("      why a seeder path can force uncuttable gears: "
                     "plantmech docs manufacturability")
-    header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
+    header = (f"Design made by `plantmech design` from {design_input} (random seed {seed}); "
               "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec)))
     (out / "design.toml").write_text(design_toml(final, header, Path(design_input)),
                                      encoding="utf-8")

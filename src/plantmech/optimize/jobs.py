@@ -578,7 +578,7 @@ def verify(design, tooth_fit: bool = True) -> dict:
 
 
 def summary_lines(record: dict) -> list[str]:
-    lines = [f"{record['problem']}: {record['algorithm']}, seed {record['seed']}, "
+    lines = [f"{record['problem']}: {record['algorithm']}, random seed {record['seed']}, "
              f"{record['evaluations']} evaluations, {record['wall_s']:.1f} s"
              + (f" (first design meeting every objective after {record['first_feasible_s']:.1f} s)"
                 if record.get("first_feasible_s") is not None else "")]

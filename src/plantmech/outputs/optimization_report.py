@@ -155,7 +155,7 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
                   if verified is not None and not verified["all_met"] else
                   " (the closest design found)"))
     header = (f"Best design of `plantmech optimize --problem {result.problem}` "
-              f"(algorithm {result.algorithm}, seed {result.seed}, {result.evaluations} "
+              f"(algorithm {result.algorithm}, random seed {result.seed}, {result.evaluations} "
               f"evaluations, {result.wall_s:.1f} s)\nfrom {design_input}\nverdict: {status}; "
               "see run.json" + "".join(f"\n{line}" for line in choice_lines(rec)))
     (out / "best.toml").write_text(design_toml(problem.decode(best_x), header, source),
