@@ -147,6 +147,25 @@ def test_sun_toothless_arc_is_where_the_train_dwells(gear_dir):
     assert misfit(0.0) < 1.5  # mm (the radius varies 53-74 mm along the arc)
 
 
+def test_loads_not_computed_without_the_extra(gear_dir, tmp_path, capsys, monkeypatch):
+    """Without plantmech[loads] (exudyn) the contact is still checked, the loads are
+    recorded as not computed with the pip line, and the verdict is not met (exit 4)."""
+    from plantmech import extras
+
+    monkeypatch.setitem(extras.EXTRAS, "loads", ("plantmech_no_such_module",))
+    out = tmp_path / "v"
+    rc = main(["verify", str(SEEDER), "--gears", str(gear_dir), "--out", str(out),
+               "--steps", "90"])
+    rec = json.loads((out / "verification.json").read_text())
+    printed = capsys.readouterr().out
+    assert rc == 4 and rec["ok"] is False
+    assert "pip install 'plantmech[loads]'" in rec["loads"]["not_computed"]
+    check = next(c for c in rec["checks"] if c["name"] == "loads: energy balance error")
+    assert check["value"] is None and not check["ok"] and "not computed" in check["note"]
+    assert "loads not computed" in printed and "FAIL loads: energy balance error" in printed
+    assert rec["pairs"] and not (out / "loads.png").exists()
+
+
 @pytest.fixture(scope="module")
 def transplanter_gear_dir(tmp_path_factory):
     out = tmp_path_factory.mktemp("gears_t")

@@ -525,7 +525,41 @@ class SeederDesign(_Strict):
         return self
 
 
-def _format_error(path, err: ValidationError) -> str:
+def _model_in(annotation):
+    """The pydantic model a field's annotation holds (through Optional, list, dict), or
+    None."""
+    import typing
+
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in typing.get_args(annotation):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _fields_at(model, loc) -> list[str]:
+    """The field names a table at ``loc`` (a pydantic error's location, without its last
+    part) accepts in ``model``; [] where the walk cannot follow (a tagged union)."""
+    cls = model
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        fields = {f.alias or name: f for name, f in cls.model_fields.items()}
+        if part not in fields:
+            return []
+        cls = _model_in(fields[part].annotation)
+        if cls is None:
+            return []
+    return [f.alias or name for name, f in cls.model_fields.items()]
+
+
+def _format_error(path, err: ValidationError, model=None) -> str:
+    """The error naming each bad field; with ``model`` (the validated class), an unknown
+    field gets the closest known names of its table ("did you mean")."""
+    from plantmech.typos import did_you_mean
+
     lines = [f"{path}: invalid design file"]
     for e in err.errors():
         loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
@@ -534,6 +568,9 @@ def _format_error(path, err: ValidationError) -> str:
             msg = "required field is missing"
         elif e["type"] == "extra_forbidden":
             msg = "unknown field (check the spelling)"
+            if model is not None and e["loc"]:
+                hint = did_you_mean(str(e["loc"][-1]), _fields_at(model, e["loc"][:-1]))
+                msg = f"unknown field{hint}" if hint else msg
         got = e.get("input")
         tail = ""
         if e["type"] not in ("missing",) and not isinstance(got, dict | list):
@@ -823,7 +860,16 @@ import plantmech.design_planetary  # noqa: E402, F401
 
 def _read_design_file(path: Path) -> str:
     """Text of a design file: a regular file (opened non-blocking, so a FIFO or device
-    never hangs), at most MAX_FILE_BYTES, UTF-8 (``plantmech.inputs``)."""
+    never hangs), at most MAX_FILE_BYTES, UTF-8 (``plantmech.inputs``); a missing one is
+    named with the nearest design file beside it ("did you mean")."""
+    if not os.path.lexists(path):
+        from plantmech.typos import did_you_mean
+
+        try:
+            near = [p.name for p in path.parent.iterdir() if p.suffix == ".toml"]
+        except OSError:
+            near = []
+        raise DesignError(f"{path}: no such design file{did_you_mean(path.name, near)}")
     return read_input_text(path, "design file", MAX_FILE_BYTES, DesignError)
 
 
@@ -886,6 +932,6 @@ def _validate(raw: dict, path) -> Any:
     try:
         return MECHANISMS[mech].model_validate(raw)
     except ValidationError as exc:
-        raise DesignError(_format_error(path, exc)) from None
+        raise DesignError(_format_error(path, exc, MECHANISMS[mech])) from None
     except RecursionError:
         raise DesignError(f"{path}: nested too deeply") from None

@@ -91,13 +91,13 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         # nothing the job may move: the file names its free fields, or the design stands
         say(f"      not met: {', '.join(_failed(check))}")
         say("[2/3] not optimized: the file frees no field ([optimize.variables]: the dotted "
-            "paths the optimizer may move, docs/design-file.md)")
+            "paths the optimizer may move: plantmech docs design-file)")
         stage("optimize", skipped="the file has no [optimize.variables]")
     else:
         name = problem_for(design)
         if check is not None:
             say(f"      not met: {', '.join(_failed(check))}")
-        say(f"[2/3] optimizing ({name}, seed {seed}; every objective and manufacturability "
+        say(f"[2/3] optimizing ({name}, random seed {seed}; every objective and manufacturability "
             "required)")
         opt_dir = out / "optimize"
         opt_dir.mkdir()
@@ -135,17 +135,18 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
                 say(f"      {line}")
             if name == "seeder-layered":
                 say("      why a seeder path can force uncuttable gears: "
-                    "docs/manufacturability.md")
+                    "plantmech docs manufacturability")
     final, check, std = _standard_module(final, check, verify)
     if std is not None:
         rec["standard_module"] = std
         if "tried" in std:  # a stage only where the job tried to scale the gears
             stage("standard_module", **{k: v for k, v in std.items() if k != "line"})
         say(f"      {std['line']}")
-    header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
+    header = (f"Design made by `plantmech design` from {design_input} (random seed {seed}); "
               "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec))
               + (f"\n{std['line']}" if std is not None else ""))
-    (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")
+    (out / "design.toml").write_text(design_toml(final, header, Path(design_input)),
+                                     encoding="utf-8")
     written.append(out / "design.toml")
     failed = _failed(check)
     cuttable = not any(n.startswith(("cuttable_module", "working_pressure_angle",

@@ -31,6 +31,7 @@ from plantmech.objectives.inverse_evaluation import (
     InfeasibleDesign,
     SeederInverseJob,
     run_seeder_inverse,
+    seeder_checks,
     seeder_inverse_checks,
 )
 from plantmech.objectives.layer1 import (
@@ -67,6 +68,7 @@ __all__ = [
     "field_setup", "gear_pairs", "inverse_settings", "inverse_speed_objectives",
     "layer1_bounds", "locate_section_points", "pitch_curve_findings", "run_gears",
     "run_seeder_forward", "run_seeder_inverse", "run_transplanter", "section_reference_psi",
+    "seeder_checks",
     "seeder_inverse_checks", "seeder_inverse_checks_population", "seeding_point_placement",
     "simulate_transplanter", "tooth_proportions", "train_from_design", "train_from_inverse",
     "train_from_inverse_job", "trajectory_deviation", "trajectory_deviation_batch",

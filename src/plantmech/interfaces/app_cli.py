@@ -13,6 +13,11 @@ import sys
 def _run(args) -> int:
     from pathlib import Path
 
+    from plantmech.extras import refused
+
+    if refused("app", "'plantmech app'"):
+        return 2
+
     from plantmech.design import DesignError
 
     initial = Path(args.design) if args.design else None
@@ -54,7 +59,7 @@ def register(subparsers) -> None:
     from plantmech.interfaces.cli import _number
 
     p = subparsers.add_parser("app", help="interactive design app in the browser "
-                              "(local server on 127.0.0.1)")
+                              "(local server on 127.0.0.1; needs plantmech[app])")
     p.add_argument("design", nargs="?", help="design file (TOML) to open; never overwritten")
     p.add_argument("--port", type=_number(int, 1, strict=False, maximum=65535), default=8765,
                    help="port on 127.0.0.1 (1-65535, default 8765)")

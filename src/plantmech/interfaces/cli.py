@@ -1,16 +1,15 @@
 """plantmech: design planting mechanisms driven by non-circular planetary gear trains.
 
-Sugarcane seeders (Liu et al. 2023, Int J Agric & Biol Eng 16(6)): from a planned tip
-trajectory to the gear pitch curves, forward simulation and the paper's objectives; rice
-transplanters (Zhou et al. 2022, J Agric Eng LIII:1412): the differential internal-engagement
-and K-H-V trains and the twelve objectives; automatic optimization; gear teeth and
-manufacturing files; an HTML report of every job (--report).
+From a planned tip path (or a published parameter set) to gears a workshop can cut, with
+one verdict: ``plantmech design`` checks the design, optimizes every objective and the
+manufacturability checks, cuts the teeth and writes DXF/SVG/STL files and a report.
+Sugarcane seeders (Liu et al. 2023), rice transplanters (Zhou et al. 2022) and general
+non-circular planetary trains.
 
+``plantmech design DESIGN.toml --out DIR``: the whole job, to cut gears (start here).
 ``plantmech init KIND DIR``: write a commented starting design.
-``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
-``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
-``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
-``plantmech gears DESIGN.toml --out DIR``: teeth, checks and manufacturing files.
+``plantmech docs [TOPIC]``: the documentation, shipped with the package.
+``plantmech inverse | forward | optimize | gears | verify``: the steps one at a time.
 
 Exit status (every command): 0 everything asked of the design is met (objectives, checks,
 manufacturability), 2 invalid input (names the field, gear or angle), 3 infeasible design,
@@ -26,7 +25,7 @@ import sys
 import time
 from pathlib import Path
 
-from plantmech import __version__
+from plantmech import __version__, typos
 from plantmech.outputs.caveats import caveats
 from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
@@ -186,7 +185,7 @@ def _inverse_body(args, design, run) -> int:
     out = run.path
     t0 = time.perf_counter()
     try:
-        job = run_seeder_inverse(design)
+        job = run_seeder_inverse(design, speeds=True)
     except TrajectoryError as exc:
         print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -229,8 +228,8 @@ def _inverse_body(args, design, run) -> int:
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
-    print(verdict_line(v, "feasible, every planning check and attitude objective met, "
-                          "pitch curves cuttable", cav))
+    print(verdict_line(v, "feasible, every planning check, attitude and speed objective "
+                          "met, pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -512,9 +511,9 @@ def _print_summary(s: dict) -> None:
             where += f" (carrier angle {a:.1f}-{b:.1f} deg)"
         print(f"  {d['severity'].upper()} [{d['kind']}]{where}: {d['message']}")
     from plantmech.outputs.files import check_line
+    from plantmech.workflows import seeder_checks
 
-    for c in s["trajectory_checks"] + s.get("objectives", []) + s.get("manufacturing_checks",
-                                                                        []):
+    for c in seeder_checks(s):
         print(check_line(c))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "
@@ -550,18 +549,64 @@ def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
 
 #: the range of every random seed option (NumPy's and pymoo's seeds are 32 bits)
 SEED = {"minimum": 0, "strict": False, "maximum": 2**32 - 1}
+class _Parser(argparse.ArgumentParser):
+    """argparse with "did you mean" on a misspelled command, choice or option, and an
+    unknown option reported by the command's own usage (not the top level's)."""
+
+    def parse_args(self, args=None, namespace=None):
+        args, unknown = self.parse_known_args(args, namespace)
+        if unknown:
+            sub = self._command_parser(getattr(args, "command", None)) or self
+            options = [o[2:] for o in sub._option_string_actions if o.startswith("--")]
+            hints = "".join(typos.did_you_mean(u.split("=")[0].lstrip("-"), options)
+                            .replace(" '", " '--") for u in unknown if u.startswith("-"))
+            sub.error(f"unrecognized arguments: {' '.join(unknown)}{hints}")
+        return args
+
+    def _command_parser(self, command):
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                return action.choices.get(command)
+        return None
+
+    def error(self, message):
+        import re
+
+        m = re.search(r"invalid choice: '(.*)' \(choose from (.*)\)$", message)
+        if m:
+            choices = re.findall(r"'([^']*)'", m.group(2))
+            message += typos.did_you_mean(m.group(1), choices)
+        if message.endswith("required: COMMAND"):
+            message += ("; start with 'plantmech init transplanter my' then 'plantmech design "
+                        "my/transplanter.toml --out out' ('plantmech --help': every command)")
+        super().error(message)
 
 
 def build_parser() -> argparse.ArgumentParser:
     from plantmech.interfaces.report_cli import add_report_option
 
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="plantmech", description="\n".join(__doc__.split("\n\n")[:2]),
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="Start with: plantmech init seeder mydesign; then plantmech inverse "
-        "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
+        epilog="Start with: plantmech init transplanter my; then plantmech design "
+        "my/transplanter.toml --out out (cut gears, design.toml and a verdict). "
+        "'plantmech COMMAND --help' for each; 'plantmech docs' for the documentation.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    from plantmech.interfaces import (
+        app_cli,
+        design_cli,
+        docs_cli,
+        init_cli,
+        report_cli,
+        schema_cli,
+        study_cli,
+        verify_cli,
+    )
+
+    design_cli.register(sub)  # the main job first, then how to start, then the steps
+    init_cli.register(sub)
+    docs_cli.register(sub)
     inv = sub.add_parser("inverse", help="seeder or planetary [trajectory]: planned tip "
                          "trajectory -> gear train (inverse design of Liu et al. 2023, "
                          "section 3)",
@@ -642,7 +687,7 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--pop", type=_number(int, 4, strict=False, maximum=2000),
                      default=None, help="population size (4-2000)")
     opt.add_argument("--algorithm", choices=ALGORITHMS, default=None,
-                     help="default per problem (docs/optimization.md)")
+                     help="default per problem (plantmech docs optimization)")
     opt.add_argument("--points", type=_number(int, 4, strict=False, maximum=128),
                      default=16, help="interpolation radii per gear for the seeder's layer 2 "
                      "(4-128)")
@@ -654,7 +699,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="seeder problems that move type-value points: 'auto' moves the "
                      "seeding point e (and f) on when, at e, a return speed above its "
                      "minimum needs a seeding speed above its limit (the three-bar bound, "
-                     "docs/optimization.md); 'keep' never moves it")
+                     "plantmech docs optimization); 'keep' never moves it")
     opt.add_argument("--no-manufacturability", action="store_true",
                      help="only report the pitch-curve manufacturability checks (cuttable "
                      "module, working pressure angle, tooth fit) instead of requiring them; "
@@ -662,22 +707,10 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     add_report_option(opt)
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import (
-        app_cli,
-        design_cli,
-        init_cli,
-        report_cli,
-        schema_cli,
-        study_cli,
-        verify_cli,
-    )
-
-    design_cli.register(sub)
-    init_cli.register(sub)
+    verify_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
     report_cli.register(sub)
-    verify_cli.register(sub)
     app_cli.register(sub)
     return p
 

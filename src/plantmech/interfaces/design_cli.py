@@ -19,7 +19,7 @@ def register(sub) -> None:
                    "optimizer (0 to 2^32 - 1; same seed, same result)")
     p.add_argument("--generations", type=_number(int, 1, strict=False, maximum=10_000),
                    default=None, help="optimizer generations (1-10000; default per problem, "
-                   "docs/optimization.md)")
+                   "plantmech docs optimization)")
     p.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5), default=None,
                    help="tooth module, mm (0.5-50; default: the largest the pitch curves "
                    "allow)")

@@ -23,10 +23,12 @@ def register(subparsers) -> None:
     from plantmech.studies.spec import MAX_CHUNKS
 
     p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
-                              "optimization on Dask")
+                              "optimization on Dask (needs plantmech[studies])")
     p.add_argument("design", help="design file (TOML); never overwritten")
     p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
-                   "'sweep' or 'multi-start' (examples/studies/)")
+                   "'sweep' or 'multi-start'; shipped ones: plantmech.example_path("
+                   "'studies/seeder_tolerance') and the other studies/ names of "
+                   "plantmech.list_examples()")
     p.add_argument("--out", required=True, help="output directory; rerun with the same "
                    "inputs and --out to resume a study stopped by --max-chunks or a failed "
                    "chunk (a --out holding this same study needs no --force)")
@@ -51,6 +53,10 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    from plantmech.extras import refused
+
+    if refused("studies", "'plantmech study'"):
+        return EXIT_INPUT
     from plantmech.interfaces.cli import run_command
     from plantmech.studies.spec import StudySpecError, load_spec
 

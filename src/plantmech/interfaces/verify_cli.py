@@ -224,8 +224,18 @@ def _record_loads(rec: dict, compute):
     """Run ``compute()`` (a loads dict) into ``rec``: the loads without their series, and
     the energy-balance check (< 1 %) in the checks and the verdict; a loads computation
     refused with a ValueError is recorded as skipped. Returns the loads (None if skipped)."""
+    from plantmech.extras import MissingExtra, require
     from plantmech.objectives import Check
 
+    try:
+        require("loads", "the multibody loads")
+    except MissingExtra as exc:  # the contact is checked; the verdict says what is missing
+        note = f"not computed: {exc} (or --no-loads to leave them out)"
+        rec["loads"] = {"not_computed": note}
+        rec["checks"].append(Check("loads: energy balance error", None, "< 1", False, "%",
+                                   note=note).as_dict())
+        rec["ok"] = False
+        return None
     try:
         loads = compute()
     except ValueError as exc:
@@ -364,7 +374,8 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
                   f"{imp['drive_work_J']:+.3f} J, peak input torque "
                   f"{imp['peak_input_torque_N_m']:.1f} N m")
     elif "loads" in rec:
-        print(f"  loads skipped: {rec['loads']['skipped']}")
+        print(f"  loads skipped: {rec['loads']['skipped']}" if "skipped" in rec["loads"]
+              else f"  loads {rec['loads']['not_computed']}")
     if "strength" in rec:
         for line in _strength_lines(rec["strength"]):
             print(line)

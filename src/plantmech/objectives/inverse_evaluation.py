@@ -96,9 +96,13 @@ class InfeasibleDesign(Exception):
         self.job = job
 
 
-def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
-    """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
-    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""
+def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True,
+                       speeds: bool = False) -> SeederInverseJob:
+    """Inverse design of the trajectory, Table 1, attitude, (``speeds``) the speed objectives
+    of the designed train (``inverse_speed_objectives``, after the attitude in the
+    summary's objectives) and (``manufacturability``) the manufacturability of the designed
+    pitch curves (``objectives.seeder.gear_checks``): with both, the seeder's whole set of
+    checks (``seeder_checks``)."""
     traj, res = inverse_design_of(design)
     sections = design.trajectory.sections.model_dump()
     planning = planning_checks(traj, sections, design.planning_limits)
@@ -109,13 +113,25 @@ def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> 
                                   res.point_carrier_angle, sections)
         checks = attitude_checks(att, design.attitude)
     summ = summary(res, design, planning, att, checks or [])
+    job = SeederInverseJob(design, traj, res, summ)
+    if speeds and res.feasible and res.tip_realized is not None:
+        summ["objectives"] += [c.as_dict() for c in inverse_speed_objectives(job)["checks"]]
     if res.feasible and manufacturability:  # can the designed pitch curves be cut?
         from plantmech.objectives.seeder import gear_checks
 
         metrics, g_checks = gear_checks(train_from_inverse(res), rules_for(design))
         summ["manufacturing"] = metrics["manufacturing"]
         summ["manufacturing_checks"] = [c.as_dict() for c in g_checks]
-    return SeederInverseJob(design, traj, res, summ)
+    return job
+
+
+def seeder_checks(summary: dict) -> list[dict]:
+    """The seeder's one set of checks, in one order, from a job's summary: Table 1's
+    planning checks (of the trajectory, when the design has one), the attitude and speed
+    objectives, the manufacturability of the pitch curves (17 for a feasible design with a
+    trajectory). ``inverse``, ``design`` (its full-resolution check) and the app show these."""
+    return (list(summary.get("trajectory_checks", [])) + list(summary.get("objectives", []))
+            + list(summary.get("manufacturing_checks", [])))
 
 
 def seeder_inverse_checks(design: SeederDesign, samples: int = 720,

@@ -14,9 +14,9 @@ EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET, EXIT_NO_SPACE = 0, 2, 3, 4, 
 def verdict(*check_lists, infeasible: bool = False, problems: list[str] | None = None) -> dict:
     """{status, ok, exit_code, failed}: ``check_lists`` are lists of check dicts (name, ok);
     ``problems`` further reasons for "not met" (a file that is not what it claims, a failed
-    re-check)."""
-    failed = [c["name"] for checks in check_lists for c in checks if not c.get("ok")]
-    failed += list(problems or [])
+    re-check, a check not run), listed first: the verdict line shows the first eight."""
+    failed = list(problems or [])
+    failed += [c["name"] for checks in check_lists for c in checks if not c.get("ok")]
     if infeasible:
         return {"status": "infeasible", "ok": False, "exit_code": EXIT_INFEASIBLE,
                 "failed": failed}
