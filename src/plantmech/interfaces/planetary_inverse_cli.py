@@ -70,6 +70,8 @@ def inverse_planetary(args, design, run) -> int:
             "tip_y_mm": res.tip.imag, "carrier_abs_deg": res.carrier * deg,
             "arm_abs_deg": res.arm * deg, "ratio": res.ratio})
         written.append(out / "inverse.csv")
+    if "estimate" in job:
+        summary["error_estimate"] = job["estimate"]
     summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = summary["verdict"] = verdict(job["rows"], infeasible=not res.feasible)
     write_json(out / "summary.json", summary)
@@ -95,6 +97,10 @@ def inverse_planetary(args, design, run) -> int:
 
     for r in job["rows"]:
         print(check_line(r, 30, digits=4))
+    if "estimate" in job:
+        from plantmech.objectives.inverse_estimate import estimate_line
+
+        print(estimate_line(job["estimate"]))
     print("wrote: " + ", ".join(str(run.final(p)) for p in written))
     if res.feasible and "max_realized_tip_deviation_mm" in (job["deviation"] or {}):
         summary_note = ("feasible; the written design's forward tip follows the inverse "
@@ -106,5 +112,7 @@ def inverse_planetary(args, design, run) -> int:
     else:
         summary_note = ("feasible; the written design's forward tip passes through every "
                         "type-value point and meets every limit of [limits]")
+    if not job.get("estimate", {"computed": True})["computed"]:
+        summary_note += " (its error estimate was not computed: see above)"
     print(verdict_line(v, summary_note))
     return v["exit_code"]

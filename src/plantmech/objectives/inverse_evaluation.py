@@ -96,9 +96,12 @@ class InfeasibleDesign(Exception):
         self.job = job
 
 
-def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
+def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True,
+                       estimate: bool = False) -> SeederInverseJob:
     """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
-    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""
+    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``);
+    ``estimate``: the error estimate of a feasible design (``objectives.inverse_estimate``:
+    summary "error_estimate" and its checks "error_estimate_checks")."""
     traj, res = inverse_design_of(design)
     sections = design.trajectory.sections.model_dump()
     planning = planning_checks(traj, sections, design.planning_limits)
@@ -115,6 +118,14 @@ def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> 
         metrics, g_checks = gear_checks(train_from_inverse(res), rules_for(design))
         summ["manufacturing"] = metrics["manufacturing"]
         summ["manufacturing_checks"] = [c.as_dict() for c in g_checks]
+    if res.feasible and estimate:
+        from plantmech.mechanisms.seeder_trains import inverse_settings
+        from plantmech.objectives.inverse_estimate import estimate_rows, seeder_estimate
+
+        summ["error_estimate"] = seeder_estimate(design.trajectory.points,
+                                                 inverse_settings(design), res,
+                                                 design.trajectory.error_estimate_limit_mm)
+        summ["error_estimate_checks"] = estimate_rows(summ["error_estimate"])
     return SeederInverseJob(design, traj, res, summ)
 
 

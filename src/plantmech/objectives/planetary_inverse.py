@@ -374,7 +374,22 @@ def run_first_order(design) -> dict:
     if not res.feasible:
         return job
     designed = first_order_design(design, res)
-    return _round_trip(job, designed, traj)
+    from plantmech.objectives.inverse_estimate import first_order_estimate
+
+    return _with_estimate(_round_trip(job, designed, traj), lambda: first_order_estimate(
+        tr.points, res, tr.arm, pair.kind, s, tr.samples, tr.error_estimate_limit_mm))
+
+
+def _with_estimate(job: dict, estimate) -> dict:
+    """``job`` with its error estimate (``objectives.inverse_estimate``; ``estimate()``
+    computes it) under "estimate" and its checks among the rows, if the design is
+    feasible."""
+    from plantmech.objectives.inverse_estimate import estimate_rows
+
+    if job["feasible"]:
+        job["estimate"] = estimate()
+        job["rows"] += estimate_rows(job["estimate"])
+    return job
 
 
 def _round_trip(job: dict, designed, traj) -> dict:
@@ -470,13 +485,20 @@ def _run_second_order(design) -> dict:
     res.follower_turns = 1.0
     res.carrier0_deg = float(np.degrees(seeder.carrier_abs[0]))
     res.arm0_deg = float(np.degrees(seeder.arm_angle_realized[0]))
+    from plantmech.objectives.inverse_estimate import seeder_estimate
+
+    def estimate():
+        return seeder_estimate(tr.points, settings, seeder, tr.error_estimate_limit_mm)
+
     if seeder.dwell is not None:  # the contacts' radii while the teeth mesh
         res.sun_radii = seeder.r1[np.isfinite(seeder.r1)]
         res.planet_radii = seeder.r4[np.isfinite(seeder.r4)]
-        return _round_trip(job, second_order_dwell_design(design, seeder), traj)
+        return _with_estimate(_round_trip(job, second_order_dwell_design(design, seeder),
+                                          traj), estimate)
     res.sun_radii = seeder.r1[(-np.arange(len(seeder.r1))) % len(seeder.r1)]
     res.planet_radii = seeder.r4
-    return _round_trip(job, second_order_design(design, seeder), traj)
+    return _with_estimate(_round_trip(job, second_order_design(design, seeder), traj),
+                          estimate)
 
 
 def second_order_design(design, seeder):
