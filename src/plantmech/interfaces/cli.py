@@ -203,7 +203,8 @@ def _inverse_body(args, design, run) -> int:
         problems.append(f"round trip (--verify) not computable: {s['round_trip_not_computable']}")
     v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
                                s.get("manufacturing_checks", []),
-                               s.get("error_estimate_checks", []), infeasible=not res.feasible,
+                               s.get("dwell_checks", []), s.get("error_estimate_checks", []),
+                               infeasible=not res.feasible,
                                problems=problems)
     write_json(out / "summary.json", s)
     _print_summary(s)
@@ -476,7 +477,8 @@ def _print_summary(s: dict) -> None:
     from plantmech.outputs.files import check_line
 
     for c in (s["trajectory_checks"] + s.get("objectives", [])
-              + s.get("manufacturing_checks", []) + s.get("error_estimate_checks", [])):
+              + s.get("manufacturing_checks", []) + s.get("dwell_checks", [])
+              + s.get("error_estimate_checks", [])):
         print(check_line(c))
     if "error_estimate" in s:
         from plantmech.objectives.inverse_estimate import estimate_line

@@ -89,6 +89,10 @@ def inverse_planetary(args, design, run) -> int:
         print(f"  carrier arm {res.centre_distance:.4f} mm, arm {res.arm_length:.4f} mm")
     for reason in res.reasons:
         print(f"  INFEASIBLE: {reason}", file=sys.stderr)
+    if job.get("seeder") is not None:  # seed 000's warnings (the dwell's)
+        for d in job["seeder"].diagnostics:
+            if d.severity == "warning":
+                print(f"  WARNING [{d.kind}]: {d.message}")
     if res.feasible:
         print(f"  ratio {summary['ratio_range'][0]:.4f}-{summary['ratio_range'][1]:.4f}, sun "
               f"radius {summary['sun_radius_mm'][0]:.3f}-{summary['sun_radius_mm'][1]:.3f} mm, "

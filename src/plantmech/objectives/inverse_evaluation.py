@@ -69,8 +69,13 @@ def summary(res: InverseResult, design, planning, attitude, attitude_checks,
         d = dict(res.dwell)
         for k in ("theta1", "carrier_start", "carrier_end", "planned_rel_rotation", "theta2"):
             if k in d:
-                d[k + "_deg"] = float(d.pop(k) * DEG)
+                v = d.pop(k)
+                d[k + "_deg"] = None if v is None else float(v * DEG)
         out["dwell"] = d
+        if "lock_radius_jump" in d:
+            from plantmech.mechanisms.seeder_inverse import dwell_lock_check
+
+            out["dwell_checks"] = [dwell_lock_check(res.dwell)]
     if extra:
         out.update(extra)
     return out

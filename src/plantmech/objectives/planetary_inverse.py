@@ -493,8 +493,12 @@ def _run_second_order(design) -> dict:
     if seeder.dwell is not None:  # the contacts' radii while the teeth mesh
         res.sun_radii = seeder.r1[np.isfinite(seeder.r1)]
         res.planet_radii = seeder.r4[np.isfinite(seeder.r4)]
-        return _with_estimate(_round_trip(job, second_order_dwell_design(design, seeder),
-                                          traj), estimate)
+        from plantmech.mechanisms.seeder_inverse import dwell_lock_check
+
+        job = _round_trip(job, second_order_dwell_design(design, seeder), traj)
+        if job["feasible"]:
+            job["rows"].append(dwell_lock_check(seeder.dwell))
+        return _with_estimate(job, estimate)
     res.sun_radii = seeder.r1[(-np.arange(len(seeder.r1))) % len(seeder.r1)]
     res.planet_radii = seeder.r4
     return _with_estimate(_round_trip(job, second_order_design(design, seeder), traj),
