@@ -774,14 +774,25 @@ def inverse_design(traj, settings: InverseSettings, fused: bool = True) -> Inver
     res.dwell = pop.dwell[0]
     g_real = pop.total_ratio[0]
     res.total_ratio = g_real
-    for s, e in cyclic_runs(pop.ratio_bad[0]):
+    runs = cyclic_runs(pop.ratio_bad[0])
+    if runs:  # located on the law's spline between the samples (geometry.refine)
+        from plantmech.geometry.refine import periodic_law, run_of_law
+
+        spline = periodic_law(res.planet_rel - psi)
+        scale = res.dwell["ratio_scale"] if res.dwell is not None else 1.0
+
+        def law(x):
+            return scale * (spline(x, 1) + 1.0)
+
+    for s, e in runs:
+        run = run_of_law(law, psi, s, e)
         diags.append(Diagnostic(
             "ratio_not_positive",
             "the planet would have to stop or turn back relative to the carrier "
-            f"(d psi4/d psi reaches {_on_run(g_real, s, e).min():.3f}): a gear pair cannot give a "
+            f"(d psi4/d psi reaches {run['minimum']:.4f}): a gear pair cannot give a "
             "zero or negative speed ratio, pitch radius would be <= 0",
             _bracket_points(traj, u[s], u[e]),
-            [float(np.degrees(psi[s])), float(np.degrees(psi[e]))],
+            [float(np.degrees(np.mod(run[k], TWO_PI))) for k in ("start", "end")],
         ))
     if failure == "ratio_not_positive":
         return res

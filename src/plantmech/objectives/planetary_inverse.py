@@ -213,11 +213,19 @@ def first_order_inverse(traj: ClosedTrajectory, arm: str = "long", kind: str = "
     j_pts = np.searchsorted(u_dense, u_max + np.mod(traj.knots[:-1] - u_max, traj.period))
     res.point_carrier_angle_deg = np.degrees(psi_dense[np.clip(j_pts, 0, m)])
     if not g.min() > 0:
+        from plantmech.geometry.refine import minimum_between, periodic_law
+
         k = int(np.argmin(g))
+        spline = periodic_law(drift)
+        step = TWO_PI / n
+        x_min, g_min = minimum_between(
+            lambda x: (spline(x, 1) + net / TWO_PI) / (-s * sense), psi[k] - step,
+            psi[k] + step)  # between the samples (geometry.refine)
         res.reasons.append(
             f"the planet would have to stop or turn the other way relative to the carrier "
-            f"{_points_near(traj, u[k])} (carrier angle {np.degrees(psi[k]):.1f} deg; the "
-            f"{kind} pair's ratio law reaches {g[k]:.4f}, the planet turning {q:.3f} times "
+            f"{_points_near(traj, u[k])} (carrier angle "
+            f"{np.degrees(np.mod(x_min, TWO_PI)):.2f} deg; the "
+            f"{kind} pair's ratio law reaches {g_min:.4f}, the planet turning {q:.3f} times "
             "per sun turn): no one pair rolls this law (an external pair turns the planet "
             "against the sun, an internal one with it); a swinging arm needs a second-order "
             "train (seed 000)")
