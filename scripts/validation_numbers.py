@@ -10,7 +10,8 @@ Sections: table2 (Table 2 as printed and the q3 scan), inverse (section 3.4 and 
 the corrected trajectory), dwell (the toothless dwell over cd), round_trip, estimate (the
 inverse design's error estimate on a known elliptic train), table4 (both closures of Table
 4, with the radial offset's phases), table4_reading (the alternative reading and the
-tip-speed floor), transplanter (seed 001), convexity; expensive: table4_fit (the radial
+tip-speed floor), transplanter (seed 001 and the K-H-V example), convexity, optimized (the
+shipped layered optimum re-simulated); expensive: table4_fit (the radial
 offset's phases refitted), table4_grid (the phase grid on the population model).
 """
 
@@ -468,7 +469,57 @@ def transplanter() -> list[Figure]:
     o, _ = objectives(EX / "rice_transplanter.toml", interpolation="spline")
     out.append(fig("angle difference (v) with spline (deg)", o["angle_difference"],
                    "({:.2f} with `spline`)"))
+    job = run_transplanter(load_design(EX / "rice_transplanter.toml"))
+    s = job.summary
+    arms = st["picking"][0], st["planting"][0]
+    out += [Figure("closure of the internal pair (rad)", float(s["closure_error_rad"]),
+                   f"| {s['closure_error_rad']:.0e} rad (a = {s['centre_distance_mm']:.3f} mm) |"),
+            fig("three arms identical after 120 deg (mm)", max(s["arm_phase_deviation_mm"]),
+                "| \"completely consistent\" | {:.1e} mm |"),
+            Figure("arms II / III picking (deg)", float(arms[0][0, 0]),
+                   f"| {arms[0][0, 0]:.1f}-{arms[0][0, 1]:.1f} / {arms[0][1, 0]:.1f}-"
+                   f"{arms[0][1, 1]:.1f} deg |"),
+            Figure("arms II / III planting (deg)", float(arms[1][0, 0]),
+                   f"| {arms[1][0, 0]:.1f}-{arms[1][0, 1]:.1f} / {arms[1][1, 0]:.1f}-"
+                   f"{arms[1][1, 1]:.1f} deg |")]
+    # K-H-V for comparison (illustrative)
+    job = run_transplanter(load_design(EX / "rice_transplanter_khv.toml"))
+    s, ev = job.summary, job.evaluation
+    out += [fig("K-H-V: two arms repeat each other (mm)", max(s["arm_phase_deviation_mm"]),
+                "two arms repeat each other ({:.1e} mm)"),
+            fig("K-H-V: closure (rad)", s["closure_error_rad"], "the train closes ({:.0e} rad)"),
+            fig("K-H-V: height (mm)", s["trajectory_height_mm"], "the height is {:.0f} mm"),
+            Figure("K-H-V: objectives not met", float((~ev.ok[0]).sum()),
+                   f"{int((~ev.ok[0]).sum())} of {ev.ok.shape[1]} objectives fail")]
     return out
+
+
+def optimized() -> list[Figure]:
+    """examples/sugarcane_seeder_optimized.toml re-simulated from its pitch curves by the
+    forward model (the seed 000 optimization table's shipped column)."""
+    from plantmech.workflows import run_seeder_forward
+
+    s = run_seeder_forward(load_design(EX / "sugarcane_seeder_optimized.toml")).summary
+    o = {x["name"]: x["value"] for x in s["objectives"]}
+    v = s["zero_speed_travel_m_s"]
+    return [
+        fig("picking swing (deg)", o["picking_swing"], "| picking swing | < 28 deg | {:.1f} deg |"),
+        fig("seeding swing (deg)", o["seeding_swing"], "| seeding swing | < 16 deg | {:.1f} deg |"),
+        fig("sowing angle, magnitude (deg)", o["sowing_angle"],
+            "| sowing angle | -27.5 deg | {:.1f} deg in magnitude |"),
+        fig("seeding peak, static (m/s)", s["max_speed_seeding_m_s"],
+            "| seeding peak speed (static) | 1.33 m/s | {:.3f} m/s |"),
+        fig("return minimum, static (m/s)", s["min_speed_return_static_m_s"],
+            "| return minimum, static | 1.14 m/s | {:.3f} m/s |"),
+        fig("return minimum, dynamic (m/s)", s["min_speed_return_dynamic_m_s"],
+            "| return minimum, dynamic | 1.26 m/s | {:.3f} m/s |"),
+        Figure("zero-speed travel (m/s)", abs(v),
+               f"| {abs(v):.3f} m/s (towards {'-' if v < 0 else '+'}x: v_c = {v:.3f};"),
+        fig("path vs layer 1's plan, largest (mm)", s["deviation_from_trajectory_mm"][
+            "max_tip_to_plan"], "| {:.2f} mm (bound 20) |"),
+        Figure("working pressure angles (deg)", o["working_pressure_angle_sun_gear2"],
+               f"pressure angle {o['working_pressure_angle_sun_gear2']:.0f} / "
+               f"{o['working_pressure_angle_gear3_planet']:.0f} deg")]
 
 
 def convexity() -> list[Figure]:
@@ -492,7 +543,7 @@ def convexity() -> list[Figure]:
 
 CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": round_trip,
          "estimate": estimate, "table4": table4, "table4_reading": table4_reading,
-         "transplanter": transplanter, "convexity": convexity}
+         "transplanter": transplanter, "convexity": convexity, "optimized": optimized}
 EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid}
 
 

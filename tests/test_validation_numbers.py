@@ -25,7 +25,7 @@ def script():
 
 
 SECTIONS = ["table2", "inverse", "dwell", "round_trip", "estimate", "table4",
-            "table4_reading", "transplanter", "convexity"]
+            "table4_reading", "transplanter", "convexity", "optimized"]
 
 
 def test_the_cheap_sections_are_these(script):
