@@ -79,3 +79,17 @@ def test_table2_as_printed_minimum_ratio_and_window_are_the_curves():
     reached = float(d[0].message.split("reaches ")[1].split(")")[0])
     assert reached == pytest.approx(g.min(), abs=2e-4)
     assert round(reached, 2) == -3.23
+
+
+def test_cyclic_extreme_of_a_sampled_circle():
+    """y = sin(psi + 0.3) at 36 samples (10 deg) with its exact rate: the largest and
+    smallest values are +-1, between the samples, to the Hermite segment's accuracy (the
+    samples alone miss by more than 1e-3)."""
+    from plantmech.geometry.refine import cyclic_extreme
+
+    psi = 2 * np.pi * np.arange(36) / 36
+    y, dy = np.sin(psi + 0.3), np.cos(psi + 0.3)
+    assert y.max() < 1 - 1e-3
+    top = cyclic_extreme(np.stack([y, 2 * y]), np.stack([dy, 2 * dy]), 2 * np.pi / 36)
+    assert top == pytest.approx([1.0, 2.0], rel=2e-6)
+    assert cyclic_extreme(y, dy, 2 * np.pi / 36, largest=False) == pytest.approx(-1.0, abs=2e-6)

@@ -131,5 +131,24 @@ def hermite_extreme(y0, y1, d0, d1, largest: bool = True) -> tuple[np.ndarray, n
     return take(s, k[None], axis=0)[0], take(v, k[None], axis=0)[0]
 
 
-__all__ = ["crossing_between", "hermite_crossing", "hermite_extreme", "minimum_between",
-           "periodic_law", "run_of_law"]
+def cyclic_extreme(values, rates, step: float, largest: bool = True) -> np.ndarray:
+    """The largest (``largest``) or smallest value of closed sampled curves, between the
+    samples: ``values`` (..., S) at S uniform steps of ``step`` (rad) around a turn,
+    ``rates`` their exact derivatives per rad; the cubic Hermite segments on either side
+    of each row's extreme sample (closed form, ``hermite_extreme``), never less extreme
+    than that sample."""
+    v = np.asarray(values, dtype=float)
+    r = np.asarray(rates, dtype=float) * step
+    S = v.shape[-1]
+    k = (np.argmax(v, axis=-1) if largest else np.argmin(v, axis=-1))[..., None]
+    best = np.take_along_axis(v, k, axis=-1)[..., 0]
+    pick = (np.maximum if largest else np.minimum)
+    for a, b in ((k - 1) % S, k), (k, (k + 1) % S):
+        y0, y1 = (np.take_along_axis(v, i, axis=-1)[..., 0] for i in (a, b))
+        d0, d1 = (np.take_along_axis(r, i, axis=-1)[..., 0] for i in (a, b))
+        best = pick(best, hermite_extreme(y0, y1, d0, d1, largest=largest)[1])
+    return best
+
+
+__all__ = ["crossing_between", "cyclic_extreme", "hermite_crossing", "hermite_extreme",
+           "minimum_between", "periodic_law", "run_of_law"]

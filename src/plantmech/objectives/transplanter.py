@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plantmech.design import TransplanterLimitsSpec as TransplanterLimits  # noqa: F401
+from plantmech.geometry.refine import cyclic_extreme
 from plantmech.mechanisms.transplanter import TransplanterMotion
 from plantmech.objectives import Check, limit_text, relative_violation
 
@@ -144,8 +145,10 @@ def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
     has_pick = in_mat.any(axis=-1)
     deepest = np.argmin(np.where(in_mat, v, np.inf), axis=-1)
     p0, p1 = _run_around(in_mat, deepest)
-    ground = B[:, :1].imag.min(axis=-1) + setup.planting_depth  # (P, 1): arm 0 of each design
-    ground = ground[:, 0]
+    # the lowest point of arm 0's path, between the samples (geometry.refine)
+    lowest = cyclic_extreme(B[:, 0].imag, motion.tip_rate[:, 0].imag, TWO_PI / S,
+                            largest=False)
+    ground = lowest + setup.planting_depth  # (P,)
     below = B.imag < ground[:, None, None]
     kmin = np.argmin(B.imag, axis=-1)
     g_start, g_end = _run_around(below, kmin)
@@ -221,8 +224,9 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         "(vi) |upper - lower surface length| of the picked block: where the needle's pass "
         "crosses the mat's top and bottom surfaces, along the box floor")
     # --- (vii) trajectory height above ground ---------------------------------------
-    yB = motion.B[:, 0].imag
-    height = yB.max(axis=-1) - st["ground_y"]
+    S = motion.B.shape[-1]
+    height = cyclic_extreme(motion.B[:, 0].imag, motion.tip_rate[:, 0].imag, TWO_PI / S,
+                            largest=True) - st["ground_y"]  # between the samples
     add("trajectory_height", height, limits.min_trajectory_height_mm, None, "mm",
         "(vii) highest tip point above the ground (against bridging)")
     # --- (viii), (ix) absolute trajectory -------------------------------------------
