@@ -531,7 +531,24 @@ def convexity() -> list[Figure]:
     c = rt(run_seeder_inverse(load_design(EX / "sugarcane_seeder.toml"),
                               manufacturability=False))["convexity"]
     g2, g3 = c["gear2"], c["gear3"]
-    return [fig("gear 2: smallest concave radius (mm)", g2["min_concave_radius_mm"],
+
+    def spans(g):  # (spans of finite width, spans of zero width (an inflection))
+        widths = [np.mod(b - a, 360.0) for a, b in g["concave_spans_deg"]]
+        return sum(w > 1e-6 for w in widths), sum(w <= 1e-6 for w in widths)
+
+    wide2, zero2 = spans(g2)
+    first, last = g2["concave_spans_deg"][0][0], g2["concave_spans_deg"][wide2 - 1][1]
+    flat = [a for a, b in g2["concave_spans_deg"] if np.mod(b - a, 360.0) <= 1e-6]
+    wide3, zero3 = spans(g3)
+    return [Figure("gear 2: concave spans", float(wide2),
+                   f"gear 2 has {wide2} concave spans between {first:.0f} and {last:.0f} deg "
+                   f"body angle plus {'one' if zero2 == 1 else zero2} of zero width"),
+            fig("gear 2: the zero-width span's body angle (deg)", flat[0],
+                "touching zero curvature at {:.1f} deg"),
+            Figure("gear 3: concave spans", float(wide3 + zero3),
+                   f"gear 3 has {wide3 + zero3}, {'two' if zero3 == 2 else zero3} of them of "
+                   "zero width"),
+            fig("gear 2: smallest concave radius (mm)", g2["min_concave_radius_mm"],
                 "smallest concave radius of curvature {:.2f} mm"),
             fig("gear 2: smallest convex radius (mm)", g2["min_convex_radius_mm"],
                 "smallest convex one {:.3f} mm"),
