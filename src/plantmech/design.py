@@ -153,6 +153,12 @@ class Trajectory(_Strict):
     sections: Sections = Field(description="section points a-f as type-value point indices")
     samples: Samples = Field(3600, description="samples of the motion per carrier turn "
                              "(3600 = 0.1 deg)")
+    error_estimate_limit_mm: PositiveMM = Field(
+        1.0, description="`plantmech inverse`: largest accepted error estimate (mm), the "
+        "distance of the pitch radii and of the tip at equal carrier angle between the design "
+        "and the same design made from every other type-value point "
+        "(objectives.inverse_estimate); above it the verdict is not met and names where to "
+        "add points")
 
     @field_validator("points")
     @classmethod

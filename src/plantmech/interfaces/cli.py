@@ -185,7 +185,7 @@ def _inverse_body(args, design, run) -> int:
     out = run.path
     t0 = time.perf_counter()
     try:
-        job = run_seeder_inverse(design, speeds=True)
+        job = run_seeder_inverse(design, speeds=True, estimate=True)
     except TrajectoryError as exc:
         print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -214,7 +214,9 @@ def _inverse_body(args, design, run) -> int:
     if "round_trip_not_computable" in s:
         problems.append(f"round trip (--verify) not computable: {s['round_trip_not_computable']}")
     v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
-                               s.get("manufacturing_checks", []), infeasible=not res.feasible,
+                               s.get("manufacturing_checks", []),
+                               s.get("dwell_checks", []), s.get("error_estimate_checks", []),
+                               infeasible=not res.feasible,
                                problems=problems)
     cav = s["caveats"] = caveats(design, s["trajectory_checks"] + s.get("objectives", [])
                                  + s.get("manufacturing_checks", []))
@@ -229,7 +231,9 @@ def _inverse_body(args, design, run) -> int:
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
     print(verdict_line(v, "feasible, every planning check, attitude and speed objective "
-                          "met, pitch curves cuttable", cav))
+                          "met, pitch curves cuttable" + (
+                              "" if s.get("error_estimate", {}).get("computed", True) else
+                              " (its error estimate was not computed: see above)"), cav))
     return v["exit_code"]
 
 
@@ -515,6 +519,10 @@ def _print_summary(s: dict) -> None:
 
     for c in seeder_checks(s):
         print(check_line(c))
+    if "error_estimate" in s:
+        from plantmech.objectives.inverse_estimate import estimate_line
+
+        print(estimate_line(s["error_estimate"]))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "
               f"{s['realized_vs_planned_max_deviation_mm']:.3f} mm")

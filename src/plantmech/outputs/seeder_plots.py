@@ -168,7 +168,7 @@ def plot_pitch_curves(res) -> Figure:
         ax.plot(cx + rr * np.cos(a), cy + rr * np.sin(a), ls, color=col,
                 label=f"{key} ({np.nanmin(r):.1f}-{np.nanmax(r):.1f} mm)")
         ax.plot(cx, cy, "+", color=col)
-    if res.dwell is not None and "edge_radius" in res.dwell:
+    if res.dwell is not None and res.dwell.get("edge_radius") is not None:
         th = off - np.linspace(res.dwell["carrier_end"], res.dwell["carrier_start"], 50)
         e = res.dwell["edge_radius"]
         ax.plot(e * np.cos(th), e * np.sin(th), ":", color="tab:orange", lw=2,
