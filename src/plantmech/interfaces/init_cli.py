@@ -6,14 +6,17 @@ import sys
 
 
 def _init(args) -> int:
+    from plantmech.outputs.files import OutputError, is_no_space
     from plantmech.starters import write_starter
 
     try:
         path = write_starter(args.kind, args.dir, args.name)
-    except FileExistsError as exc:
-        print(f"error: --name / DIR: {exc}", file=sys.stderr)
+    except (OutputError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
+        if is_no_space(exc):
+            raise  # the one full-disk message (cli.ended_by)
         print(f"error: DIR {args.dir}: cannot write there: {exc.strerror or exc}",
               file=sys.stderr)
         return 2

@@ -85,6 +85,10 @@ class Diagnostic:
     between_points: list[int] | None = None
     carrier_angle_deg: list[float] | None = None
     severity: str = "error"  # "error" makes the design infeasible; "warning" does not
+    #: the first and last flagged samples' carrier angles (deg) where ``carrier_angle_deg``
+    #: is refined between samples: the optimizer's grading reads the samples, as the
+    #: population path does (``_run_score``)
+    sample_angle_deg: list[float] | None = None
 
     def as_dict(self) -> dict:
         return {
@@ -793,6 +797,7 @@ def inverse_design(traj, settings: InverseSettings, fused: bool = True) -> Inver
             "zero or negative speed ratio, pitch radius would be <= 0",
             _bracket_points(traj, u[s], u[e]),
             [float(np.degrees(np.mod(run[k], TWO_PI))) for k in ("start", "end")],
+            sample_angle_deg=[float(np.degrees(psi[s])), float(np.degrees(psi[e]))],
         ))
     if failure == "ratio_not_positive":
         return res
