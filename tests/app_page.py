@@ -56,7 +56,8 @@ def browser_page(url: str, width: int = 1400, height: int = 1100):
         pg.on("console", lambda m: errors.append(m.text) if m.type == "error"
               and not m.text.startswith("Failed to load resource") else None)
         pg.goto(url)
-        pg.wait_for_function("window.__plantmech && window.__plantmech.result")
+        # the first answer of a fresh checkout compiles the kernels (numba's cache is cold)
+        pg.wait_for_function("window.__plantmech && window.__plantmech.result", timeout=90000)
         pg.errors = errors
         yield pg
         browser.close()
@@ -73,7 +74,7 @@ def load(page, name):
         "([n, n0]) => window.__answers.length > n0 && window.__plantmech.name === n"
         " && window.__plantmech.result && window.__plantmech.result.quality === 'full'"
         " && !window.__plantmech.inflight && !window.__plantmech.pending",
-        arg=[name, n0], timeout=30000)
+        arg=[name, n0], timeout=90000)  # a first load may compile kernels (cold cache)
 
 
 def point_px(page, i, xy=None):
