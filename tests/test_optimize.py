@@ -569,3 +569,5 @@ def test_the_staged_job_refuses_a_khv_transplanter_by_name(tmp_path, capsys):
                "transplanter", "--out", str(tmp_path / "o"), "--quiet"])
     err = capsys.readouterr().err
     assert rc == 2 and "rice_transplanter design" in err and "Traceback" not in err
+    # it says where the K-H-V train's optimizer is (tests/test_optimize_planetary.py runs it)
+    assert "examples/planetary/rice_transplanter_khv.toml --problem planetary" in err

@@ -178,7 +178,8 @@ def test_fused_tips_equal_the_simulated_chain(name):
     ``model.simulate`` on five trains (a derived sun with its toothless dwell and a
     compound gear; two idler chains; a driven ring sun; a given follower with a derived
     mate on the next shaft), two arms where the file has them: tips and their rates to
-    1e-9 mm (measured 1.3e-13), the arm's angle and rate to 1e-12 rad."""
+    1e-9 mm (measured 3e-11: the arms of a fixed sun are one arm shifted, 1.3e-13 with one
+    arm), the arm's angle and rate to 1e-12 rad."""
     from plantmech.trains.model import simulate, simulate_tips
     from plantmech.trains.spec import build_from_designs
 

@@ -402,9 +402,10 @@ def transplanter_choices(design):
     depth 20 deg system's 17.10; ``prefer_standard_teeth`` goes back to the standard one if
     the final design passes with it). Returns (design to search, record of each choice)."""
     from plantmech.design import Manufacturing
+    from plantmech.optimize.problems import not_transplanter
 
     if design.mechanism != "rice_transplanter":
-        raise ValueError("the transplanter problem optimizes a rice_transplanter design")
+        raise ValueError(not_transplanter(design))
     d = design.model_copy(deep=True)
     choices = {}
     g = design.internal_gear

@@ -380,7 +380,7 @@ def _invert(Fp, g, p, qp, F, N, h, inv, k_last, last, walk):
 @njit(cache=True, error_model="numpy", nogil=True)
 def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived,
                lock, width, tsense, dwell, sun0, sun_rate, carrier0, cs, arms, samples,
-               shaft, arm_length, arm_angle):
+               shaft, arm_length, arm_angle, same_arms):
     """The tip motion of P trains from their K pairs' laws (tuples of K (P, N) tables
     ``Fp``, ``g``, ``dg``; ``q_e``, ``delta`` (K, P)): per design, arm and carrier
     sample the chain of ``trains.model.simulate`` (its module docstring) walked once, pair
@@ -388,7 +388,10 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     a compound driver turned by ``shift`` (K, P), a derived one (``derived`` (K,) True)
     phased so it starts at ``shift`` at arm 0's first sample; pair 0's toothless dwell
     (``dwell``: lock, width (P,), ``tsense``) squeezes its toothless arcs out; a pair whose
-    follower is ``given`` inverts its law, else reads it forward. Returns (tip, tip rate
+    follower is ``given`` inverts its law, else reads it forward. ``same_arms`` (a fixed
+    sun, samples a multiple of the arms): arm j at psi is arm 1 at psi + 2 pi j / J, so
+    arm 1 is walked (one sample more: its arm angle a turn on) and the others copied, the
+    arm angle a turn on past 2 pi. Returns (tip, tip rate
     d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S), the planet's
     centre (complex (P, J, S)))."""
     K = len(Fp)
@@ -406,9 +409,10 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     y_last = np.zeros(K)
     for p in range(P):
         planet0 = 0.0
-        for j in range(arms):
+        beta_end = 0.0
+        for j in range(1 if same_arms else arms):
             off = two_pi * j / arms
-            for si in range(samples):
+            for si in range(samples + (1 if same_arms else 0)):
                 psi = two_pi * si / samples
                 alpha = sun0[p] + sun_rate * psi - cs * off
                 rate = sun_rate
@@ -449,6 +453,9 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                 if j == 0 and si == 0:
                     planet0 = planet
                 beta = planet + (arm_angle[p] - planet0)
+                if si == samples:  # one turn on: the arm's whole turns per carrier turn
+                    beta_end = beta
+                    break
                 e = complex(np.cos(beta), np.sin(beta))
                 tip[p, j, si] = centre + arm_length[p] * e
                 centre_out[p, j, si] = centre
@@ -456,6 +463,21 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                 tip_rate[p, j, si] = 1j * cs * centre + 1j * arm_length[p] * br * e
                 beta_out[p, j, si] = beta
                 rate_out[p, j, si] = br
+        if same_arms:  # arm j at psi is arm 1 at psi + 2 pi j / J, a turn later past 2 pi
+            turn = beta_end - beta_out[p, 0, 0]
+            for j in range(1, arms):
+                lag = samples * j // arms
+                for si in range(samples):
+                    src = si + lag
+                    extra = 0.0
+                    if src >= samples:
+                        src -= samples
+                        extra = turn
+                    tip[p, j, si] = tip[p, 0, src]
+                    tip_rate[p, j, si] = tip_rate[p, 0, src]
+                    centre_out[p, j, si] = centre_out[p, 0, src]
+                    beta_out[p, j, si] = beta_out[p, 0, src] + extra
+                    rate_out[p, j, si] = rate_out[p, 0, src]
     return tip, tip_rate, beta_out, rate_out, centre_out
 
 

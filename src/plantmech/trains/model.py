@@ -499,7 +499,7 @@ def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
         -s if gap is None else float(gap.sense), gap is not None,
         col(_sun_start(built)[:, 0, 0]), (float(tr.sun_speed_ratio) - 1) * s, col(tr.carrier0),
         s, J, samples, np.ascontiguousarray(built.shafts[:, -1]), col(tr.arm_length),
-        col(tr.arm_angle))
+        col(tr.arm_angle), float(tr.sun_speed_ratio) == 0.0 and J > 1 and samples % J == 0)
     psi = TWO_PI * np.arange(samples) / samples
     offset = TWO_PI * np.arange(J) / J
     carrier = _column(tr.carrier0, P)[:, :, None] + s * (psi[None, :] + offset[:, None])[None]
