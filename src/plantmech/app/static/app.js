@@ -56,7 +56,8 @@ function showName() { $("design-name").textContent = `${state.name} — ${state.
 function loadDesign(design, name, keepUndo = false) {
   blurEdit();
   if (state.design && keepUndo) pushUndo(snapshot());
-  if (!keepUndo) { state.undo = []; state.redo = []; clearTasks(); }
+  // another design: its own fields come with its first answer
+  if (!keepUndo) { state.undo = []; state.redo = []; state.parameters = null; clearTasks(); }
   state.design = clone(design); state.name = name || design.name || "design";
   state.fullResult = null; state.result = null; state.lastFeasible = null;
   showName();
