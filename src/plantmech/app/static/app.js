@@ -214,6 +214,7 @@ async function evaluate(quality, t0 = null) {
     renderEdit();
     renderChecks();
     drawMechanism();
+    markStale();
     const v = $("verdict");
     v.textContent = "INVALID INPUT (see the field marked red): the mechanism and checks shown are the last valid design's";
     v.className = "bad";
