@@ -869,11 +869,13 @@ function buildEdit(box, d) {
       : "Edit the design's numbers (limits: the optimizer's search box around the current value, else a box of ±25 %, angles ±45 deg).";
     const params = state.parameters || [];
     const lim = (v) => (Math.abs(v) >= 10 ? v.toFixed(1) : `${+v.toPrecision(3)}`);
+    // the optimizer's bounds, or (a train no problem describes) a box around the value
+    const what = (d.mechanism === "planetary" && !d.optimize) || d.mechanism === "rice_transplanter_khv" ? "box" : "search box";
     for (const p of params) {
       const row = document.createElement("div"); row.className = "param";
       row.innerHTML = `<span>${p.label}</span>`;
       row.appendChild(inputFor(p.field, p.unit, `${lim(p.min)}–${lim(p.max)} ${p.unit}`));
-      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${p.box || "search box"} ${lim(p.min)} … ${lim(p.max)}</span>`);
+      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${what} ${lim(p.min)} … ${lim(p.max)}</span>`);
       box.appendChild(row);
     }
   }
