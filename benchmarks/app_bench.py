@@ -411,12 +411,16 @@ def _summary(drags: list[dict], loops: list[dict]) -> None:
 
 def compare(other_src: str, runs: int = 3) -> None:
     """drag -> redraw in chromium, this checkout's page and server against another
-    checkout's (``other_src``: its ``src`` directory), runs alternating so that both see
-    the same machine load; each run's p50/p95, the medians and their ratio."""
+    checkout's (``other_src``: its ``src`` directory), after one uncounted drag on each,
+    runs alternating (and which goes first) so that both see the same machine load; each
+    run's p50/p95, the medians and their ratio."""
     got: dict[str, list[dict]] = {"this": [], "other": []}
     with Server() as ours, Server(src=other_src) as theirs:
+        for srv in (ours, theirs):  # one drag each not counted: whichever went first lost
+            browser_drag(srv.url, moves=20)  # 2-3x its p95 to the warm-up otherwise
         for run in range(runs):
-            for tag, srv in (("this", ours), ("other", theirs)):
+            order = (("this", ours), ("other", theirs))
+            for tag, srv in order if run % 2 == 0 else order[::-1]:  # first place alternates
                 r = browser_drag(srv.url)
                 if isinstance(r, str):
                     print(f"app drag -> redraw ({tag}): {r}")

@@ -459,27 +459,25 @@ def test_a_general_planetary_train(client):
 
 
 def test_a_khv_train_offers_every_number_of_its_train():
-    """A K-H-V file (no optimizer problem takes it): every radius and angle of its sun,
-    the carrier's angle, every number of the arm and the box's place, each in a box of
+    """A K-H-V file (no optimizer problem takes it): every radius of its sun, the rim, the
+    carrier's angle, every number of the arm and of the seedling box, each in a box of
     +-25 % (angles +-45 deg) around the file's value; counts are not offered."""
     import tomllib
 
     text = (Path(server.examples_dir()) / "rice_transplanter_khv.toml").read_text()
-    raw = tomllib.loads(text)
+    raw = server.design_json(server.validate_design(tomllib.loads(text)))
     params = {p["field"]: p for p in server.editable_parameters(
         server.validate_design(raw))}
     sun = raw["sun_gear"]
     expected = ({f"sun_gear.radii_mm.{i}": r for i, r in enumerate(sun["radii_mm"])}
-                | {f"sun_gear.angles_deg.{i}": a for i, a in enumerate(sun["angles_deg"])}
+                | {"sun_gear.rim_mm": sun["rim_mm"]}
                 | {f"arm.{k}": v for k, v in raw["arm"].items()}
                 | {"carrier.initial_angle_deg": raw["carrier"]["initial_angle_deg"]}
-                | {f"seedling_box.{k}": raw["seedling_box"][k]
-                   for k in ("x_mm", "y_mm", "inclination_deg")})
-    assert expected.items() <= {f: p["value"] for f, p in params.items()}.items()
+                | {f"seedling_box.{k}": v for k, v in raw["seedling_box"].items()})
+    assert {f: p["value"] for f, p in params.items()} == pytest.approx(expected)
     assert "carrier.arms" not in params and "sun_gear.teeth" not in params
     for f, v in expected.items():
-        half = 45.0 if f.split(".")[-1].endswith("deg") or ".angles_deg." in f \
-            else 0.25 * abs(v)
+        half = 45.0 if f.endswith("_deg") else 0.25 * abs(v)
         assert (params[f]["min"], params[f]["max"]) == pytest.approx((v - half, v + half))
     r = TestClient(server.create_app(workers=0)).get(
         "/api/problems", params={"mechanism": "rice_transplanter_khv"})

@@ -328,7 +328,6 @@ def _planetary_parameters(design) -> list[dict]:
     candidates = [("arm", "arm", data.get("arm", {})),
                   ("carrier", "carrier", data.get("carrier", {}))]
     for k, pair in enumerate(data.get("train", {}).get("pairs", [])):
-        candidates.append((f"train.pairs.{k}", f"pair {k + 1}", pair))
         for part in ("driver", "follower"):
             if isinstance(pair.get(part), dict):
                 candidates.append((f"train.pairs.{k}.{part}", f"pair {k + 1} {part}",
@@ -336,45 +335,37 @@ def _planetary_parameters(design) -> list[dict]:
     return _general_parameters(candidates)
 
 
-# numbers of a train's tables that are counts or settings, not dimensions to edit
-_NOT_EDITED = {"arms", "lobes", "speed_deg_s", "teeth", "follower_turns", "grid", "samples",
-               "carrier_speed_deg_s"}
-
-
 def _general_parameters(tables) -> list[dict]:
-    """Every number of the given design tables ``(path prefix, label, table)`` (arrays of
-    numbers entry by entry; counts and settings left out), each with a box of +-25 %
-    (angles +-45 deg) around its current value: the edit panel of a train no optimizer
-    problem describes (a general planetary file without [optimize.variables], the
-    K-H-V transplanter)."""
+    """Every number of the given tables ``(dotted prefix, label, table dict)``, a list of
+    lengths (``radii_mm``) item by item, with a box of +-25 % (angles +-45 deg, an
+    eccentricity within 0..0.95) around the current value; counts and speeds (arms,
+    lobes, teeth, speed) are not edited."""
     from plantmech.units import unit_of
 
     out = []
-
-    def add(path, label, key, value):
-        unit = unit_of(key)
-        if unit == "deg":
-            lo, hi = value - 45.0, value + 45.0
-        else:
-            span = 0.25 * abs(value) or 1.0
-            lo, hi = value - span, value + span
-        if key == "eccentricity":
-            lo, hi = max(lo, 0.0), min(hi, 0.95)
-        out.append({"field": path, "label": label, "unit": unit, "value": float(value),
-                    "min": float(lo), "max": float(hi), "box": "box"})
-
-    def number(v):
-        return not isinstance(v, bool) and isinstance(v, int | float)
-
     for prefix, label, table in tables:
         for key, value in table.items():
-            if key in _NOT_EDITED:
+            if isinstance(value, list) and unit_of(key) == "mm" and all(
+                    isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+                items = [(f"{key}.{i}", f"{key} {i}", v) for i, v in enumerate(value)]
+            elif isinstance(value, bool) or not isinstance(value, int | float):
                 continue
-            if number(value):
-                add(f"{prefix}.{key}", f"{label} {key}", key, value)
-            elif isinstance(value, list) and value and all(number(v) for v in value):
-                for i, v in enumerate(value):
-                    add(f"{prefix}.{key}.{i}", f"{label} {key}[{i}]", key, v)
+            else:
+                items = [(key, key, value)]
+            if key in ("arms", "lobes", "teeth", "speed_deg_s"):
+                continue
+            unit = unit_of(key)
+            for sub, name, v in items:
+                if unit == "deg":
+                    lo, hi = v - 45.0, v + 45.0
+                else:
+                    span = 0.25 * abs(v) or 1.0
+                    lo, hi = v - span, v + span
+                if key == "eccentricity":
+                    lo, hi = max(lo, 0.0), min(hi, 0.95)
+                out.append({"field": f"{prefix}.{sub}", "label": f"{label} {name}",
+                            "unit": unit, "value": float(v), "min": float(lo),
+                            "max": float(hi)})
     return out
 
 
@@ -386,14 +377,10 @@ def editable_parameters(design) -> list[dict]:
         return []
     if design.mechanism == "planetary":
         return _planetary_parameters(design)
-    if design.mechanism == "rice_transplanter_khv":  # no optimizer problem: every number
+    if design.mechanism == "rice_transplanter_khv":  # no optimizer bounds: its numbers
         data = design_json(design)
-        return _general_parameters(
-            [(t, t.replace("_", " "), data[t]) for t in ("sun_gear", "carrier", "arm")
-             if isinstance(data.get(t), dict)]
-            + [("seedling_box", "seedling box", {k: v for k, v in data["seedling_box"].items()
-                                                  if k in ("x_mm", "y_mm",
-                                                           "inclination_deg")})])
+        return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
+            "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])
     from plantmech.optimize.problems import Transplanter
 
     gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"

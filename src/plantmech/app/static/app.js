@@ -56,7 +56,8 @@ function showName() { $("design-name").textContent = `${state.name} — ${state.
 function loadDesign(design, name, keepUndo = false) {
   blurEdit();
   if (state.design && keepUndo) pushUndo(snapshot());
-  if (!keepUndo) { state.undo = []; state.redo = []; clearTasks(); }
+  // another design: its own fields come with its first answer
+  if (!keepUndo) { state.undo = []; state.redo = []; state.parameters = null; clearTasks(); }
   state.design = clone(design); state.name = name || design.name || "design";
   state.fullResult = null; state.result = null; state.lastFeasible = null;
   showName();
@@ -213,6 +214,7 @@ async function evaluate(quality, t0 = null) {
     renderEdit();
     renderChecks();
     drawMechanism();
+    markStale();
     const v = $("verdict");
     v.textContent = "INVALID INPUT (see the field marked red): the mechanism and checks shown are the last valid design's";
     v.className = "bad";
@@ -294,18 +296,32 @@ function legendEntries(res) {
 }
 
 function drawLegend(ctx, canvas, entries) {
-  if (!entries.length) { canvas.legendBox = null; return; }
+  if (!entries.length) { canvas.legendBox = null; canvas.legendEntries = []; return; }
   ctx.font = "11px system-ui";
+  // placed again only when the entries, the view or the answer change (not every frame)
+  const v = state.view, res = state.result;
+  const key = `${entries.map((e) => e[1]).join("|")}|${v.s},${v.ox},${v.oy}`;
+  if (canvas._legend && canvas._legend.key === key && canvas._legend.res === res) {
+    paintLegend(ctx, canvas._legend.box, entries);
+    return;
+  }
   const w = 26 + Math.max(...entries.map((e) => ctx.measureText(e[1]).width)), h = 14 * entries.length + 6;
   // the corner that hides the fewest drawn points (the scale bar keeps the bottom left;
   // the reasons of an infeasible design the top left)
-  const v = state.view, res = state.result, pts = [];
+  const pts = [];
   const add = (a, step = 1) => { for (let i = 0; i < (a || []).length; i += step) pts.push(v.toPx(a[i][0], a[i][1])); };
   add(res.points); add(res.plan, 4); add(res.tip_path, 4); for (const p of res.tip_paths || []) add(p, 4);
   const corners = [[canvas.width - w - 6, 6], [canvas.width - w - 6, canvas.height - h - 6], [6, 6]];
   if ((res.diagnostics || []).some((d) => d.severity === "error")) corners.pop();
   const hidden = ([cx, cy]) => pts.filter(([px, py]) => px >= cx - 8 && px <= cx + w + 8 && py >= cy - 8 && py <= cy + h + 8).length;
   const [x, y] = corners.reduce((best, c) => (hidden(c) < hidden(best) ? c : best));
+  canvas.legendBox = { x, y, w, h };
+  canvas.legendEntries = entries.map((e) => e[1]);
+  canvas._legend = { key, res, box: canvas.legendBox };
+  paintLegend(ctx, canvas.legendBox, entries);
+}
+
+function paintLegend(ctx, { x, y, w, h }, entries) {
   ctx.fillStyle = "rgba(255,255,255,0.88)"; ctx.fillRect(x, y, w, h);
   ctx.strokeStyle = "#d1d5db"; ctx.lineWidth = 1; ctx.strokeRect(x, y, w, h);
   entries.forEach(([c, label, kind], i) => {
@@ -315,8 +331,6 @@ function drawLegend(ctx, canvas, entries) {
     else { if (kind === "dash") ctx.setLineDash([4, 3]); ctx.beginPath(); ctx.moveTo(x + 4, yy - 4); ctx.lineTo(x + 20, yy - 4); ctx.stroke(); ctx.setLineDash([]); }
     ctx.fillStyle = "#111"; ctx.fillText(label, x + 24, yy);
   });
-  canvas.legendBox = { x, y, w, h };
-  canvas.legendEntries = entries.map((e) => e[1]);
 }
 
 // the moving parts of a result at frame f: gears on their pitch curves (or cut teeth),
@@ -377,7 +391,11 @@ function badPoints() {
 // labels beside points, each where it overlaps no label placed before it, the legend
 // or the canvas edge (tried: right-above, right-below, left-above, left-below, farther out)
 function placeLabels(ctx, canvas, items) {
-  const placed = [], boxes = canvas.legendBox ? [canvas.legendBox] : [];
+  // placed again only when a point, a label, the view or the legend moved (not every frame)
+  const lb = canvas.legendBox;
+  const key = items.map((it) => `${it.px.toFixed(1)},${it.py.toFixed(1)},${it.text}`).join(";") + (lb ? `|${lb.x},${lb.y},${lb.w},${lb.h}` : "");
+  if (canvas._labelKey === key) { paintLabels(ctx, canvas.pointLabels); return; }
+  const placed = [], boxes = lb ? [lb] : [];
   const clear = (b) => b.x >= 0 && b.y >= 0 && b.x + b.w <= canvas.width && b.y + b.h <= canvas.height
     && boxes.every((o) => b.x + b.w <= o.x || o.x + o.w <= b.x || b.y + b.h <= o.y || o.y + o.h <= b.y);
   for (const it of items) {
@@ -388,8 +406,12 @@ function placeLabels(ctx, canvas, items) {
       if (b) { boxes.push(b); placed.push({ ...b, text: it.text }); break; }
     }
   }
+  canvas.pointLabels = placed; canvas._labelKey = key;
+  paintLabels(ctx, placed);
+}
+
+function paintLabels(ctx, placed) {
   for (const b of placed) { ctx.fillStyle = "rgba(255,255,255,0.7)"; ctx.fillRect(b.x - 1, b.y, b.w + 2, b.h); ctx.fillStyle = "#111"; ctx.fillText(b.text, b.x, b.y + 9); }
-  canvas.pointLabels = placed;
 }
 
 function drawMechanism() {
@@ -847,11 +869,13 @@ function buildEdit(box, d) {
       : "Edit the design's numbers (limits: the optimizer's search box around the current value, else a box of ±25 %, angles ±45 deg).";
     const params = state.parameters || [];
     const lim = (v) => (Math.abs(v) >= 10 ? v.toFixed(1) : `${+v.toPrecision(3)}`);
+    // the optimizer's bounds, or (a train no problem describes) a box around the value
+    const what = (d.mechanism === "planetary" && !d.optimize) || d.mechanism === "rice_transplanter_khv" ? "box" : "search box";
     for (const p of params) {
       const row = document.createElement("div"); row.className = "param";
       row.innerHTML = `<span>${p.label}</span>`;
       row.appendChild(inputFor(p.field, p.unit, `${lim(p.min)}–${lim(p.max)} ${p.unit}`));
-      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${p.box || "search box"} ${lim(p.min)} … ${lim(p.max)}</span>`);
+      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${what} ${lim(p.min)} … ${lim(p.max)}</span>`);
       box.appendChild(row);
     }
   }
