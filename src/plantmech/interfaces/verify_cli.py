@@ -48,7 +48,8 @@ def register(subparsers) -> None:
                    help="cane / seedling mass at the tip, kg")
     p.add_argument("--carrier-speed", type=_number(float, 0.0, maximum=36_000.0), default=360.0,
                    help="carrier speed for the loads, deg/s (the papers': 360)")
-    p.add_argument("--no-loads", action="store_true", help="skip the multibody loads")
+    p.add_argument("--no-loads", action="store_true", help="skip the multibody loads (they "
+                   "need plantmech[loads]: without it they are reported not computed, exit 4)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.set_defaults(func=run)
 
