@@ -148,7 +148,7 @@ def test_study_command_on_odd_spec_files_exits_2(tmp_path, capsys):
         assert not out.exists()
 
 
-# --- numeric options and init --name ---------------------------------------------------------
+# --- numeric options and init --name (the name's rule: starters.write_starter) ---------------
 
 
 @pytest.mark.parametrize("argv, expected", [
@@ -197,15 +197,14 @@ def test_the_edges_of_the_ranges_are_accepted():
 
 
 @pytest.mark.parametrize("name, expected", [
-    ("../../x.toml", "path separator"), ("/abs/x.toml", "path separator"),
-    ("sub/x.toml", "path separator"), ("a\\b.toml", "path separator"), ("..", "no file name"),
-    ("", "no file name"), ("a\x00.toml", "control character"), (" x.toml", "spaces"),
-    ("x" * 256, "at most 255")])
+    ("../../x.toml", "not a path"), ("/abs/x.toml", "not a path"), ("sub/x.toml", "not a path"),
+    ("a\\b.toml", "not a path"), ("..", "not a path"), (".", "not a path"),
+    ("a\x00.toml", "null"), ("x" * 256, "too long")])
 def test_init_name_is_a_plain_file_name(tmp_path, name, expected, capsys):
     d = tmp_path / "d"
-    with pytest.raises(SystemExit) as exc:
-        main(["init", "seeder", str(d), "--name", name])
-    assert exc.value.code == 2 and expected in capsys.readouterr().err
+    assert main(["init", "seeder", str(d), "--name", name]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and "Traceback" not in err, err
     assert not d.exists() and not any(tmp_path.iterdir())
 
 

@@ -131,14 +131,30 @@ def starter_text(kind: str, file_name: str = "design.toml") -> str:
 
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
     """Write the starting design of ``kind`` into ``directory`` (created if needed) as
-    ``file_name`` (default ``<kind>.toml``); never overwrites: raises FileExistsError."""
+    ``file_name`` (default ``<kind>.toml``; a plain file name, never a path out of
+    ``directory``); never overwrites nor writes through a link: raises
+    :class:`~plantmech.outputs.files.OutputError` (ValueError for a ``file_name`` that is a
+    path). The file appears whole or not at all (``OutputFile``); a directory created for it
+    is removed again if it is not written."""
+    from plantmech.outputs.files import OutputFile
+
     directory = Path(directory)
     name = file_name or f"{kind.replace('-', '_')}.toml"
+    if name in (".", "..") or Path(name).name != name or "/" in name or "\\" in name:
+        raise ValueError(f"--name {file_name!r}: give a file name, not a path (it is written "
+                         f"into {directory})")
     target = directory / name
-    if target.exists():
-        raise FileExistsError(f"{target} exists; plantmech init never overwrites a file")
+    missing = [d for d in [directory, *directory.parents] if not d.exists()]
     directory.mkdir(parents=True, exist_ok=True)
-    text = starter_text(kind, str(target))
-    with open(target, "x", encoding="utf-8") as fh:
-        fh.write(text)
+    try:
+        with OutputFile(target, what="init", hint="plantmech init never overwrites a "
+                        "file") as tmp:
+            tmp.write_text(starter_text(kind, str(target)), encoding="utf-8")
+    except BaseException:
+        for d in missing:  # the directories made for it, innermost first
+            try:
+                d.rmdir()
+            except OSError:
+                break
+        raise
     return target

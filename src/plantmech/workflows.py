@@ -306,7 +306,11 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                             gname, "step_import_time", st["import_cpu_s"], gf.STEP_IMPORT_LIMIT_S,
                             "s", {}, "the STEP file took longer to import back (CPU "
                             "seconds) than a CAD import in seconds allows"))
-                elif st.get("skipped"):
+                elif st.get("skipped"):  # asked for and not written: a finding, never ok
+                    if "step" not in record:
+                        findings.append(fnd.finding(
+                            "STEP files", fnd.NOT_WRITTEN, None, None, "", {},
+                            f"--step asked for STEP files and none was written: {st['why']}"))
                     record["step"] = st["why"]
                 else:
                     findings.append(fnd.finding(gname, "step_file", st.get("max_deviation_mm"),

@@ -20,6 +20,9 @@ from plantmech.gears.manufacturability import CuttingRules
 from plantmech.gears.outline import tooth_number
 
 VERDICT_OK, VERDICT_NOT_OK = "ok", "not manufacturable"
+#: the check of a finding that says files asked for were not written (e.g. STEP without
+#: the extra): the gears may be fine, the verdict says "files not written"
+NOT_WRITTEN, VERDICT_NOT_WRITTEN = "files_not_written", "files not written"
 
 
 @dataclass(frozen=True)
@@ -157,8 +160,13 @@ def mesh_findings(mesh: dict, module: float, backlash: float,
 
 
 def verdict(findings: list) -> str:
-    """"ok" when nothing was found, else "not manufacturable"."""
-    return VERDICT_OK if not findings else VERDICT_NOT_OK
+    """"ok" when nothing was found, "files not written" when the only findings are files
+    asked for and not written, else "not manufacturable"."""
+    if not findings:
+        return VERDICT_OK
+    if all(f["check"] == NOT_WRITTEN for f in findings):
+        return VERDICT_NOT_WRITTEN
+    return VERDICT_NOT_OK
 
 
 def describe(f: dict) -> str:
@@ -166,6 +174,8 @@ def describe(f: dict) -> str:
     where = f["where"]
     place = ", ".join(f"{k[:-4].replace('_', ' ')} {v} deg" if k.endswith("_deg") else
                       f"{k} {v}" for k, v in where.items() if k not in ("spans_deg", "teeth"))
+    if f["value"] is None and f["limit"] is None:  # nothing measured: what and why
+        return f"{f['gear']}: {f['check']}" + (f" at {place}" if place else "") + f": {f['why']}"
     val = "n/a" if f["value"] is None else f"{f['value']:.4g}"
     lim = "n/a" if f["limit"] is None else f"{f['limit']:.4g}"
     return (f"{f['gear']}: {f['check']} {val} {f['unit']} (limit {lim} {f['unit']})"

@@ -14,7 +14,9 @@ manufacturing files; an HTML report of every job (--report).
 
 Exit status (every command): 0 everything asked of the design is met (objectives, checks,
 manufacturability), 2 invalid input (names the field, gear or angle), 3 infeasible design,
-4 it ran but something is not met (printed last as the verdict, and in the JSON record).
+4 it ran but something is not met (printed last as the verdict, and in the JSON record),
+5 no space left on the device, 130 / 143 / 129 stopped by Ctrl-C / SIGTERM / SIGHUP (in both
+cases nothing is written and an existing --out is left as it was).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from plantmech import __version__
 from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
     EXIT_INPUT,
+    EXIT_NO_SPACE,
     EXIT_NOT_MET,
     EXIT_OK,
     verdict,
@@ -46,7 +49,8 @@ def add_output_options(parser: argparse.ArgumentParser) -> None:
                         "that holds anything is refused)")
 
 
-def run_command(args, body, require_trajectory: bool = False) -> int:
+def run_command(args, body, require_trajectory: bool = False, inputs: tuple = (),
+                resume=None) -> int:
     """Load ``args.design``, run ``body(args, design, run)`` and return its exit status.
 
     The one way a command reads its design and writes its files (other commands adopt it
@@ -54,7 +58,9 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
 
     - the design is read with ``load_design`` (a regular file, bounded in size and
       nesting, strictly validated); an invalid one prints the error naming the file and
-      field and returns 2 before anything is created;
+      field and returns 2 before anything is created; ``inputs``: the command's other
+      inputs (files or directories: --out may not hold them nor be them); ``resume``: see
+      :class:`~plantmech.outputs.files.OutputRun`;
     - ``body`` writes every file into ``run.path``, a fresh temporary directory beside
       ``--out`` (``run.final(p)`` gives a file's final place, for messages), and returns
       the exit status: 0 done, 3 infeasible, 4 a check or objective not met (files are
@@ -62,9 +68,10 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     - ``--out`` is checked first (not empty, not below a file, writable, not an input nor
       holding one or a link to one, by file identity); existing contents are replaced only
       with ``--force``, else 2 saying what is there;
-    - an exception or Ctrl-C deletes the temporary directory and leaves ``--out`` as it
-      was (Ctrl-C returns 130); a value that is not finite about to be written is reported
-      as not computable (exit 3, nothing written).
+    - an exception or a signal deletes the temporary directory and leaves ``--out`` as it
+      was (SIGINT returns 130, SIGTERM 143, SIGHUP 129; a full disk 5: :func:`ended_by`);
+      a value that is not finite about to be written is reported as not computable (exit
+      3, nothing written).
     """
     from plantmech.design import DesignError, load_design
     from plantmech.outputs.files import NonFiniteOutput, OutputError, OutputRun
@@ -80,7 +87,8 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
             if design.trajectory is None:
                 raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
                                   "design (this file gives a [train]: use 'plantmech forward')")
-        run = OutputRun(args.out, [Path(args.design)], force=getattr(args, "force", False))
+        run = OutputRun(args.out, [Path(args.design), *map(Path, inputs)],
+                        force=getattr(args, "force", False), resume=resume)
         with run:
             try:
                 run.exit_code = body(args, design, run)
@@ -93,13 +101,37 @@ def run_command(args, body, require_trajectory: bool = False) -> int:
     except (DesignError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except KeyboardInterrupt:
-        print("interrupted: nothing written, --out left as it was", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, OSError) as exc:
+        code = ended_by(exc)
+        if code is None:
+            raise
+        return code
+
+
+def ended_by(exc: BaseException) -> int | None:
+    """The exit status of a run ended by a signal (128 + its number: Ctrl-C 130, SIGTERM
+    143, SIGHUP 129) or by a full disk (5), after saying so; None for any other exception.
+    The one place these endings are told: ``run_command`` and ``main`` both ask it. The
+    output classes (``OutputRun``, ``OutputFile``) have already deleted their temporary
+    files and left ``--out`` as it was."""
+    from plantmech.outputs.files import is_no_space
+    from plantmech.outputs.signals import NAMES
+
+    if isinstance(exc, KeyboardInterrupt):
+        signum = getattr(exc, "signum", 2)
+        print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it "
+              "was", file=sys.stderr)
+        return getattr(exc, "exit_code", 130)
+    if is_no_space(exc):
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"error: no space left on the device{where}: nothing was written, --out left "
+              "as it was", file=sys.stderr)
+        return EXIT_NO_SPACE
+    return None
 
 
 #: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design")
+PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design", "verify")
 
 
 def refuse_planetary(args, design) -> None:
@@ -129,27 +161,6 @@ def refuse_planetary(args, design) -> None:
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
                           "verification.json without it)")
-
-
-def _load(args, require_trajectory: bool = False):
-    """(design, out dir) or None after printing the input error.
-
-    Kept for commands written before :func:`run_command`: it writes in place (not
-    atomically; existing files are replaced only with ``--force`` when the command has
-    that option). New commands use ``run_command``."""
-    from plantmech.design import DesignError, load_design
-    from plantmech.outputs.files import OutputError, prepare_out_dir
-
-    try:
-        design = load_design(Path(args.design))
-        if require_trajectory and getattr(design, "trajectory", None) is None:
-            raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
-                              "design (this file gives a [train]: use 'plantmech forward')")
-        return design, prepare_out_dir(args.out, [Path(args.design)],
-                                       force=getattr(args, "force", True))
-    except (DesignError, OutputError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return None
 
 
 def _wrote(run, paths) -> str:
@@ -209,7 +220,8 @@ def _inverse_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import inverse_report
 
-        written += inverse_report(args, out, job, [] if args.no_plots else figures)
+        written += inverse_report(args, out, job, [] if args.no_plots else figures,
+                                  run=run)
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
@@ -270,7 +282,7 @@ def _forward_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import forward_report
 
-        written += forward_report(args, out, job, figures)
+        written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
     print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -319,7 +331,7 @@ def _forward_transplanter(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import forward_report
 
-        written += forward_report(args, out, job, figures)
+        written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
     print(verdict_line(v, "every objective met, pitch curves cuttable"))
     return v["exit_code"]
@@ -358,7 +370,7 @@ def _optimize_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import optimize_report
 
-        written += optimize_report(args, out, outcome)
+        written += optimize_report(args, out, outcome, run=run)
     print(_wrote(run, written))
     v = outcome.record["verdict"]
     print(verdict_line(v, "best.toml meets every objective"
@@ -418,7 +430,7 @@ def _gears_body(args, design, run) -> int:
     if args.report:
         from plantmech.interfaces.report_cli import gears_report
 
-        gears_report(args, out, design, rec)
+        gears_report(args, out, design, rec, run=run)
     for f in rec["findings"]:
         print(f"  NOT OK {describe(f)}")
     ok = rec["verdict"] == VERDICT_OK
@@ -690,7 +702,21 @@ def main(argv: list[str] | None = None) -> int:
         import matplotlib
 
         matplotlib.use("Agg")  # files only: the CLI never opens a window
-    return args.func(args)
+    from plantmech.outputs import signals
+
+    # as a program (argv None) the handler stays to the exit: a signal after the results
+    # are in place is then recorded, never a kill that contradicts the exit status
+    with signals.handled(restore=argv is not None):
+        try:
+            code = args.func(args)
+        except (KeyboardInterrupt, OSError) as exc:
+            code = ended_by(exc)
+            if code is None:
+                raise
+        got = signals.received()
+        if got is not None and not signals.finished() and code != 128 + got:
+            code = ended_by(signals.Interrupted(got))  # swallowed on the way: not a result
+        return code
 
 
 if __name__ == "__main__":  # pragma: no cover

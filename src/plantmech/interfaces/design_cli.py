@@ -27,6 +27,9 @@ def register(sub) -> None:
                    help="seconds the optimization may take (it stops at the end of the "
                    "generation that passes it, and says so; up to a week); default: none")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--report", action="store_true",
+                   help="accepted for symmetry with the other commands: 'design' always "
+                   "writes report.html (and mechanism.gif) into --out")
     p.set_defaults(func=run)
 
 
@@ -55,6 +58,9 @@ def _body(args, design, run) -> int:
         if not c["ok"] and c.get("required", True):
             print(check_line(c, 36, 2, 12))
     print(_wrote(run, [p for p in outcome.written if p.parent == run.path]))
+    report = run.path / "report.html"
+    if report in outcome.written:
+        print(f"report: {run.final(report)}")
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
                           "the workshop files are written (design.toml, gears/)"))

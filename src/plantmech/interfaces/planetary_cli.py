@@ -45,7 +45,7 @@ def forward_planetary(args, design, run) -> int:
         from plantmech.interfaces.report_cli import planetary_report
 
         written += planetary_report(args, out, design, motion, summary,
-                                    [] if args.no_plots else figures)
+                                    [] if args.no_plots else figures, run=run)
     print(f"{design.name}: planetary train, {len(built.laws)} pairs, "
           f"{design.carrier.arms} arm(s)")
     for p in summary["pairs"]:

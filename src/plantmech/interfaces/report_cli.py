@@ -28,13 +28,16 @@ def _command(args) -> str:
     return "plantmech " + " ".join(sys.argv[1:]) if sys.argv[1:] else f"plantmech {args.command}"
 
 
-def _finish(paths: list[Path]) -> list[Path]:
-    print(f"report: {paths[0]}" + (f" (animation for slides: {paths[1]})" if len(paths) > 1
-                                   else ""))
+def _finish(paths: list[Path], run=None) -> list[Path]:
+    """Say where the report is: its final place in --out (``run.final``), never the
+    temporary directory it is written into."""
+    where = run.final if run is not None else Path
+    print(f"report: {where(paths[0])}" + (f" (animation for slides: {where(paths[1])})"
+                                          if len(paths) > 1 else ""))
     return paths
 
 
-def inverse_report(args, out: Path, job, figures) -> list[Path]:
+def inverse_report(args, out: Path, job, figures, run=None) -> list[Path]:
     """Report of ``plantmech inverse``: animation of the feasible gear train."""
     from plantmech.outputs.report import seeder_inverse_animation, write_report
 
@@ -42,18 +45,19 @@ def inverse_report(args, out: Path, job, figures) -> list[Path]:
     if job.result.feasible and job.result.tip_realized is not None:
         anim = seeder_inverse_animation(job)
     return _finish(write_report(out / REPORT_NAME, job.summary, figures, anim,
-                                command=_command(args)))
+                                command=_command(args)), run=run)
 
 
-def planetary_report(args, out: Path, design, motion, summary, figures) -> list[Path]:
+def planetary_report(args, out: Path, design, motion, summary, figures, run=None) -> list[Path]:
     """Report of ``plantmech forward`` on a general planetary train."""
     from plantmech.outputs.report import planetary_animation, write_report
 
     return _finish(write_report(out / REPORT_NAME, summary, figures,
-                                planetary_animation(design, motion), command=_command(args)))
+                                planetary_animation(design, motion), command=_command(args)),
+                   run=run)
 
 
-def forward_report(args, out: Path, job, figures) -> list[Path]:
+def forward_report(args, out: Path, job, figures, run=None) -> list[Path]:
     """Report of ``plantmech forward`` (seeder or transplanter job)."""
     from plantmech.outputs.report import (
         seeder_forward_animation,
@@ -64,7 +68,7 @@ def forward_report(args, out: Path, job, figures) -> list[Path]:
     anim = (transplanter_animation(job) if hasattr(job, "motion")
             else seeder_forward_animation(job))
     return _finish(write_report(out / REPORT_NAME, job.summary, figures, anim,
-                                command=_command(args)))
+                                command=_command(args)), run=run)
 
 
 def design_animation(design):
@@ -82,7 +86,7 @@ def design_animation(design):
         return None
 
 
-def optimize_report(args, out: Path, outcome) -> list[Path]:
+def optimize_report(args, out: Path, outcome, run=None) -> list[Path]:
     """Report of ``plantmech optimize``: run record, convergence and Pareto plots, and the
     best design (best.toml) animated."""
     from plantmech.design import DesignError, load_design
@@ -100,7 +104,7 @@ def optimize_report(args, out: Path, outcome) -> list[Path]:
     rec.setdefault("name", f"optimize --problem {args.problem}")
     return _finish(write_report(out / REPORT_NAME, rec, figures, anim,
                                 verdict=(bool(outcome.feasible), _optimize_verdict(outcome)),
-                                command=_command(args)))
+                                command=_command(args)), run=run)
 
 
 def _optimize_verdict(outcome) -> str:
@@ -108,56 +112,98 @@ def _optimize_verdict(outcome) -> str:
             else "NOT MET: no design meets every objective; the closest is best.toml")
 
 
-def gears_report(args, out: Path, design, rec: dict) -> list[Path]:
+def gears_report(args, out: Path, design, rec: dict, run=None) -> list[Path]:
     """Report of ``plantmech gears``: checks per gear, mesh checks, the mesh PNGs and
     every gear's SVG drawing, and the mechanism animated."""
     from plantmech.outputs.report import findings_rows, write_report
 
     figures = [(f, out / f) for f in rec["files"] if f.endswith(".png")]
     drawings = [(f, out / f) for f in rec["files"] if f.endswith(".svg")]
-    summary = dict(rec, name=design.name, gear_checks=findings_rows(rec))
+    # a gear or pair row is ok only without a finding (the mesh check's own "ok" is its
+    # interference alone: a pair whose backlash band fails is not ok in the report either)
+    failed = {f["gear"] for f in rec["findings"]}
+    summary = dict(rec, name=design.name, gear_checks=findings_rows(rec),
+                   mesh=[dict(m, ok=bool(m.get("ok")) and m["pair"] not in failed)
+                         for m in rec["mesh"]],
+                   all_pairs_mesh=bool(rec.get("all_pairs_mesh"))
+                   and not failed & {m["pair"] for m in rec["mesh"]})
     ok = rec["verdict"] == "ok"
     verdict = (ok, "every gear can be cut, the pairs mesh, every file is what it claims" if ok
                else f"NOT MET: {rec['verdict']}, {len(rec['findings'])} findings")
     return _finish(write_report(out / REPORT_NAME, summary, figures, design_animation(design),
                                 verdict=verdict,
-                                gear_drawings=drawings, command=_command(args)))
+                                gear_drawings=drawings, command=_command(args)), run=run)
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "report", help="HTML report of a design study's directory (plantmech study --out)")
     p.add_argument("study_dir", help="the --out directory of 'plantmech study' (read only, "
-                   "but plots the study skipped with --no-plots are drawn into it)")
+                   "but plots the study skipped with --no-plots are added to it)")
     p.add_argument("--out", default=None, help=f"report file (default STUDY_DIR/{REPORT_NAME})"
-                   "; never an existing file other than a previous report")
+                   "; an existing file is replaced only with --force, or if it is a report "
+                   "this command wrote")
+    p.add_argument("--force", action="store_true", help="replace an existing --out file")
     p.set_defaults(func=_study_report)
 
 
 def _study_report(args) -> int:
+    """Draw the missing plots and the page into temporary files beside the target; the page
+    replaces the target in one rename, then the plots join the study directory (never
+    replacing a file there)."""
+    import os
+    import shutil
+    import tempfile
+
+    from plantmech.outputs import signals
+    from plantmech.outputs.files import OutputError, OutputFile, is_no_space
     from plantmech.outputs.study_report import (
         StudyReportError,
+        is_previous_report,
         load_study,
-        study_verdict,
+        recorded_verdict,
+        study_verdict_line,
         write_study_report,
     )
 
-    target = Path(args.out) if args.out else Path(args.study_dir) / REPORT_NAME
-    if target.exists() and target.read_text(encoding="utf-8", errors="replace")[:15].lower() \
-            != "<!doctype html>":
-        print(f"error: --out {target}: exists and is not a report; choose another file",
-              file=sys.stderr)
-        return 2
+    study = Path(args.study_dir)
+    target = Path(args.out) if args.out else study / REPORT_NAME
     try:
-        _, summary = load_study(args.study_dir)
-        path = write_study_report(args.study_dir, target, command=_command(args))
-    except StudyReportError as exc:
+        _, summary = load_study(study)
+        output = OutputFile(target, force=args.force or is_previous_report(target),
+                            inputs=[study / "study.json", study / "summary.json"],
+                            hint="it is not a report this command wrote: add --force to "
+                            "replace it, or choose another file")
+    except (StudyReportError, OutputError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    plots = None
+    try:
+        with signals.blocked():
+            plots = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=target.parent))
+        signals.check()
+        with output as tmp:
+            write_study_report(study, tmp, command=_command(args), plots_into=plots)
+        with signals.blocked():
+            for f in plots.iterdir():  # the plots the study skipped join it
+                try:
+                    os.link(f, study / f.name)
+                except OSError:
+                    pass
+    except (StudyReportError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
-        print(f"error: --out {target}: {exc}", file=sys.stderr)
+        if is_no_space(exc):
+            raise
+        print(f"error: --out {target}: cannot be written ({exc.strerror or exc})",
+              file=sys.stderr)
         return 2
-    style, verdict = study_verdict(summary)
-    print(f"report: {path}")
-    print(verdict)
-    return 4 if style == "fail" else 0
+    finally:
+        with signals.blocked():
+            if plots is not None:
+                shutil.rmtree(plots, ignore_errors=True)
+    v = recorded_verdict(summary)
+    print(f"report: {target}")
+    print(study_verdict_line(v))
+    return v["exit_code"]

@@ -1,8 +1,9 @@
 """``plantmech schema [MECHANISM]``: the JSON Schema of design files, for editors.
 
 Prints the schema (draft 2020-12) to standard output, or writes it to ``--out FILE``
-(an existing file is replaced only with ``--force``). Exit status: 0 written, 2 invalid
-option (an unknown mechanism, an unusable ``--out``).
+(written whole or not at all; an existing file is replaced only with ``--force``; never a
+link, a directory, a device or a FIFO). Exit status: 0 written, 2 invalid option (an unknown
+mechanism, an unusable ``--out``).
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import sys
 
 def _schema(args) -> int:
     import json
-    import os
     from pathlib import Path
 
     from plantmech.design_reference import json_schema
@@ -26,19 +26,18 @@ def _schema(args) -> int:
     if args.out is None:
         sys.stdout.write(text)
         return 0
+    from plantmech.outputs.files import OutputError, OutputFile, is_no_space
+
     out = Path(args.out)
-    if str(args.out).strip() == "" or out.is_dir():
-        print(f"error: --out {args.out!r}: give a file name", file=sys.stderr)
-        return 2
-    if out.exists() and not args.force:
-        print(f"error: --out {out} exists; add --force to replace it", file=sys.stderr)
-        return 2
-    tmp = out.with_name(f".{out.name}.tmp{os.getpid()}")
     try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, out)  # replaces a link itself, never writes through it
+        with OutputFile(out, force=args.force) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+    except OutputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
+        if is_no_space(exc):
+            raise  # the one full-disk message (cli.ended_by)
         print(f"error: --out {out}: cannot be written ({exc.strerror})", file=sys.stderr)
         return 2
     print(f"wrote {out}")

@@ -28,7 +28,11 @@ def register(subparsers) -> None:
     p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
                    "'sweep' or 'multi-start' (examples/studies/)")
     p.add_argument("--out", required=True, help="output directory; rerun with the same "
-                   "inputs and --out to resume a stopped study")
+                   "inputs and --out to resume a study stopped by --max-chunks or a failed "
+                   "chunk (a --out holding this same study needs no --force)")
+    p.add_argument("--force", action="store_true",
+                   help="replace the existing contents of --out (otherwise a --out that "
+                   "holds anything but this same study is refused)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
                    "default: a local cluster on this machine")
@@ -47,41 +51,62 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from plantmech.design import DesignError, load_design
-    from plantmech.interfaces.cli import refuse_planetary
-    from plantmech.outputs.files import OutputError, prepare_out_dir
-    from plantmech.studies.engine import StudyStateError
-    from plantmech.studies.parameters import StudyInputError
-    from plantmech.studies.spec import StudySpecError, fingerprint, load_spec
-    from plantmech.workflows import InfeasibleDesign
+    from plantmech.interfaces.cli import run_command
+    from plantmech.studies.spec import StudySpecError, load_spec
 
     try:
-        design = load_design(args.design)
-        refuse_planetary(args, design)
         spec = load_spec(args.spec)
-        if spec.kind == "multi-start":
-            from plantmech.studies.multistart import check_problem
-
-            check_problem(design, spec, args.spec)
-        else:  # before --out is made: a refusal leaves nothing behind
-            from plantmech.studies.parameters import StudyInputError, check_parameters
-
-            try:
-                check_parameters(design, list(spec.parameters))
-            except StudyInputError as exc:
-                raise StudySpecError(f"{args.spec}: field 'parameters': {exc}") from None
-        out = prepare_out_dir(args.out, [Path(args.design), Path(args.spec)])
-    except (DesignError, StudySpecError, OutputError) as exc:
+    except StudySpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    return run_command(args, lambda a, design, run: _body(a, design, run, spec),
+                       inputs=(Path(args.spec),), resume=lambda out: _same_study(args, spec, out))
+
+
+def _fingerprint(design, spec) -> str:
+    from plantmech.studies.spec import fingerprint
+
+    return fingerprint(design.model_dump_json(), spec.model_dump_json())
+
+
+def _same_study(args, spec, out: Path) -> bool:
+    """``out`` holds this very study (study.json with the inputs' fingerprint): it is
+    resumed without --force (its finished chunks are kept). Another study there is
+    refused by name (OutputError)."""
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.files import OutputError
+
+    try:
+        from plantmech.studies.summary import read_state
+
+        state = read_state(out)  # bounded: a FIFO or a device there is no study
+        same = state.get("fingerprint") == _fingerprint(load_design(args.design), spec)
+    except (OSError, ValueError, AttributeError, DesignError):
+        return False
+    if not same:
+        raise OutputError(f"--out {out} holds a study of another design or study file "
+                          "(study.json): its chunks would not belong to this one; add --force "
+                          "to replace it, or choose another directory")
+    return True
+
+
+def _body(args, design, run, spec) -> int:
+    from plantmech.outputs import signals
+    from plantmech.studies.engine import StudyStateError
+    from plantmech.studies.parameters import StudyInputError
+    from plantmech.studies.spec import StudySpecError
+    from plantmech.workflows import InfeasibleDesign
+
+    out = run.path
     if args.scheduler and args.workers != 2:
         print("note: --workers is ignored with --scheduler (the cluster has its own)",
               file=sys.stderr)
-    fp = fingerprint(design.model_dump_json(), spec.model_dump_json())
+    fp = _fingerprint(design, spec)
     try:
         if spec.kind == "multi-start":
-            from plantmech.studies.multistart import run_multistart
+            from plantmech.studies.multistart import check_problem, run_multistart
 
+            check_problem(design, spec, args.spec)  # before a start is sent
             outcome = run_multistart(design, spec, out, fp, str(args.design), args.scheduler,
                                      args.workers, not args.quiet, args.max_chunks)
         else:
@@ -99,44 +124,52 @@ def run(args) -> int:
         print(f"INFEASIBLE: {args.design}: the trajectory's inverse design has no gear train",
               file=sys.stderr)
         return EXIT_INFEASIBLE
-    except (ValueError, OSError) as exc:  # a design the population model cannot take
+    except ValueError as exc:  # a design the population model cannot take
         print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    return _report(args, spec, design, out, outcome)
+    signals.check()  # a Ctrl-C the engine caught to stop its cluster: not a result
+    return _report(args, spec, design, run, outcome)
 
 
-def _report(args, spec, design, out: Path, outcome) -> int:
+def _report(args, spec, design, run, outcome) -> int:
+    import json
+
     from plantmech.outputs.files import write_json
+    from plantmech.outputs.study_report import study_verdict_line, study_verdict_record
 
+    out = run.path
     st = outcome.stats
-    run = outcome.summary["run"]
+    summary_run = outcome.summary["run"]
     print(f"chunks: {st.computed_chunks} computed, {st.skipped_chunks} already done "
           f"(resumed), {len(st.failed)} failed, of {st.total_chunks}; {st.evaluations} "
           f"{'starts' if spec.kind == 'multi-start' else 'designs'} in {st.wall_s:.1f} s on "
           f"{st.workers} workers (cluster start {st.cluster_start_s:.1f} s)"
-          + (f", {run['designs_per_s']:.1f} designs/s" if spec.kind != "multi-start"
-             and run["designs_per_s"] else ""))
+          + (f", {summary_run['designs_per_s']:.1f} designs/s" if spec.kind != "multi-start"
+             and summary_run["designs_per_s"] else ""))
     s = outcome.summary
+    # study.json says whether the directory holds the whole study
+    state = json.loads((out / "study.json").read_text(encoding="utf-8"))
+    write_json(out / "study.json", {**state, "complete": st.complete})
     if not st.complete:
         for c, msg in st.failed:
             print(f"chunk {c} failed: {msg}", file=sys.stderr)
         print(f"INCOMPLETE: {st.total_chunks - st.skipped_chunks - st.computed_chunks} "
-              f"chunk(s) not done; rerun the same command to resume ({out / 'chunks'})",
-              file=sys.stderr)
+              f"chunk(s) not done; rerun the same command to resume "
+              f"({run.final(out / 'chunks')})", file=sys.stderr)
         if "complete" not in s:  # nothing finished yet: nothing to summarise
+            v = s["verdict"] = study_verdict_record(s)
             write_json(out / "summary.json", s)
-            return EXIT_NOT_MET
+            print(study_verdict_line(v))
+            return v["exit_code"]
         print("the summary and plots below cover the finished chunks only "
               "(summary.json: complete = false)", file=sys.stderr)
     written = [out / "summary.json"]
     if spec.kind == "tolerance":
         written += _tolerance_files(args, design, out, s)
-        code = EXIT_OK
         req = spec.required_probability
         if req is not None:
             s["required_probability"] = req
             s["requirement_met"] = bool(s["probability_all_ok"] >= req)
-            code = EXIT_OK if s["requirement_met"] else EXIT_NOT_MET
     elif spec.kind == "sweep":
         if not args.no_plots:
             from plantmech.outputs.study_plots import plot_sweep
@@ -149,7 +182,6 @@ def _report(args, spec, design, out: Path, outcome) -> int:
               + (f"; {s['variants_not_moved']} could not be built or moved (a field outside "
                  "what the design file accepts: red x in sweep.png)"
                  if s.get("variants_not_moved") else ""))
-        code = EXIT_OK
     else:
         if not args.no_plots:
             from plantmech.outputs.study_plots import plot_multistart
@@ -161,16 +193,20 @@ def _report(args, spec, design, out: Path, outcome) -> int:
               f"every objective (seeds {s['seeds_succeeded']})")
         for b in s["best"]:
             print(f"  #{b['rank']} seed {b['seed']}: total violation {b['total_violation']:.4g}"
-                  f" -> {b['file']}")
+                  f" -> {run.final(out / b['file'])}")
         written += [out / b["file"] for b in s["best"]]
-        code = EXIT_OK if s["successes"] else EXIT_NOT_MET
+    # the verdict: built once, recorded, read by the report and printed last
+    v = s["verdict"] = study_verdict_record(s)
     write_json(out / "summary.json", s)
     if getattr(args, "report", False):
         from plantmech.outputs.study_report import write_study_report
 
         written.append(write_study_report(out, command="plantmech " + " ".join(sys.argv[1:])))
-    print("wrote: " + ", ".join(str(p) for p in written) + f", {out / 'chunks'}/ (Parquet)")
-    return code if st.complete else EXIT_NOT_MET
+        print(f"report: {run.final(written[-1])}")
+    print("wrote: " + ", ".join(str(run.final(p)) for p in written)
+          + f", {run.final(out / 'chunks')}/ (Parquet)")
+    print(study_verdict_line(v))
+    return v["exit_code"]
 
 
 def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:

@@ -24,7 +24,9 @@ def register(subparsers) -> None:
                               "transplanters, general planetary trains)")
     p.add_argument("design", help="design file (TOML) the gears were made from")
     p.add_argument("--gears", required=True, help="directory written by 'plantmech gears'")
-    p.add_argument("--out", required=True, help="output directory")
+    from plantmech.interfaces.cli import add_output_options
+
+    add_output_options(p)
     p.add_argument("--steps", type=_number(int, 8, strict=False, maximum=36_000), default=720,
                    help="carrier steps per turn (8-36000; 720: 0.5 deg)")
     p.add_argument("--max-te", type=_number(float, 0.0, maximum=360.0), default=0.5,
@@ -52,18 +54,22 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from plantmech.contact.outlines import GearFileError, read_gear_dxf
-    from plantmech.design import DesignError, load_design
-    from plantmech.outputs.files import OutputError, prepare_out_dir
+    from plantmech.interfaces.cli import run_command
+    from plantmech.outputs.files import OutputError
 
     gears_dir = Path(args.gears)
-    try:
-        design = load_design(args.design)
-        if not gears_dir.is_dir():
-            raise OutputError(f"--gears {gears_dir}: not a directory")
-    except (DesignError, OutputError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    if not gears_dir.is_dir():
+        print(f"error: {OutputError(f'--gears {gears_dir}: not a directory')}", file=sys.stderr)
         return EXIT_INPUT
+    return run_command(args, _body, inputs=(gears_dir,))
+
+
+def _body(args, design, run) -> int:
+    """Read the gear files, drive them through the train, write into ``run.path``."""
+    from plantmech.contact.outlines import GearFileError, read_gear_dxf
+
+    gears_dir = Path(args.gears)
+    out = run.path
     names = {"sugarcane_seeder": SEEDER_GEARS, "rice_transplanter": TRANSPLANTER_GEARS,
              "rice_transplanter_khv": KHV_GEARS}.get(design.mechanism)
     if design.mechanism == "planetary":
@@ -79,10 +85,9 @@ def run(args) -> int:
               "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
               "planetary trains", file=sys.stderr)
         return EXIT_INPUT
-    try:  # the inputs read before --out is made: a refusal leaves nothing behind
+    try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
-        out = prepare_out_dir(args.out, [Path(args.design), gears_dir])
-    except (GearFileError, OutputError) as exc:
+    except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if design.mechanism == "planetary":
@@ -91,7 +96,7 @@ def run(args) -> int:
         except ValueError as exc:  # the train cannot be built from the file
             print(f"error: {args.design}: {exc}", file=sys.stderr)
             return EXIT_INPUT
-        return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
+        return _report(args, design, gears, gears_dir, run, rec, rec.pop("_loads"))
     if design.mechanism.startswith("rice_transplanter"):
         try:
             rec = _run_transplanter(args, design, gears, out)
@@ -99,7 +104,7 @@ def run(args) -> int:
             section = "sun_gear" if design.mechanism.endswith("khv") else "internal_gear"
             print(f"error: {args.design}: [{section}]: {exc}", file=sys.stderr)
             return EXIT_INPUT
-        return _report(args, design, gears, gears_dir, out, rec, rec.pop("_loads"))
+        return _report(args, design, gears, gears_dir, run, rec, rec.pop("_loads"))
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
     t0 = time.perf_counter()
@@ -131,7 +136,7 @@ def run(args) -> int:
             vp.plot_loads(out / "loads.png", loads)
             files.append("loads.png")
     rec["files"] = files
-    return _report(args, design, gears, gears_dir, out, rec, loads)
+    return _report(args, design, gears, gears_dir, run, rec, loads)
 
 
 def _limits(args) -> dict:
@@ -240,15 +245,26 @@ def _load_spec(args, gears_dir: Path):
                     carrier_speed_deg_s=args.carrier_speed)
 
 
-def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
-    """Write verification.json, print the figures and the checks; the exit code."""
+def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
+    """Write verification.json, print the figures, the checks and the verdict (last, the
+    same object as the record's ``verdict``); the exit code is the verdict's."""
     from plantmech.outputs.files import check_line, write_json
+    from plantmech.outputs.verdict import verdict, verdict_line
 
+    out = run.path
     rec["design"] = str(args.design)
     rec["gears_dir"] = str(gears_dir)
     rec["teeth_found_on_outlines"] = {n: g.teeth for n, g in gears.items()}
     files = ["verification.json"] + rec["files"]
     rec["files"] = files
+    # the record's ok is every check's; the verdict is built from the same checks once
+    v = rec["verdict"] = verdict(rec["checks"], problems=[] if rec["ok"] or not all(
+        c["ok"] for c in rec["checks"]) else ["tooth-contact verification"])
+    not_run = ("loads not checked (--no-loads)" if args.no_loads else
+               f"loads not checked ({rec['loads']['skipped']})" if "skipped" in rec.get(
+                   "loads", {}) else "")
+    if not_run:
+        rec["not_checked"] = [not_run]
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
           f"({rec['step_deg']:.2f} deg), {rec['wall_time_s']:.1f} s")
@@ -294,8 +310,10 @@ def _report(args, design, gears, gears_dir, out, rec, loads) -> int:
         print(f"  loads skipped: {rec['loads']['skipped']}")
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
-    print("wrote: " + ", ".join(str(out / f) for f in files))
-    return EXIT_OK if rec["ok"] else EXIT_NOT_MET
+    print("wrote: " + ", ".join(str(run.final(out / f)) for f in files))
+    print(verdict_line(v, "the gear files drive the train within every limit"
+                       + (f"; {not_run}" if not_run else "")))
+    return v["exit_code"]
 
 
 def _where(at: dict | None) -> str:

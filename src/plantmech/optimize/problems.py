@@ -255,7 +255,12 @@ def _pool(workers: int):
         import multiprocessing as mp
         from concurrent.futures import ProcessPoolExecutor
 
-        ex = _POOLS[key] = ProcessPoolExecutor(workers, mp_context=mp.get_context(key[1]))
+        from plantmech.outputs.signals import worker_init
+
+        # workers ignore Ctrl-C and SIGHUP (sent to the whole process group): the command
+        # decides, deletes its temporary files and stops the pool
+        ex = _POOLS[key] = ProcessPoolExecutor(workers, mp_context=mp.get_context(key[1]),
+                                               initializer=worker_init)
         atexit.register(ex.shutdown)
     return ex
 

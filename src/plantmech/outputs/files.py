@@ -3,6 +3,7 @@ appear in ``--out`` all together or not at all (:class:`OutputRun`)."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import errno
 import json
@@ -18,6 +19,12 @@ import numpy as np
 #: exit statuses after which a run's files are moved into ``--out`` (done, infeasible,
 #: not met); any other status, an exception or Ctrl-C discards them.
 RESULT_EXIT_CODES = (0, 3, 4)
+
+
+def is_no_space(exc: BaseException) -> bool:
+    """``exc`` says the device (or the user's quota) is full."""
+    return isinstance(exc, OSError) and (exc.errno in (errno.ENOSPC, errno.EDQUOT)
+                                         or "No space left on device" in str(exc))
 
 
 class OutputError(RuntimeError):
@@ -51,9 +58,11 @@ def _probe(path: Path, what: str) -> os.stat_result | None:
         raise OutputError(f"{what} {path}: cannot be used ({exc.strerror})") from None
 
 
-def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
+def _check_out(out: Path, inputs: list[Path], force: bool,
+               resume=None) -> tuple[Path, bool]:
     """Validate ``--out``; return the directory the results will be moved to (symlinks of
-    ``out`` itself resolved, so a link to a directory keeps pointing at the results)."""
+    ``out`` itself resolved, so a link to a directory keeps pointing at the results) and
+    whether the run resumes what it holds (``resume(out)`` true: no --force needed)."""
     if str(out).strip() in ("", "."):
         raise OutputError(f"--out {str(out)!r}: give the name of a new directory (a run "
                           "needs a directory of its own)")
@@ -69,6 +78,12 @@ def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
     if out == Path(out.anchor) or out == Path(os.path.abspath(".")):
         raise OutputError(f"--out {out}: a run needs a directory of its own (not the current "
                           "directory or the file-system root)")
+    out_id = _identity(out)
+    cwd = Path(os.path.abspath("."))
+    if out_id is not None and any(_identity(a) == out_id for a in [cwd, *cwd.parents]):
+        raise OutputError(f"--out {out}: it holds the current directory {cwd}; a run needs "
+                          "a directory of its own (never the current directory or one of its "
+                          "parents, even with --force)")
     # the nearest existing ancestor must be a writable directory
     parent = out.parent
     while _probe(parent, "--out") is None:
@@ -78,7 +93,6 @@ def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
     if not os.access(parent, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out}: {parent} is not writable")
     in_ids = {i for i in (_identity(p) for p in inputs) if i is not None}
-    out_id = _identity(out)
     for p in inputs:
         # the input (as given, and through its links) must not live under --out
         for d in [Path(os.path.abspath(p)).parent, Path(os.path.realpath(p)).parent]:
@@ -90,68 +104,97 @@ def _check_out(out: Path, inputs: list[Path], force: bool) -> Path:
             raise OutputError(f"--out {out} would hold or overwrite the input {p} (it is "
                               "the input)")
     if st is None:
-        return out
+        return out, False
     if not stat.S_ISDIR(st.st_mode):
         raise OutputError(f"--out {out} exists and is not a directory")
     try:
         entries = sorted(os.listdir(out))
     except OSError as exc:
         raise OutputError(f"--out {out}: cannot be read ({exc.strerror})") from None
-    for root, _dirs, files in os.walk(out):
-        for f in files:
-            if _identity(Path(root) / f) in in_ids:
+    in_dirs = {_identity(p) for p in inputs if p.is_dir()}
+    for root, dirs, files in os.walk(out):
+        for f in files + dirs:
+            p = Path(root) / f
+            target = Path(os.path.realpath(p))
+            if _identity(p) in in_ids or (p.is_symlink() and any(
+                    _identity(a) in in_dirs for a in [target, *target.parents])):
                 raise OutputError(f"--out {out} would hold or overwrite the input: "
-                                  f"{Path(root) / f} is a link to it; choose another "
-                                  "directory")
+                                  f"{p} is a link to it; choose another directory")
+            mode = os.lstat(p).st_mode
+            if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode) or stat.S_ISLNK(mode)):
+                raise OutputError(f"--out {out} holds {p}, a device, FIFO or socket: it is "
+                                  "never replaced; choose another directory")
+    if entries and not force and resume is not None and resume(out):
+        return out, True
     if entries and not force:
         shown = ", ".join(entries[:6]) + (f" and {len(entries) - 6} more" if len(entries) > 6
                                           else "")
         raise OutputError(f"--out {out} already holds {len(entries)} entries ({shown}); "
                           "add --force to replace them, or choose another directory")
-    return out
+    return out, False
 
 
 class OutputRun:
     """Atomic output directory for one command.
 
-    Usage (the CLI's ``load_for_command`` helper wraps this)::
+    Usage (the CLI's ``run_command`` helper wraps this)::
 
         with OutputRun(args.out, [Path(args.design)], force=args.force) as run:
             ...write every file into run.path (a fresh temporary directory beside --out)...
             run.exit_code = rc        # 0, 3 or 4: the files are moved into --out
 
     On leaving the block the files move into ``--out`` only if ``exit_code`` is one of
-    :data:`RESULT_EXIT_CODES` and no exception (nor Ctrl-C) is propagating; otherwise the
-    temporary directory is deleted and an existing ``--out`` is left untouched. An existing
-    ``--out`` with entries is refused unless ``force``; with ``force`` its old contents are
-    replaced as a whole (renamed away, the new directory renamed in, the old one deleted),
-    so old and new files never mix. Inputs are compared by file identity (st_dev, st_ino,
-    following symlinks and hard links): a ``--out`` that holds an input or a link to one is
-    refused, and files are only ever created in the fresh temporary directory, so nothing
-    is written through a link. ``final(p)`` maps a path in ``run.path`` to its place in
-    ``--out`` (for messages).
+    :data:`RESULT_EXIT_CODES`, no exception (nor a signal) is propagating and no signal was
+    received and swallowed on the way (:mod:`plantmech.outputs.signals`: then the block
+    raises :class:`~plantmech.outputs.signals.Interrupted`); otherwise the temporary
+    directory is deleted and an existing ``--out`` is left untouched. An existing ``--out``
+    with entries is refused unless ``force`` (or ``resume(out)`` says it holds this very run
+    to continue: its files are then copied into the temporary directory first, the chunk
+    files of a study hard-linked); with ``force`` its old contents are replaced as a whole
+    (renamed away, the new directory renamed in, the old one deleted), so old and new files
+    never mix. ``--out`` is never the current directory, one of its parents or the root, and
+    never holds a device, FIFO or socket. Inputs are compared by file identity (st_dev,
+    st_ino, following symlinks and hard links): a ``--out`` that holds an input or a link to
+    one is refused, and files are only ever created in the fresh temporary directory, so
+    nothing is written through a link. ``final(p)`` maps a path in ``run.path`` to its place
+    in ``--out`` (for messages).
     """
 
-    def __init__(self, out: str | Path, inputs: list[Path], force: bool = False):
+    def __init__(self, out: str | Path, inputs: list[Path], force: bool = False,
+                 resume=None):
         if str(out).strip() == "":
             raise OutputError("--out is empty: give the name of a new directory")
         self.requested = Path(out)
-        self.out = _check_out(self.requested, [Path(p) for p in inputs], force)
+        self.out, self.resuming = _check_out(self.requested, [Path(p) for p in inputs], force,
+                                             resume)
         self.force = force
         self.exit_code: int | None = None
         self.path: Path | None = None
         self._created: Path | None = None
 
     def __enter__(self) -> OutputRun:
+        from plantmech.outputs import signals
+
         parent = self.out.parent
         missing = [d for d in [parent, *parent.parents] if not d.exists()]
         self._created = missing[-1] if missing else None  # removed again if the run fails
-        try:
-            parent.mkdir(parents=True, exist_ok=True)
-            self.path = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=parent))
-        except OSError as exc:
-            raise OutputError(f"--out {self.requested}: cannot create a directory in {parent} "
-                              f"({exc.strerror})") from None
+        with signals.blocked():
+            try:
+                parent.mkdir(parents=True, exist_ok=True)
+                self.path = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=parent))
+            except OSError as exc:
+                self._remove_created_parents()
+                raise OutputError(f"--out {self.requested}: cannot create a directory in "
+                                  f"{parent} ({exc.strerror})") from None
+        if signals.received() is not None and not signals.finished():
+            self._discard()
+            signals.check()
+        if self.resuming:
+            try:
+                _seed(self.out, self.path)
+            except BaseException:
+                self._discard()
+                raise
         return self
 
     def final(self, p: str | Path) -> Path:
@@ -163,13 +206,23 @@ class OutputRun:
             return p
 
     def __exit__(self, exc_type, exc, tb) -> bool:
-        ok = exc_type is None and self.exit_code in RESULT_EXIT_CODES
-        if not ok:
-            shutil.rmtree(self.path, ignore_errors=True)
-            self._remove_created_parents()
-            return False
-        self._commit()
+        from plantmech.outputs import signals
+
+        with signals.blocked():
+            ok = (exc_type is None and self.exit_code in RESULT_EXIT_CODES
+                  and signals.received() is None)
+            if not ok:
+                self._discard()
+            else:
+                self._commit()
+                signals.finish()
+        if exc_type is None and self.exit_code in RESULT_EXIT_CODES:
+            signals.check()  # a signal swallowed on the way: nothing was committed
         return False
+
+    def _discard(self) -> None:
+        shutil.rmtree(self.path, ignore_errors=True)
+        self._remove_created_parents()
 
     def _remove_created_parents(self) -> None:
         """Remove the (empty) parent directories this run created for --out."""
@@ -189,8 +242,8 @@ class OutputRun:
         out = self.out
         old = None
         if _probe(out, "--out") is not None:
-            if os.listdir(out) and not self.force:  # appeared during the run
-                shutil.rmtree(self.path, ignore_errors=True)
+            if os.listdir(out) and not (self.force or self.resuming):  # filled during the run
+                self._discard()
                 raise OutputError(f"--out {out} was filled by something else during the run; "
                                   "nothing written")
             old = Path(tempfile.mkdtemp(prefix=".plantmech-old-", dir=out.parent))
@@ -201,11 +254,33 @@ class OutputRun:
         except OSError:
             if old is not None:
                 os.rename(old, out)
-            shutil.rmtree(self.path, ignore_errors=True)
+            self._discard()
             raise
         os.chmod(out, 0o777 & ~_umask())
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
+
+
+def _seed(out: Path, staging: Path) -> None:
+    """Copy what ``out`` holds into ``staging`` to continue the run there: files that are only
+    ever replaced whole (a study's Parquet and npz chunks) hard-linked, every other file
+    copied (it may be rewritten in place), links and special files left out."""
+    for root, dirs, files in os.walk(out):
+        rel = Path(root).relative_to(out)
+        for d in dirs:
+            if not os.path.islink(Path(root) / d):
+                (staging / rel / d).mkdir(exist_ok=True)
+        for f in files:
+            src, dst = Path(root) / f, staging / rel / f
+            if not stat.S_ISREG(os.lstat(src).st_mode):
+                continue
+            if src.suffix in (".parquet", ".npz"):
+                try:
+                    os.link(src, dst)
+                    continue
+                except OSError:
+                    pass
+            shutil.copy2(src, dst)
 
 
 def _umask() -> int:
@@ -214,10 +289,89 @@ def _umask() -> int:
     return mask
 
 
+class OutputFile:
+    """Atomic single output file (``schema --out``, ``report --out``, ``init``).
+
+    ``with OutputFile(path, what="--out", force=...) as tmp:`` write ``tmp`` (a fresh file
+    beside ``path``); on leaving without an exception or a signal it replaces ``path`` in one
+    rename (with the signals held back), else it is deleted and ``path`` is untouched. The
+    rules of :class:`OutputRun` for one file: an existing ``path`` only with ``force`` (and
+    without ``force`` a file appearing during the run is not replaced either), never a
+    directory, a device, FIFO or socket, never a link (nothing is written through one, and
+    the link is not replaced either), never one of ``inputs``."""
+
+    def __init__(self, path: str | Path, what: str = "--out", force: bool = False,
+                 inputs: tuple = (), hint: str = "add --force to replace it"):
+        if str(path).strip() == "":
+            raise OutputError(f"{what} is empty: give a file name")
+        self.path = Path(path)
+        self.what = what
+        self.force = force
+        st = _probe(self.path, what)
+        if st is not None:
+            if stat.S_ISLNK(st.st_mode):
+                raise OutputError(f"{what} {path} is a link: nothing is written through a "
+                                  "link nor replaces it; give the file itself")
+            if stat.S_ISDIR(st.st_mode):
+                raise OutputError(f"{what} {path} is a directory: give a file name")
+            if not stat.S_ISREG(st.st_mode):
+                raise OutputError(f"{what} {path} is a device, FIFO or socket: it is never "
+                                  "replaced")
+            if any(_identity(Path(p)) == _identity(self.path) for p in inputs):
+                raise OutputError(f"{what} {path} is an input of this command")
+            if not force:
+                raise OutputError(f"{what} {path} exists; {hint}")
+        parent = _probe(self.path.parent, what)
+        if parent is None or not os.path.isdir(self.path.parent):
+            raise OutputError(f"{what} {path}: {self.path.parent} is not a directory")
+        self.tmp: Path | None = None
+
+    def __enter__(self) -> Path:
+        from plantmech.outputs import signals
+
+        with signals.blocked():
+            try:
+                fd, name = tempfile.mkstemp(prefix=".plantmech-", dir=self.path.parent)
+            except OSError as exc:
+                raise OutputError(f"{self.what} {self.path}: cannot be written there "
+                                  f"({exc.strerror})") from None
+            os.close(fd)
+            self.tmp = Path(name)
+        if signals.received() is not None and not signals.finished():
+            self.tmp.unlink(missing_ok=True)
+            signals.check()
+        return self.tmp
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        from plantmech.outputs import signals
+
+        with signals.blocked():
+            if exc_type is not None or signals.received() is not None:
+                self.tmp.unlink(missing_ok=True)
+            else:
+                os.chmod(self.tmp, 0o666 & ~_umask())
+                try:
+                    if self.force:
+                        os.replace(self.tmp, self.path)  # replaces a link itself, never its target
+                    else:
+                        os.link(self.tmp, self.path)  # never replaces what appeared meanwhile
+                        self.tmp.unlink()
+                except OSError as exc:
+                    self.tmp.unlink(missing_ok=True)
+                    if exc.errno == errno.EEXIST:
+                        raise OutputError(f"{self.what} {self.path} was created by something "
+                                          "else during the run; nothing written") from None
+                    raise
+                signals.finish()
+        if exc_type is None:
+            signals.check()
+        return False
+
+
 def prepare_out_dir(out: str | Path, inputs: list[Path], force: bool = True) -> Path:
     """Create ``out`` in place (non-atomic; for library use): refuse an ``out`` that is an
     input, holds one or a link to one. Commands use :class:`OutputRun` instead."""
-    out = _check_out(Path(out), [Path(p) for p in inputs], force)
+    out, _ = _check_out(Path(out), [Path(p) for p in inputs], force)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -260,8 +414,23 @@ def write_json(path: Path, data: dict) -> None:
     """JSON with every float finite; raises NonFiniteOutput naming the field otherwise.
     An objective or check (a dict with name, value, limit) whose value is missing or not
     finite is written with value null, ok false and a ``not_computable`` reason."""
-    path.write_text(json.dumps(_clean(data), indent=2, allow_nan=False) + "\n",
-                    encoding="utf-8")
+    write_text_atomic(path, json.dumps(_clean(data), indent=2, allow_nan=False) + "\n")
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """``path`` holds ``text`` whole or is as it was: written to a fresh file beside it and
+    renamed over it (a link at ``path`` is replaced, never written through)."""
+    path = Path(path)
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.chmod(name, 0o666 & ~_umask())
+        os.replace(name, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(name)
+        raise
 
 
 def write_csv(path: Path, columns: dict[str, np.ndarray], fmt: str = "%.6f",

@@ -85,6 +85,36 @@ def study_verdict(summary: dict) -> tuple[str, str]:
         "objective" + ("" if ok else ": NOT MET"))
 
 
+def study_verdict_record(summary: dict) -> dict:
+    """The study's verdict as every command's (``outputs.verdict``): built once by
+    ``plantmech study``, recorded as summary.json's ``verdict`` with its sentence
+    (``text``) and style, read back by the report and by ``plantmech report``."""
+    from plantmech.outputs.verdict import verdict
+
+    if "kind" not in summary:  # no chunk finished
+        style, text = "fail", ("INCOMPLETE: no chunk of this study has finished; rerun the "
+                               "same 'plantmech study' command to resume")
+    else:
+        style, text = study_verdict(summary)
+    return {**verdict(problems=[text] if style == "fail" else []), "style": style,
+            "text": text}
+
+
+def study_verdict_line(v: dict) -> str:
+    """The line ``plantmech study`` and ``plantmech report`` print last."""
+    return "verdict: " + (f"ok - {v['text']}" if v["ok"] else v["text"])
+
+
+def recorded_verdict(summary: dict) -> dict:
+    """summary.json's recorded verdict, or (a directory written before it was recorded, or
+    edited since) the one its numbers give now."""
+    fresh = study_verdict_record(summary)
+    v = summary.get("verdict")
+    if isinstance(v, dict) and v.get("text") == fresh["text"] and v.get("ok") == fresh["ok"]:
+        return v
+    return fresh
+
+
 def _f(v, digits: int = 4) -> str:
     if v is None or (isinstance(v, float) and not np.isfinite(v)):
         return "n/a"
@@ -275,11 +305,13 @@ def _plan_from_csv(out: Path) -> np.ndarray | None:
     return np.c_[arr["x_mm"], arr["y_mm"]]
 
 
-def ensure_plots(out: Path, summary: dict) -> list[Path]:
-    """The study's PNG plots, drawn from its files where the study skipped them."""
+def ensure_plots(out: Path, summary: dict, into: Path | None = None) -> list[Path]:
+    """The study's PNG plots, drawn from its files where the study skipped them (into
+    ``into``, default the study directory itself)."""
     from plantmech.outputs import study_plots as sp
     from plantmech.studies.engine import read_results
 
+    into = out if into is None else Path(into)
     kind = summary["kind"]
     names = {"tolerance": ["histograms.png", "sensitivity.png", "band.png"],
              "sweep": ["sweep.png"], "multi-start": ["multistart.png"]}[kind]
@@ -291,18 +323,18 @@ def ensure_plots(out: Path, summary: dict) -> list[Path]:
         check_columns(data, summary, out)
         for n in missing:
             if n == "histograms.png":
-                sp.plot_histograms(out / n, data, summary)
+                sp.plot_histograms(into / n, data, summary)
             elif n == "sensitivity.png":
-                sp.plot_sensitivity(out / n, summary)
+                sp.plot_sensitivity(into / n, summary)
             elif n == "band.png":
                 band = _band_from_csv(out)
                 if band is not None:
-                    sp.plot_band(out / n, {**summary, "band": band}, _plan_from_csv(out))
+                    sp.plot_band(into / n, {**summary, "band": band}, _plan_from_csv(out))
             elif n == "sweep.png":
-                sp.plot_sweep(out / n, data, summary)
+                sp.plot_sweep(into / n, data, summary)
             else:
-                sp.plot_multistart(out / n, data)
-    return [out / n for n in names if (out / n).exists()]
+                sp.plot_multistart(into / n, data)
+    return [d / n for n in names for d in (out, into) if (d / n).exists()]
 
 
 def _figure(path: Path, caption: str) -> str:
@@ -331,8 +363,13 @@ SENS_CAPTION = (
     "in steps): read the SRC there.")
 
 
-def build_study_report(out: str | Path, command: str = "") -> str:
-    """The study's report as one self-contained HTML string."""
+GENERATOR = '<meta name="generator" content="plantmech report">'
+
+
+def build_study_report(out: str | Path, command: str = "", plots_into: Path | None = None
+                       ) -> str:
+    """The study's report as one self-contained HTML string (plots the study skipped are
+    drawn into ``plots_into``, default the study directory)."""
     from plantmech import __version__
     from plantmech.outputs.files import _clean
     from plantmech.outputs.report import _STYLE
@@ -340,18 +377,19 @@ def build_study_report(out: str | Path, command: str = "") -> str:
     out = Path(out)
     state, summary = load_study(out)
     kind = summary["kind"]
-    style, verdict = study_verdict(summary)
+    v = recorded_verdict(summary)
+    style, verdict = v["style"], v["text"]
     title = f"plantmech {kind} study: {state.get('design', '')}"
     when = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     mark = {"ok": "&#10003;", "fail": "&#10007;", "info": "Result:"}[style]
-    parts = ["<!doctype html>", '<html lang="en"><head><meta charset="utf-8">',
+    parts = ["<!doctype html>", '<html lang="en"><head><meta charset="utf-8">', GENERATOR,
              '<meta name="viewport" content="width=device-width, initial-scale=1">',
              f"<title>{html.escape(title)}</title><style>{_STYLE}{_EXTRA_STYLE}</style>"
              "</head><body>", f"<h1>{html.escape(title)}</h1>",
              f'<p class="meta">{html.escape(command or str(out))} &middot; plantmech '
              f"{__version__} &middot; {when}</p>",
              f'<div id="verdict" class="verdict {style}">{mark} {html.escape(verdict)}</div>']
-    plots = {p.name: p for p in ensure_plots(out, summary)}
+    plots = {p.name: p for p in ensure_plots(out, summary, plots_into)}
     if kind == "tolerance":
         n = summary["samples"]
         parts += ['<h2 id="probability">Probability that each objective holds</h2>',
@@ -425,10 +463,28 @@ def build_study_report(out: str | Path, command: str = "") -> str:
 
 
 def write_study_report(out: str | Path, path: str | Path | None = None,
-                       command: str = "") -> Path:
-    """Write the report of study directory ``out`` (default ``out/report.html``)."""
+                       command: str = "", plots_into: Path | None = None) -> Path:
+    """Write the report of study directory ``out`` (default ``out/report.html``; the file
+    replaced in one rename, never written through a link)."""
+    from plantmech.outputs.files import write_text_atomic
+
     out = Path(out)
     target = Path(path) if path is not None else out / REPORT_NAME
-    text = build_study_report(out, command)
-    target.write_text(text, encoding="utf-8")
+    write_text_atomic(target, build_study_report(out, command, plots_into))
     return target
+
+
+def is_previous_report(path: Path) -> bool:
+    """``path`` is a regular file written by ``plantmech report`` / ``study --report``
+    (replaced without --force); anything else is never replaced without it."""
+    import os
+    import stat
+
+    try:
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            return False
+        with open(path, "rb") as fh:
+            head = fh.read(4096).decode("utf-8", "replace")
+    except OSError:
+        return False
+    return head.lower().startswith("<!doctype html>") and GENERATOR in head

@@ -2,12 +2,13 @@
 
 Exit status of every command: 0 everything asked of the design is met, 2 invalid input, 3 the
 design is infeasible (no mechanism to build), 4 it ran but something is not met (the record says
-what). Nothing counts as met unless every check says so.
+what), 5 no space left on the device (nothing written), 130 / 143 / 129 stopped by SIGINT
+(Ctrl-C) / SIGTERM / SIGHUP (nothing written). Nothing counts as met unless every check says so.
 """
 
 from __future__ import annotations
 
-EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
+EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET, EXIT_NO_SPACE = 0, 2, 3, 4, 5
 
 
 def verdict(*check_lists, infeasible: bool = False, problems: list[str] | None = None) -> dict:
