@@ -103,11 +103,11 @@ def _spec_mutations(spec: dict, rng) -> tuple[str, bool]:
     options = ["samples_huge", "grid_huge", "value_huge", "value_nan", "seed_negative",
                "seed_wide", "kind_wrong", "unknown_field", "no_parameters", "chunk_zero",
                "low_above_high", "unknown_distribution", "unknown_parameter", "too_many_chunks",
-               "valid"]
+               "valid", "valid", "valid", "valid"]  # a quarter of them run a study
     if kind == "multi-start":
         options = ["problem_bogus", "algorithm_bogus", "problem_other_mechanism",
                    "seed_wide", "seed_negative", "kind_wrong", "unknown_field", "starts_zero",
-                   "valid"]
+                   "valid", "valid"]
     what = rng.choice(options)
     if what == "valid":
         return "valid", False
