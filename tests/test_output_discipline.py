@@ -226,10 +226,8 @@ def test_schema_and_init_never_replace_a_device_a_fifo_or_a_link(tmp_path, capsy
     # init: --name is a file name in DIR, never a path out of it
     d = tmp_path / "d" / "e"
     for name in ("../../x.toml", str(tmp_path / "abs.toml"), "..", "sub/x.toml"):
-        with pytest.raises(SystemExit) as refused:  # a usage error of --name (argparse)
-            main(["init", "seeder", str(d), "--name", name])
-        assert refused.value.code == 2, name
-        assert "give a plain file name" in capsys.readouterr().err
+        assert main(["init", "seeder", str(d), "--name", name]) == 2, name
+        assert "not a path" in capsys.readouterr().err
     assert not (tmp_path / "x.toml").exists() and not (tmp_path / "abs.toml").exists()
     assert not (tmp_path / "d").exists()  # the directory made for it is gone again
     os.symlink(mine, tmp_path / "seeder.toml")

@@ -28,6 +28,13 @@ def _listeners(procs) -> list[tuple[int, str, int]]:
     return out
 
 
+def _resource_tracker(p) -> bool:
+    try:
+        return "resource_tracker" in " ".join(p.cmdline())
+    except psutil.Error:  # gone, or defunct (a zombie has no command line): not it
+        return False
+
+
 def test_a_local_study_cluster_listens_on_loopback_only():
     """As ``ss -ltnp`` during a study: the listening sockets of this process and of every
     process the cluster started (scheduler, nannies, workers, dashboard)."""
@@ -47,6 +54,17 @@ def test_a_local_study_cluster_listens_on_loopback_only():
     assert all(a.startswith(f"tcp://{LOOPBACK}:") for a in addresses), addresses
     dash_port = int(dashboard.split(":")[2].split("/")[0])
     assert dash_port in {port for _, _, port in found}
+    # and closed with the study: no process of it is left (nor a defunct one); the one
+    # resource tracker of multiprocessing stays for the interpreter's life
+    import time
+
+    t0 = time.time()
+    while time.time() - t0 < 10:
+        left = [p for p in me.children(recursive=True) if not _resource_tracker(p)]
+        if not left:
+            break
+        time.sleep(0.2)
+    assert left == [], [(p.pid, p.status()) for p in left]
 
 
 def test_multi_start_of_layer_1_runs_in_the_daemonic_workers(tmp_path):

@@ -618,9 +618,11 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     app.add_middleware(BodyLimit, compute=compute)
 
     async def body(request: Request) -> dict:
-        try:
-            data = await request.json()
-        except ValueError:
+        import orjson
+
+        try:  # orjson: nesting bounded (1024), no recursion to exhaust (json's raised
+            data = orjson.loads(await request.body())  # RecursionError: a 500)
+        except orjson.JSONDecodeError:
             raise AppError(400, "request body is not valid JSON") from None
         if not isinstance(data, dict):
             raise AppError(400, "request body must be a JSON object")
@@ -661,16 +663,18 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     @app.post("/api/parse")
     async def parse(request: Request):
         """A TOML text the user opened in the page (the browser reads the file)."""
-        import tomllib
+        from plantmech.design import MAX_NESTING, DesignError
+        from plantmech.inputs import parse_toml
 
         data = await body(request)
         text, label = data.get("text"), str(data.get("name") or "design")[:80]
         if not isinstance(text, str):
             raise AppError(400, "field 'text': the design file's text is missing")
-        try:
-            raw = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise AppError(422, f"{label}: not valid TOML: {exc}") from None
+        try:  # as a design file is parsed: nesting bounded before the parser recurses
+            raw = parse_toml(text, label, MAX_NESTING, DesignError,
+                             "a design file needs at most 3")
+        except DesignError as exc:
+            raise AppError(422, str(exc)) from None
         design = validate_design(raw, label)
         return {"name": label, "design": design_json(design)}
 

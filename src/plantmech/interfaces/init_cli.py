@@ -32,24 +32,6 @@ def _init(args) -> int:
     return 0
 
 
-def _file_name(text: str) -> str:
-    """argparse type of --name: a plain file name, written inside DIR and nowhere else."""
-    import argparse
-
-    bad = next((c for c in text if c in "/\\" or ord(c) < 32 or ord(c) == 127), None)
-    if bad is not None or text in ("", ".", "..") or text != text.strip():
-        what = ("a path separator" if bad in ("/", "\\") else "a control character"
-                if bad is not None else "spaces around it" if text.strip() not in ("", ".", "..")
-                else "no file name")
-        raise argparse.ArgumentTypeError(
-            f"{text!r}: {what}; give a plain file name (no directory: the file is written "
-            "in DIR)")
-    if len(text.encode("utf-8")) > 255:
-        raise argparse.ArgumentTypeError(f"a file name of {len(text.encode('utf-8'))} bytes;"
-                                         " at most 255")
-    return text
-
-
 def register(subparsers) -> None:
     from plantmech.starters import STARTERS, study_kinds
 
@@ -66,7 +48,6 @@ def register(subparsers) -> None:
                    help=f"what to start from: {', '.join(STARTERS)}, or a study spec "
                    "(studies/...)")
     p.add_argument("dir", help="directory to write into (created if missing)")
-    p.add_argument("--name", default=None, type=_file_name,
-                   help="file name in DIR, no directory part (default: KIND.toml with '-' "
-                   "as '_')")
+    p.add_argument("--name", default=None,
+                   help="file name in DIR, not a path (default: KIND.toml with '-' as '_')")
     p.set_defaults(func=_init)

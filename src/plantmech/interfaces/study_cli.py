@@ -79,13 +79,13 @@ def _same_study(args, spec, out: Path) -> bool:
     """``out`` holds this very study (study.json with the inputs' fingerprint): it is
     resumed without --force (its finished chunks are kept). Another study there is
     refused by name (OutputError)."""
-    import json
-
     from plantmech.design import DesignError, load_design
     from plantmech.outputs.files import OutputError
 
     try:
-        state = json.loads((out / "study.json").read_text(encoding="utf-8"))
+        from plantmech.studies.summary import read_state
+
+        state = read_state(out)  # bounded: a FIFO or a device there is no study
         same = state.get("fingerprint") == _fingerprint(load_design(args.design), spec)
     except (OSError, ValueError, AttributeError, DesignError):
         return False
@@ -125,8 +125,9 @@ def _body(args, design, run, spec) -> int:
     fp = _fingerprint(design, spec)
     try:
         if spec.kind == "multi-start":
-            from plantmech.studies.multistart import run_multistart
+            from plantmech.studies.multistart import check_problem, run_multistart
 
+            check_problem(design, spec, args.spec)  # before a start is sent
             outcome = run_multistart(design, spec, out, fp, str(args.design), args.scheduler,
                                      args.workers, not args.quiet, args.max_chunks)
         else:
