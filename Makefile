@@ -2,7 +2,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench bench-study bench-layered bench-design lint clean fuzz docs
+.PHONY: run test test-quick bench bench-study bench-layered bench-design lint clean fuzz docs
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -17,9 +17,18 @@ run: $(STAMP)
 	$(VENV)/bin/plantmech design examples/sugarcane_seeder.toml --out out/sugarcane_seeder --force --quiet || test $$? -eq 4
 	$(VENV)/bin/plantmech design examples/rice_transplanter.toml --out out/rice_transplanter --force --quiet
 
+# The whole suite on both cores (pytest-xdist; each worker is handed one test at a time, the
+# slow ones of tests/slow.txt first), the 20 slowest tests printed at the end.
+PYTEST_XDIST := -n 2 --dist load --maxschedchunk 1
 test: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
-	$(PY) -m pytest
+	$(PY) -m pytest $(PYTEST_XDIST) --durations=20
+
+# The quick loop for engineers: everything but the tests listed in tests/slow.txt.
+# `make test` and CI still run everything.
+test-quick: $(STAMP)
+	$(VENV)/bin/ruff check src tests benchmarks
+	$(PY) -m pytest $(PYTEST_XDIST) -m "not slow" --durations=10
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py

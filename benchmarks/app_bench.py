@@ -37,18 +37,24 @@ def _free_port() -> int:
 
 class Server:
     """``plantmech app`` in a child process on a free loopback port; ``args``: more of the
-    command's options (``--workers 0``)."""
+    command's options (``--workers 0``); ``src``: another checkout's ``src`` directory to
+    serve from (its page and its server: the side-by-side comparison)."""
 
-    def __init__(self, *args: str):
+    def __init__(self, *args: str, src: str | None = None):
         self.args = list(args)
+        self.src = src
 
     def __enter__(self):
         self.port = _free_port()
         argv = ["app", "--no-browser", "--port", str(self.port), *self.args]
         code = ("from plantmech.interfaces.cli import main; import sys; "
                 f"sys.exit(main({argv!r}))")
+        env = dict(os.environ)
+        if self.src:
+            env["PYTHONPATH"] = os.pathsep.join(filter(None, (self.src,
+                                                               env.get("PYTHONPATH"))))
         self.proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.DEVNULL)
+                                     stderr=subprocess.DEVNULL, env=env)
         t0 = time.time()
         while time.time() - t0 < 60:
             try:
@@ -240,7 +246,9 @@ def browser_drag(url: str, moves: int = 60, interval_ms: int = 40) -> dict | str
                              " && window.__plantmech.view", timeout=60000)
         box = pg.locator("#mech").bounding_box()
         x0, y0 = pg.evaluate("""() => { const s = window.__plantmech;
-            const p = s.design.trajectory.points[12]; return s.view.toPx(p[0], p[1]); }""")
+            const p = s.design.trajectory.points[12]; const [x, y] = s.view.toPx(p[0], p[1]);
+            const c = document.getElementById('mech'), r = c.getBoundingClientRect();
+            return [x * r.width / c.width, y * r.height / c.height]; }""")  # CSS-scaled
         x0, y0 = box["x"] + x0, box["y"] + y0
         pg.evaluate("window.__dragTimes.length = 0")
         pg.mouse.move(x0, y0)
@@ -401,6 +409,43 @@ def _summary(drags: list[dict], loops: list[dict]) -> None:
                errors=int(sum(r["errors"] for r in loops)), clients=loops[0]["clients"])
 
 
+def compare(other_src: str, runs: int = 3) -> None:
+    """drag -> redraw in chromium, this checkout's page and server against another
+    checkout's (``other_src``: its ``src`` directory), after one uncounted drag on each,
+    runs alternating (and which goes first) so that both see the same machine load; each
+    run's p50/p95, the medians and their ratio."""
+    got: dict[str, list[dict]] = {"this": [], "other": []}
+    with Server() as ours, Server(src=other_src) as theirs:
+        for srv in (ours, theirs):  # one drag each not counted: whichever went first lost
+            browser_drag(srv.url, moves=20)  # 2-3x its p95 to the warm-up otherwise
+        for run in range(runs):
+            order = (("this", ours), ("other", theirs))
+            for tag, srv in order if run % 2 == 0 else order[::-1]:  # first place alternates
+                r = browser_drag(srv.url)
+                if isinstance(r, str):
+                    print(f"app drag -> redraw ({tag}): {r}")
+                    return
+                r["load"] = os.getloadavg()[0]
+                got[tag].append(r)
+                where = ROOT / "src" if tag == "this" else other_src
+                print(f"run {run + 1}/{runs} {tag:>5} ({where}): p50 {r['p50_ms']:.0f} ms, "
+                      f"p95 {r['p95_ms']:.0f} ms over "
+                      f"{r['samples']} drawn answers, draw {r['median_parts_ms']['draw']:.1f} ms"
+                      f" (mechanism {r['median_parts_ms']['draw_mechanism']:.1f}, checks "
+                      f"{r['median_parts_ms']['draw_checks']:.1f}, plots "
+                      f"{r['median_parts_ms']['draw_plots']:.1f}), compute "
+                      f"{r['median_parts_ms']['compute']:.1f} ms; {_load()}")
+    med = {k: (float(np.median([r["p50_ms"] for r in v])),
+               float(np.median([r["p95_ms"] for r in v]))) for k, v in got.items()}
+    loads = [r["load"] for v in got.values() for r in v]
+    print(f"FIGURE drag -> redraw side by side (median of {runs} runs each): this p50 "
+          f"{med['this'][0]:.0f} / p95 {med['this'][1]:.0f} ms, other p50 {med['other'][0]:.0f}"
+          f" / p95 {med['other'][1]:.0f} ms, ratio this/other p95 "
+          f"{med['this'][1] / med['other'][1]:.2f} (target p95 < 50 ms: "
+          f"{'met' if med['this'][1] < 50 else 'NOT met'}; load average "
+          f"{min(loads):.1f}..{max(loads):.1f} on {os.cpu_count()} cores)")
+
+
 if __name__ == "__main__":
     import argparse
 
@@ -408,7 +453,13 @@ if __name__ == "__main__":
     ap.add_argument("--runs", type=int, default=3,
                     help="repetitions of the browser drag and the closed-loop load test "
                          "(the summary gives their median; default 3)")
+    ap.add_argument("--compare", metavar="SRC",
+                    help="only the browser drag, side by side with another checkout's src "
+                         "directory (e.g. /work/main/src), runs alternating")
     args = ap.parse_args()
     if args.runs < 1:
         ap.error("argument --runs: at least 1")
-    report(args.runs)
+    if args.compare:
+        compare(args.compare, args.runs)
+    else:
+        report(args.runs)

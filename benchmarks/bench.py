@@ -258,30 +258,79 @@ def general_population_variants(which: str, P: int, rng) -> list:
     return out
 
 
+def _threads(n: int):
+    """A context setting PLANTMECH_KERNEL_THREADS to ``n`` (restored after)."""
+    import contextlib
+
+    @contextlib.contextmanager
+    def ctx():
+        saved = os.environ.get("PLANTMECH_KERNEL_THREADS")
+        os.environ["PLANTMECH_KERNEL_THREADS"] = str(n)
+        try:
+            yield
+        finally:
+            if saved is None:
+                os.environ.pop("PLANTMECH_KERNEL_THREADS", None)
+            else:
+                os.environ["PLANTMECH_KERNEL_THREADS"] = saved
+    return ctx()
+
+
 def bench_general_population(rng, P: int = 1000) -> None:
     """The general train model (trains/, ``objectives.planetary.population_evaluation``):
     P designs x 720 samples, every objective (build: tabulation, closure, centre distances;
-    simulation; the [limits] checks and each pair's pitch-curve rules), for Table 4 (with
-    its dwell; and at a 2048-point grid beside it) and the elliptic rotary transplanter (no
-    dwell), issue 16's target >= 1,000 designs/s on Table 4 (its file's 16384-point grid);
-    and the single design (P = 1: the file as bundled, at 720 samples
-    and at its own 3600, what the CLI and the app pay). Wall medians with CPU time and the
-    machine's load (``--general-population-only``)."""
+    simulation; the [limits] checks and each pair's pitch-curve rules; the fused passes of
+    ``trains.fused`` for populations), for Table 4 (with its dwell, its file's 16384-point
+    grid; and at a 2048-point grid, the seeder kernel's own dense grid at 720 samples) and
+    the elliptic rotary transplanter (no dwell, two arms, grid 8192); with one kernel thread
+    and one per core (PLANTMECH_KERNEL_THREADS: the sub-populations on threads); issue 28's
+    targets >= 20,000 designs/s for Table 4 with two threads (>= 10,000 with one) and for
+    the elliptic example. Side by side: the dedicated seeder kernel
+    (``workflows.evaluate_seeder_population``, dense 2048, one thread) on the very designs
+    of Table 4's 2048-point population, and the ratio of the two (wall and CPU). Then the
+    single design (P = 1: the file as bundled, at 720 samples and at its own 3600, what the
+    CLI and the app pay). Wall medians with CPU time and the machine's load
+    (``--general-population-only``)."""
 
     from plantmech.objectives.planetary import population_evaluation
+    from plantmech.workflows import evaluate_seeder_population
 
+    cores = os.cpu_count() or 1
     for which in ("table4", "elliptic", "table4_grid2048"):
         designs = general_population_variants(which, P, rng)
-        population_evaluation(designs[:2], 720)  # imports and first calls, not timed
-        t, c = wall_cpu_median(lambda d=designs: population_evaluation(d, 720), 3)
-        print(f"general train population ({which}), {P} designs x 720 samples, every "
-              f"objective: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU second; "
-              f"median of 3; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
-              "cores" + ("; target >= 1000 designs/s)" if which == "table4" else ")"))
-        figure(f"general_population_{which}_720_designs_per_s", P / t, "designs/s",
-               1000.0 if which == "table4" else None, "higher", designs=P,
-               designs_per_cpu_s=P / c, grid=designs[0].train.grid)
-        if which == "table4_grid2048":
+        population_evaluation(designs[:64], 720)  # imports, compiled kernels loaded
+        for threads in sorted({1, min(cores, 2)}):
+            with _threads(threads):
+                t, c = wall_cpu_median(lambda d=designs: population_evaluation(d, 720), 3)
+            target = (None if which == "table4_grid2048" else
+                      20000.0 if threads == 2 or which == "elliptic" else 10000.0)
+            print(f"general train population ({which}), {P} designs x 720 samples, every "
+                  f"objective, {threads} kernel thread(s): {t:.2f} s ({P / t:.0f} designs/s; "
+                  f"{P / c:.0f} per CPU second; median of 3; load average "
+                  f"{os.getloadavg()[0]:.1f} on {cores} cores"
+                  + (f"; target >= {target:.0f} designs/s)" if target else ")"))
+            name = f"general_population_{which}_720_designs_per_s"
+            figure(name if threads == 1 else name.replace("_720_", "_720_threads2_"), P / t,
+                   "designs/s", target, "higher", designs=P, designs_per_cpu_s=P / c,
+                   grid=designs[0].train.grid, kernel_threads=threads)
+            if which == "table4_grid2048" and threads == 1:
+                general = (t, c)
+        if which == "table4_grid2048":  # the dedicated kernel on the same designs
+            R2 = np.array([d.train.pairs[0].follower.radii_mm for d in designs])
+            R3 = np.array([d.train.pairs[1].driver.radii_mm for d in designs])
+            t4 = load_design(ROOT / "examples" / "sugarcane_table4.toml")
+            with _threads(1):
+                evaluate_seeder_population(t4, R2, R3, samples=720, dense=2048)
+                t, c = wall_cpu_median(lambda t4=t4, R2=R2, R3=R3: evaluate_seeder_population(
+                    t4, R2, R3, samples=720, dense=2048), 3)
+            print(f"  beside it, the dedicated seeder kernel on the same {P} designs (dense "
+                  f"2048, 720 samples, one thread): {t:.3f} s ({P / t:.0f} designs/s; "
+                  f"{P / c:.0f} per CPU second); the general train takes "
+                  f"{general[0] / t:.1f}x its wall time, {general[1] / c:.1f}x its CPU time")
+            figure("seeder_kernel_table4_grid2048_720_designs_per_s", P / t, "designs/s",
+                   better="higher", designs=P, designs_per_cpu_s=P / c)
+            figure("general_over_seeder_kernel_table4_720_cpu_ratio", general[1] / c, "x",
+                   1.0, "lower", wall_ratio=general[0] / t)
             continue
         one = load_design(ROOT / "examples" / ("planetary/sugarcane_table4.toml"
                                                if which == "table4"
@@ -292,6 +341,15 @@ def bench_general_population(rng, P: int = 1000) -> None:
                   f"every objective: {t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 7; "
                   f"load average {os.getloadavg()[0]:.1f})")
             figure(f"general_single_{which}_{samples}_ms", t * 1e3, "ms", cpu_ms=c * 1e3)
+        if which == "table4":  # one design forward (build + simulate), as `forward` runs it
+            from plantmech.trains.model import simulate
+            from plantmech.trains.spec import build_from_design
+
+            t, c = wall_cpu_median(lambda o=one: simulate(build_from_design(o), o.samples), 7)
+            print(f"general train one design forward (Table 4 as bundled, grid "
+                  f"{one.train.grid}), {one.samples} samples: {t * 1e3:.1f} ms "
+                  f"({c * 1e3:.1f} ms CPU; median of 7; target <= 5 ms)")
+            figure("general_forward_table4_3600_ms", t * 1e3, "ms", 5.0, cpu_ms=c * 1e3)
 
 
 def main() -> None:

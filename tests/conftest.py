@@ -1,3 +1,6 @@
+import fcntl
+import os
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -5,6 +8,66 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
+
+
+class Shared:
+    """Expensive artefacts (cut gear sets, their simulated-cut references, a verified gear
+    directory, an installed wheel) built once per test run and read by every test that
+    needs them, across the pytest-xdist workers: the first caller of a key builds it under
+    a file lock, the others wait for it and read it (a pickle, or a directory). The
+    directory is the run's own (the workers' common base temp), never a previous run's.
+    What a builder returns is read-only to the tests that share it."""
+
+    def __init__(self, root: Path):
+        self.root = root
+        self._memo: dict = {}
+
+    def _locked(self, key: str):
+        f = open(self.root / f"{key}.lock", "w")
+        fcntl.flock(f, fcntl.LOCK_EX)
+        return f
+
+    def get(self, key: str, build):
+        """``build()`` once per run for ``key`` (any picklable value)."""
+        if key in self._memo:
+            return self._memo[key]
+        path = self.root / f"{key}.pickle"
+        with self._locked(key):
+            if path.exists():
+                value = pickle.loads(path.read_bytes())
+            else:
+                value = build()
+                tmp = path.with_suffix(".part")
+                tmp.write_bytes(pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL))
+                os.replace(tmp, path)
+        self._memo[key] = value
+        return value
+
+    def dir(self, key: str, build) -> Path:
+        """A directory written once per run by ``build(path)`` (which may return a value,
+        kept with it: ``(path, value)`` is returned)."""
+        def made():
+            path = self.root / key
+            if path.exists():  # a builder that failed part way: start again
+                import shutil
+
+                shutil.rmtree(path)
+            path.mkdir()
+            return path, build(path)
+
+        return self.get(key, made)
+
+
+@pytest.fixture(scope="session")
+def shared(tmp_path_factory, request) -> Shared:
+    """The run's artefact cache (Shared); under xdist its directory is the workers' common
+    base temp (the parent of each worker's own), else this session's base temp."""
+    base = tmp_path_factory.getbasetemp()
+    if hasattr(request.config, "workerinput"):
+        base = base.parent
+    root = base / "shared"
+    root.mkdir(exist_ok=True)
+    return Shared(root)
 
 
 def design_one_generation(tmp_path, example: str):
@@ -99,3 +162,106 @@ def assert_file_refused(doc: dict, field: str, tmp_path, capsys) -> None:
     assert main(["forward", write_toml(tmp_path, doc), "--out", str(out)]) == 2
     assert not out.exists()
     assert re.search(field, capsys.readouterr().err)
+
+
+def _lines(g) -> list:
+    """The coordinate sequences of a linear or polygonal geometry, as GEOS walks them."""
+    kind = g.geom_type
+    if kind in ("LineString", "LinearRing"):
+        return [g]
+    if kind == "Polygon":
+        return [g.exterior, *g.interiors]
+    if kind in ("MultiLineString", "MultiPolygon", "GeometryCollection"):
+        return [line for part in g.geoms for line in _lines(part)]
+    raise ValueError(f"hausdorff_distance: {kind} not supported")
+
+
+def hausdorff_distance(a, b, densify: float | None = None) -> float:
+    """``shapely.hausdorff_distance(a, b, densify)`` (GEOS's discrete Hausdorff distance:
+    every vertex, and with ``densify`` every segment cut into round(1 / densify) equal
+    parts, p0 + i (p1 - p0) / n for i < n, measured to the nearest segment of the other
+    geometry's boundary, both ways) with the same points and the same point-to-segment
+    distances, the nearest segment found through an STRtree instead of GEOS's scan of
+    every segment for every point (that scan is O(points x segments): minutes on the
+    fine outlines the envelope tests compare). tests/test_conftest.py checks it against
+    shapely's."""
+    import shapely
+
+    def points(g):
+        out = [shapely.get_coordinates(g)]
+        if densify:
+            n = int(np.floor(1.0 / densify + 0.5))
+            i = np.arange(n, dtype=float)[None, :]
+            for line in _lines(g):
+                c = shapely.get_coordinates(line)
+                p0, p1 = c[:-1], c[1:]
+                dx, dy = (p1[:, 0] - p0[:, 0]) / n, (p1[:, 1] - p0[:, 1]) / n
+                x = p0[:, :1] + i * dx[:, None]
+                y = p0[:, 1:] + i * dy[:, None]
+                out.append(np.c_[x.ravel(), y.ravel()])
+        return np.vstack(out)
+
+    def segments(g):
+        segs = []
+        for line in _lines(g):
+            c = shapely.get_coordinates(line)
+            segs.append(np.stack([c[:-1], c[1:]], axis=1))
+        return shapely.STRtree(shapely.linestrings(np.concatenate(segs)))
+
+    worst = 0.0
+    for x, y in ((a, b), (b, a)):
+        _, d = segments(y).query_nearest(shapely.points(points(x)), return_distance=True,
+                                         all_matches=False)
+        worst = max(worst, float(d.max()))
+    return worst
+
+
+CPU_LOG = os.environ.get("PLANTMECH_TEST_CPU")
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With PLANTMECH_TEST_CPU=file: each test's CPU seconds (setup, call and teardown,
+    with the processes it waited for) appended to ``file`` as "seconds<TAB>id", the
+    measure of a test's cost that a loaded machine does not inflate as it does wall time."""
+    if not CPU_LOG:
+        return (yield)
+    import resource
+
+    def cpu():
+        me, kids = (resource.getrusage(w) for w in
+                    (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
+        return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+
+    start = cpu()
+    try:
+        return (yield)
+    finally:
+        with open(CPU_LOG, "a") as f:
+            f.write(f"{cpu() - start:.2f}\t{item.nodeid}\n")
+
+
+SLOW = Path(__file__).with_name("slow.txt")
+
+
+def _slow_list() -> list[str]:
+    """tests/slow.txt: the slow tests' ids (a whole function: every parametrization), the
+    slowest first; ``#`` starts a comment (the measured time)."""
+    lines = (line.split("#", 1)[0].strip() for line in SLOW.read_text().splitlines())
+    return [line for line in lines if line]
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the tests of tests/slow.txt ``slow`` and run them first, slowest first (the two
+    xdist workers then end together on the short ones); the others keep their order."""
+    rank = {name: i for i, name in enumerate(_slow_list())}
+    slow = []
+    for item in items:
+        name = item.nodeid.split("[", 1)[0]
+        if item.nodeid in rank or name in rank:
+            item.add_marker(pytest.mark.slow)
+            slow.append((rank.get(item.nodeid, rank.get(name)), len(slow), item))
+    if slow:
+        first = [item for *_, item in sorted(slow, key=lambda s: s[:2])]
+        chosen = set(map(id, first))
+        items[:] = first + [item for item in items if id(item) not in chosen]

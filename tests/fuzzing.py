@@ -79,6 +79,11 @@ class Case:
     invalid: bool = False
     text: str = ""
     extra_args: list[str] = field(default_factory=list)
+    # a case of another input kind (``tests.fuzz_inputs``): ``prepare(work)`` lays out its
+    # files and returns (argv, out: the directory or file it may write); ``check(work, rc)``
+    # says what it left wrong (a file written outside --out / DIR), or None
+    prepare: object = None
+    check: object = None
 
 
 # --- mutations ------------------------------------------------------------------------
@@ -489,9 +494,12 @@ def run_case(case: Case, work: Path, timeout: float, clock: str = "wall") -> dic
 
     work.mkdir(parents=True, exist_ok=True)
     design = work / f"case{case.index}.toml"
-    design.write_text(case.text, encoding="utf-8")
-    out = work / f"out{case.index}"
-    argv = [case.command, str(design), "--out", str(out), *case.extra_args]
+    if case.prepare is not None:
+        argv, out = case.prepare(work)
+    else:
+        design.write_text(case.text, encoding="utf-8")
+        out = work / f"out{case.index}"
+        argv = [case.command, str(design), "--out", str(out), *case.extra_args]
     stdout, stderr = io.StringIO(), io.StringIO()
     kind, detail, rc = None, "", None
 
@@ -538,7 +546,7 @@ def run_case(case: Case, work: Path, timeout: float, clock: str = "wall") -> dic
         # available"): the case ran out of time
         kind, detail = "hang", f"over {timeout:g} s (surfaced as {detail[:120]})"
     err = stderr.getvalue()
-    leftovers = [p.name for p in work.glob(".plantmech-*")]
+    leftovers = [p.name for p in out.parent.glob(".plantmech-*")]
     if kind is None:
         if rc not in (0, 2, 3, 4):
             kind, detail = "bad_exit", f"exit {rc}"
@@ -550,10 +558,12 @@ def run_case(case: Case, work: Path, timeout: float, clock: str = "wall") -> dic
             kind, detail = "left_behind", f"exit 2 left {out.name} {leftovers}"
         elif rc == 3 and "not computable" in err:
             kind, detail = "non_finite", "refused at writing: " + err.strip()[-300:]
-        elif rc in (0, 3, 4) and not out.is_dir():
+        elif rc in (0, 3, 4) and not out.exists():
             kind, detail = "left_behind", f"exit {rc} but no {out.name}"
         elif leftovers:
             kind, detail = "left_behind", f"temporary directories {leftovers}"
+        elif case.check is not None and (wrong := case.check(work, rc)):
+            kind, detail = "left_behind", wrong
     if kind is None and out.is_dir():
         for f in sorted(out.rglob("*")):
             if f.is_file() and f.suffix in (".json", ".csv"):
@@ -568,8 +578,11 @@ def run_case(case: Case, work: Path, timeout: float, clock: str = "wall") -> dic
     if kind is not None:
         verdict["design"] = case.text[:20000]
         verdict["stderr"] = err[-2000:]
-    shutil.rmtree(out, ignore_errors=True)
-    for p in work.glob(".plantmech-*"):
+    if out.is_dir() and not out.is_symlink():
+        shutil.rmtree(out, ignore_errors=True)
+    elif out.exists() or out.is_symlink():
+        out.unlink()
+    for p in out.parent.glob(".plantmech-*"):
         shutil.rmtree(p, ignore_errors=True)
     design.unlink(missing_ok=True)
     return verdict

@@ -8,6 +8,8 @@ import pydoc
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import EXAMPLES, ROOT
 
 
@@ -45,7 +47,13 @@ def test_examples_are_package_data_behind_the_repository_symlink():
 
     assert (ROOT / "examples").is_symlink()
     shipped = plantmech.list_examples()
-    assert shipped == sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+    assert shipped == (sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+                       + sorted(f"studies/{p.stem}" for p in EXAMPLES.glob("studies/*.toml"))
+                       + sorted(f"planetary/{p.stem}" for p in
+                                EXAMPLES.glob("planetary/*.toml")))
+    assert "studies/seeder_tolerance" in shipped
+    with pytest.raises(KeyError, match="did you mean 'studies/seeder_tolerance'"):
+        plantmech.example_path("studies/seeder_tolerence")
     for name in shipped:
         assert plantmech.example_path(name).read_bytes() == (EXAMPLES / f"{name}.toml").read_bytes()
 

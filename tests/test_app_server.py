@@ -403,7 +403,7 @@ def test_edit_fast_path_answers_as_the_engine_and_keeps_the_host_rule(client):
     # an invalid design: the same field-named error as in-process
     bad = orjson.dumps({"design": {**d, "trajectory": {**d["trajectory"], "points": "x"}},
                         "quality": "drag"})
-    r = client.post("/api/evaluate", content=bad)
+    r = client.post("/api/evaluate", content=bad, headers={"content-type": "application/json"})
     assert (r.status_code, r.content) == server.evaluate_request(bad)
     assert r.status_code == 422
     r = client.post("/api/evaluate", content=raw, headers={"host": "evil.example"})
@@ -456,3 +456,29 @@ def test_a_general_planetary_train(client):
     d["train"]["pairs"][0]["driver"]["eccentricity"] = 1.2
     r = evaluate(client, d)
     assert r.status_code == 422 and "eccentricity" in r.json()["error"]
+
+
+def test_a_khv_train_offers_every_number_of_its_train():
+    """A K-H-V file (no optimizer problem takes it): every radius of its sun, the rim, the
+    carrier's angle, every number of the arm and of the seedling box, each in a box of
+    +-25 % (angles +-45 deg) around the file's value; counts are not offered."""
+    import tomllib
+
+    text = (Path(server.examples_dir()) / "rice_transplanter_khv.toml").read_text()
+    raw = server.design_json(server.validate_design(tomllib.loads(text)))
+    params = {p["field"]: p for p in server.editable_parameters(
+        server.validate_design(raw))}
+    sun = raw["sun_gear"]
+    expected = ({f"sun_gear.radii_mm.{i}": r for i, r in enumerate(sun["radii_mm"])}
+                | {"sun_gear.rim_mm": sun["rim_mm"]}
+                | {f"arm.{k}": v for k, v in raw["arm"].items()}
+                | {"carrier.initial_angle_deg": raw["carrier"]["initial_angle_deg"]}
+                | {f"seedling_box.{k}": v for k, v in raw["seedling_box"].items()})
+    assert {f: p["value"] for f, p in params.items()} == pytest.approx(expected)
+    assert "carrier.arms" not in params and "sun_gear.teeth" not in params
+    for f, v in expected.items():
+        half = 45.0 if f.endswith("_deg") else 0.25 * abs(v)
+        assert (params[f]["min"], params[f]["max"]) == pytest.approx((v - half, v + half))
+    r = TestClient(server.create_app(workers=0)).get(
+        "/api/problems", params={"mechanism": "rice_transplanter_khv"})
+    assert r.json()["problems"] == []  # the transplanter problem refuses it

@@ -136,11 +136,14 @@ def test_other_commands_refuse_a_planetary_design_by_name(command, field, tmp_pa
     assert field in capsys.readouterr().err and not out.exists()
 
 
-def test_report_option_is_refused_not_ignored(tmp_path, capsys):
-    """`forward --report` writes the report (tests/test_report.py); `gears --report` has
-    none for a planetary train yet and says so instead of ignoring the option."""
-    assert main(["gears", str(EXAMPLE), "--out", str(tmp_path / "o"), "--report"]) == 2
-    assert "--report" in capsys.readouterr().err
+def test_gears_report_of_a_planetary_train_is_written(tmp_path, capsys):
+    """`gears --report` on a general train: the report holds the gears' checks, their
+    drawings and the train animated (`inverse --report` still refuses, by name)."""
+    out = tmp_path / "o"
+    assert main(["gears", str(EXAMPLE), "--out", str(out), "--report"]) in (0, 4)
+    html = (out / "report.html").read_text()
+    assert "one carrier turn" in html and (out / "mechanism.gif").exists()
+    assert "Gear drawings" in html and html.count("data:image/svg") == 3  # sun, idler, planet
 
 
 @pytest.mark.parametrize("kind, turns", [("internal", 1.0), ("internal_ring_follower", 2.0)])

@@ -147,6 +147,25 @@ def test_sun_toothless_arc_is_where_the_train_dwells(gear_dir):
     assert misfit(0.0) < 1.5  # mm (the radius varies 53-74 mm along the arc)
 
 
+def test_loads_not_computed_without_the_extra(gear_dir, tmp_path, capsys, monkeypatch):
+    """Without plantmech[loads] (exudyn) the contact is still checked, the loads are
+    recorded as not computed with the pip line, and the verdict is not met (exit 4)."""
+    from plantmech import extras
+
+    monkeypatch.setitem(extras.EXTRAS, "loads", ("plantmech_no_such_module",))
+    out = tmp_path / "v"
+    rc = main(["verify", str(SEEDER), "--gears", str(gear_dir), "--out", str(out),
+               "--steps", "90"])
+    rec = json.loads((out / "verification.json").read_text())
+    printed = capsys.readouterr().out
+    assert rc == 4 and rec["ok"] is False
+    assert "pip install 'plantmech[loads]'" in rec["loads"]["not_computed"]
+    check = next(c for c in rec["checks"] if c["name"] == "loads: energy balance error")
+    assert check["value"] is None and not check["ok"] and "not computed" in check["note"]
+    assert "loads not computed" in printed and "FAIL loads: energy balance error" in printed
+    assert rec["pairs"] and not (out / "loads.png").exists()
+
+
 @pytest.fixture(scope="module")
 def transplanter_gear_dir(tmp_path_factory):
     out = tmp_path_factory.mktemp("gears_t")
@@ -176,7 +195,31 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     assert "loads: energy balance error" in {c["name"] for c in rec["checks"]}
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
-    assert "internal -> planet (arm 3)" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "internal -> planet (arm 3)" in printed
+    # the strength table: per gear the worst root and flank stress with its place, the shaft
+    st = rec["strength"]
+    assert [g["gear"] for g in st["gears"]] == ["planet", "internal"]
+    for g in st["gears"]:
+        for kind in ("root", "flank"):
+            w = g[kind]
+            assert w["stress_MPa"] > 0 and w["arm"] in (1, 2, 3)
+            assert 1 <= w["tooth"] <= g["teeth"] and 0 <= w["carrier_angle_deg"] < 360
+            assert w["safety"] == pytest.approx(w["limit_MPa"] / w["stress_MPa"], rel=2e-3)
+            assert f"{g['gear']:<9} {kind:<5}" in printed
+    (shaft,) = st["shafts"]
+    assert shaft["gear"] == "planet" and shaft["diameter_mm"] > 3 and shaft["wall_mm"] > 0
+    assert shaft["torque_N_m"] > 0 and "planet shaft d" in printed
+    names = {c["name"] for c in rec["checks"]}
+    assert {"strength: planet root safety", "strength: planet shaft safety"} <= names
+    # the planet's bore shrunk to 3 mm under the same loads: a finding
+    from plantmech.contact.strength import MATERIALS, shaft_rating
+
+    row, checks, found = shaft_rating("planet", 3.0, shaft["torque_N_m"],
+                                      shaft["normal_force_N"], st["face_width_mm"],
+                                      MATERIALS["steel"], None)
+    assert row["safety"] < 1 and found[0]["check"] == "shaft_strength"
+    assert not checks[0]["ok"]
 
     from plantmech.contact.outlines import read_gear_dxf
 
@@ -240,6 +283,11 @@ def test_khv_gear_files_verified(khv_gear_dir, tmp_path, capsys):
     assert rec["teeth_found_on_outlines"] == {"sun": 20, "middle": 20, "planet": 20}
     assert rec["loads"]["energy_balance"]["max_error_fraction_of_energy_range"] < 0.01
     assert len(rec["loads"]["tangential_tooth_force_N"]) == 4  # 2 pairs x 2 arms
+    # the strength table: every gear of both pairs, the sun's worst tooth located
+    rows = {g["gear"]: g for g in rec["strength"]["gears"]}
+    assert set(rows) == {"sun", "middle", "planet"}
+    assert 1 <= rows["sun"]["flank"]["tooth"] <= 20
+    assert all(rows[g][k]["safety"] > 0 for g in rows for k in ("root", "flank"))
     assert rec["ok"] and rc == 0
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000

@@ -276,8 +276,13 @@ def test_verify_with_a_dwell_across_the_start_is_reported_not_met(tmp_path, caps
     rc = main(["inverse", str(_write(tmp_path, doc)), "--out", str(out), "--verify",
                "--no-plots"])
     assert rc == 4
-    assert "round trip (--verify) not computable" in capsys.readouterr().out  # the verdict
+    text = capsys.readouterr().out  # the verdict (its line lists 8 names, then a count)
     s = json.loads((out / "summary.json").read_text())
+    assert "verdict: NOT MET - 10 not met" in text
+    # (the 10: the round trip, Table 1, two swings, the seeding speed, four manufacturability
+    # rows and the dwell lock: gear 2 cannot lock across the start)
+    assert "dwell_lock_radius_jump_mm" in s["verdict"]["failed"]
+    assert any("round trip (--verify) not computable" in f for f in s["verdict"]["failed"])
     assert "one carrier turn" in s["round_trip_not_computable"]
 
 

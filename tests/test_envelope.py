@@ -20,6 +20,7 @@ from plantmech.gears.teeth import (
     make_pair,
     mesh_check,
 )
+from tests.conftest import hausdorff_distance
 
 M = 2.0
 
@@ -61,8 +62,8 @@ def test_circle_matches_the_simulated_cut_and_converges_to_it():
     env = cut_gear(pitch, RACK)
     sim12 = cut_gear(pitch, replace(RACK, method="simulated"))
     sim48 = cut_gear(pitch, replace(RACK, method="simulated"), steps_per_pitch=48)
-    d12 = shapely.hausdorff_distance(env.exterior, sim12.exterior, densify=0.02)
-    d48 = shapely.hausdorff_distance(env.exterior, sim48.exterior, densify=0.02)
+    d12 = hausdorff_distance(env.exterior, sim12.exterior, densify=0.02)
+    d48 = hausdorff_distance(env.exterior, sim48.exterior, densify=0.02)
     assert d48 < 0.01
     assert d48 < 0.5 * d12 < 0.015
     # the simulated cut leaves scallops: material, never less than the envelope's cut
@@ -91,7 +92,7 @@ def test_undercut_gear_matches_the_simulated_cut():
     pitch = circle(14)
     env = cut_gear(pitch, RACK)
     sim = cut_gear(pitch, replace(RACK, method="simulated"), steps_per_pitch=48)
-    assert shapely.hausdorff_distance(env.exterior, sim.exterior, densify=0.02) < 0.015
+    assert hausdorff_distance(env.exterior, sim.exterior, densify=0.02) < 0.015
     assert sim.area >= env.area - 1e-3  # the scallops are material the envelope cuts
     teeth = teeth_on_outline(env, pitch.xy, M, 1.0)
     assert len(teeth["angle_deg"]) == 14
@@ -120,19 +121,18 @@ def test_ellipse_about_its_focus_both_gears():
     rack_sim = replace(env.spec, method="simulated")
     b_rack = cut_gear(env.pitch_b, rack_sim, tooth_at=env.tooth_at_b)
     for g_env, g_sim in ((env.gear_a, sim.gear_a), (env.gear_b, b_rack)):
-        assert shapely.hausdorff_distance(g_env.exterior, g_sim.exterior,
-                                          densify=0.02) < 0.025
+        assert hausdorff_distance(g_env.exterior, g_sim.exterior, densify=0.02) < 0.025
         assert len(fold_backs(g_env)) == 0
     base = shapely.Polygon(env.pitch_b.xy)
     band = base.buffer(0.9 * M).difference(base.buffer(-0.6 * M))
     flanks_env = env.gear_b.exterior.intersection(band)
     flanks_sim = sim.gear_b.exterior.intersection(band)
-    assert shapely.hausdorff_distance(flanks_env, flanks_sim, densify=0.02) < 0.005
+    assert hausdorff_distance(flanks_env, flanks_sim, densify=0.02) < 0.005
     # the twin: B turned so its major axis (focus -> centroid) lies along A's (+x) is A
     c = shapely.Polygon(env.pitch_b.xy).centroid
     b = shapely.affinity.rotate(env.gear_b, -np.arctan2(c.y, c.x), origin=(0, 0),
                                 use_radians=True)
-    twin = shapely.hausdorff_distance(env.gear_a.exterior, b.exterior, densify=0.05)
+    twin = hausdorff_distance(env.gear_a.exterior, b.exterior, densify=0.05)
     assert twin < 0.01
     assert abs(env.gear_a.area - b.area) < 0.05
     mesh = mesh_check(env, 240)

@@ -9,6 +9,7 @@ import pytest
 
 from plantmech.interfaces.cli import main
 from plantmech.outputs.files import (
+    SUMMARY_PRECISION,
     NonFiniteOutput,
     OutputError,
     OutputRun,
@@ -191,7 +192,8 @@ def test_run_command_ctrl_c_and_not_computable_leave_nothing(tmp_path, capsys):
     assert sorted(p.name for p in out.iterdir()) == ["old.json"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml", "o"]
     assert run_command(args, ok) == 4
-    assert json.loads((out / "summary.json").read_text()) == {"L1_mm": 360}
+    assert json.loads((out / "summary.json").read_text()) == {"L1_mm": 360,
+                                                              "precision": SUMMARY_PRECISION}
     assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
 
 
@@ -225,3 +227,16 @@ def test_solid_check_counts_open_fragments_without_networkx():
     assert check["bodies"] == 3 and not check["watertight"]
     one = solid_check(a)
     assert one == {"bodies": 1, "watertight": True, "volume_mm3": pytest.approx(1.0)}
+
+
+def test_summary_numbers_to_12_significant_digits_and_said(tmp_path):
+    data = {"a": 1.0080057938388185, "b": [29.8027, 1 / 3, 123456789.123456789],
+            "n": 7, "t": True, "s": "x", "c": {"v": -2.5e-17 / 3}}
+    write_json(tmp_path / "summary.json", data)
+    got = json.loads((tmp_path / "summary.json").read_text())
+    assert got["a"] == 1.00800579384 and got["b"] == [29.8027, 0.333333333333, 123456789.123]
+    assert got["c"]["v"] == -8.33333333333e-18 and got["n"] == 7 and got["t"] is True
+    assert got["precision"] == "every number to 12 significant digits"
+    # every other record keeps full precision
+    write_json(tmp_path / "run.json", data)
+    assert json.loads((tmp_path / "run.json").read_text()) == data

@@ -110,3 +110,27 @@ def test_init_then_every_command(installed):
     # optimize's new design is itself a valid input
     r = _run([str(exe), "forward", "o/opt/best.toml", "--out", "o/best", "--no-plots"], work)
     assert r.returncode in (0, 4), r.stderr
+
+
+def test_base_install_has_the_docs_and_names_each_missing_extra(installed):
+    """`pip install plantmech` is the base: no Dask, pyarrow, exudyn, FastAPI or uvicorn;
+    the documentation and the study specs ship in it; each command that needs an extra
+    stops with exit 2 and the pip line, before writing anything."""
+    exe, python, work = installed
+    r = _run([str(python), "-c", "import importlib.util as u; print([m for m in ('dask', "
+              "'distributed', 'pyarrow', 'exudyn', 'fastapi', 'uvicorn') if u.find_spec(m)])"],
+             work)
+    assert r.returncode == 0 and r.stdout.strip() == "[]", r.stdout + r.stderr
+    r = _run([str(exe), "docs", "design-file"], work)
+    assert r.returncode == 0 and r.stdout == (ROOT / "docs" / "design-file.md").read_text()
+    r = _run([str(python), "-c", "import plantmech; print(plantmech.example_path("
+              "'studies/seeder_tolerance'))"], work)
+    assert r.returncode == 0 and "site-packages" in r.stdout, r.stderr
+    spec = r.stdout.strip()
+    r = _run([str(exe), "init", "seeder", "ex"], work)
+    for cmd, extra in ((["study", "ex/seeder.toml", "--spec", spec, "--out", "o/study"],
+                        "studies"), (["app", "--no-browser"], "app")):
+        r = _run([str(exe)] + cmd, work)
+        assert r.returncode == 2, r.stdout + r.stderr
+        assert f"pip install 'plantmech[{extra}]'" in r.stderr
+    assert not (work / "o" / "study").exists()

@@ -24,7 +24,10 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # on first use (importlib), never by an import statement
     ("package", ("plantmech",)),
     ("design", ("plantmech.design", "plantmech.design_planetary", "plantmech.design_reference",
-                "plantmech.starters", "plantmech.units")),
+                "plantmech.units")),
+    # the process's signal record (SIGINT/SIGTERM/SIGHUP received, pool workers' initializer):
+    # it imports nothing of the package, and the optimizer's pools and every writer read it
+    ("process", ("plantmech.outputs.signals",)),
     ("geometry", ("plantmech.geometry",)),
     ("gears", ("plantmech.gears",)),
     ("trains", ("plantmech.trains",)),
@@ -38,7 +41,8 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # job wiring: read a design, call the layers, collect and write the results. The
     # optimization job (optimize/jobs.py: problem, runner, report, best.toml) and the
     # multi-start study (studies/multistart.py: N optimization jobs) are jobs too
-    ("jobs", ("plantmech.jobs", "plantmech.workflows", "plantmech.pipeline",
+    # (plantmech.starters writes a starting design file through outputs.files.OutputFile)
+    ("jobs", ("plantmech.jobs", "plantmech.workflows", "plantmech.pipeline", "plantmech.starters",
               "plantmech.optimize.jobs", "plantmech.studies.multistart")),
     # the browser app is an interface beside the CLI; `plantmech app` (interfaces/app_cli.py)
     # starts it, and the app never imports the CLI

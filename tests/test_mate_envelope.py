@@ -17,6 +17,7 @@ from plantmech.gears.teeth import (
     inv,
     polar_contacts,
 )
+from tests.conftest import hausdorff_distance
 
 M, ZA, ZB, BACKLASH = 2.0, 30, 20, 0.1
 
@@ -101,9 +102,9 @@ def test_a_circular_involute_driver_generates_the_exact_involute_mate(cut):
 
 def test_the_simulated_cut_converges_to_the_envelope(cut):
     env = cut["envelope", 24][0]
-    h24 = shapely.hausdorff_distance(env.exterior, cut["simulated", 24][0].exterior,
+    h24 = hausdorff_distance(env.exterior, cut["simulated", 24][0].exterior,
                                      densify=0.05)
-    h96 = shapely.hausdorff_distance(env.exterior, cut["simulated", 96][0].exterior,
+    h96 = hausdorff_distance(env.exterior, cut["simulated", 96][0].exterior,
                                      densify=0.05)
     assert h96 < 0.5 * h24  # the scallops between positions shrink
     assert h96 < 0.006 and h24 < 0.025  # measured 18.1 and 4.5 um
@@ -191,7 +192,7 @@ def test_table4_sun_by_the_envelope_matches_the_simulated_cut():
     extra = gb_env.difference(gb_sim)
     assert all(2 * g.area / g.length < 0.02 for g in shapely.get_parts(extra) if g.length)
     assert 0.5 < gb_sim.area - gb_env.area < 5.0
-    assert shapely.hausdorff_distance(gb_env.boundary, gb_sim.boundary, densify=0.05) < 0.1
+    assert hausdorff_distance(gb_env.boundary, gb_sim.boundary, densify=0.05) < 0.1
     t_env = teeth_on_outline(gb_env, env.pitch_b.xy, m, spec.addendum)
     t_sim = teeth_on_outline(gb_sim, sim.pitch_b.xy, m, spec.addendum)
     assert len(t_env["angle_deg"]) == len(t_sim["angle_deg"])  # 22 runs on both (measured)
@@ -289,7 +290,7 @@ def _judge_against_simulated(gear, sim, tool, motion, blank, reach=None):
     for g in kept:
         assert _swept_by_a(tool, motion, g.representative_point().coords[0],
                            reach=reach), g.centroid
-    return shapely.hausdorff_distance(gear.boundary, sim.boundary, densify=0.05), len(kept)
+    return hausdorff_distance(gear.boundary, sim.boundary, densify=0.05), len(kept)
 
 
 def test_the_reach_is_the_simulated_cuts_pieces():

@@ -501,6 +501,28 @@ def test_staged_stages_hand_on_a_feasible_design_and_end_at_the_files_limits():
     assert 8 * (len(recs) - 1) < r.first_feasible_evaluations <= 8 * len(recs)
     best = p.decode(r.best_x)
     assert best.limits == own and verify(best, True)["all_met"]
+    # the job's record: its own seed (not the last stage's seed + 3), the history of every
+    # stage counted from the job's start, only the last stage judged by the file's limits
+    assert r.seed == 1
+    assert [h["stage"] for h in r.history] == list(range(1, len(recs) + 1))
+    ev = [h["evaluations"] for h in r.history]
+    assert ev == sorted(ev) and ev[-1] == r.evaluations
+    assert [h["judged"] for h in r.history] == [False] * (len(recs) - 1) + [True]
+    from plantmech.outputs.optimization_report import convergence_figure
+
+    fig = convergence_figure(r)
+    assert "random seed 1" in fig.axes[0].get_title()
+    assert {t.get_text() for t in fig.axes[0].texts} == {f"stage {k}/{len(recs)}"
+                                                          for k in range(1, len(recs) + 1)}
+
+
+def test_best_so_far_never_rises_within_a_stage_and_restarts_at_the_next():
+    from plantmech.outputs.optimization_report import best_so_far
+
+    hist = [{"best_violation": v, "stage": s} for v, s in
+            ((3.0, 1), (1.0, 1), (2.0, 1), (0.5, 1), (4.0, 2), (5.0, 2), (0.0, 2))]
+    assert best_so_far(hist).tolist() == [3.0, 1.0, 1.0, 0.5, 4.0, 4.0, 0.0]
+    assert best_so_far([{"best_violation": 2.0}, {"best_violation": 3.0}]).tolist() == [2, 2]
 
 
 def test_a_staged_run_cut_short_at_a_relaxed_stage_is_judged_by_the_files_limits():
@@ -547,3 +569,5 @@ def test_the_staged_job_refuses_a_khv_transplanter_by_name(tmp_path, capsys):
                "transplanter", "--out", str(tmp_path / "o"), "--quiet"])
     err = capsys.readouterr().err
     assert rc == 2 and "rice_transplanter design" in err and "Traceback" not in err
+    # it says where the K-H-V train's optimizer is (tests/test_optimize_planetary.py runs it)
+    assert "examples/planetary/rice_transplanter_khv.toml --problem planetary" in err

@@ -112,8 +112,6 @@ def test_wrong_problem_or_missing_table_exit_2(tmp_path, capsys):
     path = _write(tmp_path, _doc())
     assert main(["optimize", path, "--problem", "transplanter", "--out", str(out)]) == 2
     assert "--problem planetary" in capsys.readouterr().err and not out.exists()
-    assert main(["optimize", str(EXAMPLE), "--problem", "planetary", "--out", str(out)]) == 2
-    assert "[optimize.variables]" in capsys.readouterr().err and not out.exists()
     seeder = EXAMPLES / "sugarcane_table4.toml"
     assert main(["optimize", str(seeder), "--problem", "planetary", "--out", str(out)]) == 2
     assert "planetary" in capsys.readouterr().err and not out.exists()
@@ -169,3 +167,49 @@ def test_a_generation_is_one_population_equal_to_single_evaluations():
     batch = problem.evaluate_batch(np.array([[3.0, 25.0], [18.0, 16.0]]))
     assert np.all(np.isinf(batch.G[1])) and np.all(np.isfinite(batch.G[0]))
 
+
+
+def test_default_variables_shape_every_given_curve_and_the_arm_within_ten_percent():
+    """A file without [optimize.variables] frees its pitch curves' lengths and shape
+    numbers and the arm length, +-10 % of each value; a bound the file refuses on its own
+    is drawn halfway towards the value (the elliptic example's eccentricity 0.18 is free to
+    +-0.018; an eccentricity of 0.78 below the file's limit 0.8: 0.78 + 0.078 refused,
+    0.78 + 0.039 refused, 0.78 + 0.0195 taken)."""
+    from plantmech.optimize.planetary_problem import PlanetaryProblem, default_variables
+
+    design = load_design(EXAMPLE)
+    free = default_variables(design)
+    assert "arm.length_mm" in free
+    for path, (lo, hi) in free.items():
+        node = design
+        for part in path.split("."):
+            node = node[int(part)] if part.isdigit() else getattr(node, part)
+        assert lo == pytest.approx(0.9 * node) and hi == pytest.approx(1.1 * node)
+    assert free["train.pairs.0.driver.eccentricity"] == pytest.approx([0.162, 0.198])
+    doc = tomllib.loads(EXAMPLE.read_text())
+    doc["train"]["pairs"][0]["driver"]["eccentricity"] = 0.78
+    lo, hi = default_variables(load_design(doc, name="e.toml"))[
+        "train.pairs.0.driver.eccentricity"]
+    assert lo == pytest.approx(0.702) and hi == pytest.approx(0.78 + 0.0195)
+    khv = load_design(EXAMPLES / "planetary" / "rice_transplanter_khv.toml")
+    problem = PlanetaryProblem(khv)
+    assert [v.name for v in problem.variables] == [
+        f"train.pairs.0.driver.radii_mm.{i}" for i in range(8)] + ["arm.length_mm"]
+    assert problem.design_choices()["variables"]["set_by"].startswith("default")
+
+
+def test_khv_file_optimizes_with_its_default_variables_and_report(tmp_path, capsys):
+    """The K-H-V train as a general file (no [optimize] table) optimizes, and --report
+    writes the HTML report with the best design animated."""
+    out = tmp_path / "o"
+    khv = EXAMPLES / "planetary" / "rice_transplanter_khv.toml"
+    rc = main(["optimize", str(khv), "--problem", "planetary", "--out", str(out),
+               "--generations", "2", "--pop", "6", "--seed", "1", "--quiet", "--report"])
+    assert rc in (0, 4)
+    rec = json.loads((out / "run.json").read_text())
+    assert rec["design_choices"]["variables"]["set_by"].startswith("default")
+    html = (out / "report.html").read_text()
+    assert "<svg" in html and (out / "mechanism.gif").stat().st_size > 1000
+    best = load_design(out / "best.toml")
+    for i, r in enumerate(load_design(khv).train.pairs[0].driver.radii_mm):
+        assert 0.9 * r - 1e-9 <= best.train.pairs[0].driver.radii_mm[i] <= 1.1 * r + 1e-9

@@ -2,6 +2,8 @@
 
 import json
 
+import pytest
+
 from plantmech.design import load_design
 from plantmech.interfaces.cli import main
 from tests.conftest import EXAMPLES, design_one_generation
@@ -23,7 +25,21 @@ def test_design_of_an_uncuttable_seeder_says_so_and_cuts_nothing(tmp_path, capsy
     assert (out / "optimize" / "run.json").exists()
     html = (out / "report.html").read_text()
     assert "NOT MET" in html and (out / "mechanism.gif").stat().st_size > 10_000
-    assert capsys.readouterr().out.strip().splitlines()[-1].startswith("verdict: NOT MET")
+    printed = capsys.readouterr().out.strip().splitlines()
+    assert printed[-1].startswith("verdict: NOT MET")
+    # its caveats: the optimizer moved the planned points and the seeding point
+    kinds = {c["kind"]: c for c in s["caveats"]}
+    assert kinds["seeding_point_moved"]["from"] == "q4"
+    assert kinds["seeding_point_moved"]["to"] == f"q{final.trajectory.sections.e}" != "q4"
+    planned = load_design(EXAMPLES / "sugarcane_seeder.toml").trajectory.points
+    move = max(((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** 0.5
+               for a, b in zip(planned, final.trajectory.points, strict=True))
+    if move > 1e-6:  # one generation may keep the planned points
+        assert kinds["points_moved"]["largest_mm"] == pytest.approx(move, abs=1e-3)
+    else:
+        assert "points_moved" not in kinds
+    assert sum(line.startswith("  caveat: ") for line in printed) == len(s["caveats"])
+    assert "caveat: seeding point e moved from q4" in html
 
 
 def test_design_of_the_manufacturable_transplanter_ends_in_workshop_files(tmp_path, capsys):

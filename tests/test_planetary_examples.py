@@ -152,7 +152,12 @@ def test_dwell_inverse_file_writes_the_dedicated_train_to_1e6(dwell_inverse_desi
     from plantmech.mechanisms.seeder_trains import inverse_design_of, train_from_inverse
 
     code, summary, path = dwell_inverse_design
-    assert code == 0, summary
+    # written and round-tripped, but gear 2 cannot lock there: its radius steps 18.9 mm
+    # (the sun's edge radii 30.31 / 49.19 mm, r2 = a1 - r1): exit 4 on that check alone
+    assert code == 4, summary
+    assert summary["verdict"]["failed"] == ["dwell_lock_radius_jump_mm"]
+    lock = {r["name"]: r for r in summary["objectives"]}["dwell_lock_radius_jump_mm"]
+    assert lock["value"] == pytest.approx(49.192 - 30.307, abs=0.01)
     assert summary["objectives"][0]["name"] == "round_trip_realized_tip_deviation_mm"
     assert summary["objectives"][0]["value"] < 1e-6
     d = load_design(path)

@@ -79,8 +79,11 @@ def _run(args, capsys):
 def test_cli_round_trip_through_forward(tmp_path, capsys):
     out = tmp_path / "inv"
     code, io = _run(["inverse", str(EXAMPLE), "--out", str(out)], capsys)
-    assert code == 0, io.out + io.err
+    # 24 points leave the sun 2.4 mm off: the error estimate (tests/test_inverse_estimate.py)
+    # fails its 1 mm limit, and nothing else does
+    assert code == 4, io.out + io.err
     s = json.loads((out / "summary.json").read_text())
+    assert s["verdict"]["failed"] == ["error_estimate_pitch_radius_mm", "error_estimate_tip_mm"]
     assert s["feasible"] and s["carrier_arm_mm"] == pytest.approx(50.0, abs=0.01)
     assert s["centre_distances_mm"] == [pytest.approx(50.0, abs=0.01)]
     assert s["arm_length_mm"] == pytest.approx(20.0, abs=0.01)

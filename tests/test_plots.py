@@ -170,3 +170,23 @@ def test_convergence_says_all_met_only_when_met():
     met = convergence_figure(_Run(True, 16)).axes[0]
     assert "every objective met" in met.get_title()
     assert any("every objective met" in t.get_text() for t in met.get_legend().get_texts())
+
+
+def test_speed_plot_marks_a_to_f_and_draws_each_limit_over_its_section(table4):
+    """Points a-f labelled at their carrier angles; the seeding peak limit drawn over de
+    only and the return minimum over ef only (the sections their checks read)."""
+    ax = sp.plot_forward_speed(table4).axes[0]
+    psi = {k: np.degrees(v) % 360 for k, v in table4.section_psi.items()}
+    marks = {t.get_text(): t.get_position()[0] for t in ax.texts}
+    assert set(marks) == set("abcdef")
+    for k, x in marks.items():
+        assert x == pytest.approx(psi[k])
+    lim = table4.design.speed
+    spans = {}
+    for c in ax.collections:
+        label = c.get_label()
+        if "checked over" in label:
+            (x0, y0), (x1, y1) = c.get_segments()[0]
+            spans[label.split("checked over ")[1].rstrip(")")] = (x0, x1, y0)
+    assert spans["de"] == pytest.approx((psi["d"], psi["e"], lim.seeding_max_m_s))
+    assert spans["ef"] == pytest.approx((psi["e"], psi["f"], lim.return_min_m_s))

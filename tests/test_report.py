@@ -194,6 +194,12 @@ def test_cli_report_of_an_optimization(tmp_path):
     assert rc in (0, 4) and (rc == 0) == bool(run["feasible"])
     assert ('class="verdict ok"' in text) == bool(run["feasible"])
     assert text.count("data:image/png;base64,") >= 1  # convergence.png at least
+    # one objective table: the full-resolution re-check's values, each objective once
+    table = re.search(r'<table id="checks-table">(.*?)</table>', text, re.S).group(1)
+    checked = run["verified_full_resolution"]["objectives"]
+    for o in checked:
+        assert table.count(f"<td>{o['name']}</td>") == 1, o["name"]
+    assert "<td>objectives at full resolution</td>" in table and "<td>objectives</td>" not in table
     data = json.loads(re.search(r'id="animation-data">(.*?)</script>', text, re.S).group(1))
     assert len(data["links"]) == 3  # the best design's three arms
     assert (out / "mechanism.gif").stat().st_size > 1000

@@ -15,6 +15,7 @@ import shapely
 from plantmech.gears.envelope import ShaperTooth, shaper_contact_roots
 from plantmech.gears.outline import fold_backs, teeth_on_outline
 from plantmech.gears.teeth import PitchPolyline, ToothSpec, cut_gear_made, inv
+from tests.conftest import hausdorff_distance
 
 M = 2.0
 SHAPER = ToothSpec(module=M, backlash_mm=0.1, cutter_teeth=20)
@@ -75,7 +76,7 @@ def test_circle_matches_the_simulated_cut(internal, z, bound):
     sim, made = cut_gear_made(pitch, replace(SHAPER, method="simulated"), internal=internal,
                               steps_per_pitch=48)
     assert made["method"] == "simulated"
-    d = shapely.hausdorff_distance(toothed_ring(env, internal), toothed_ring(sim, internal),
+    d = hausdorff_distance(toothed_ring(env, internal), toothed_ring(sim, internal),
                                    densify=0.02)
     assert d < bound
     assert sim.area >= env.area - 1e-3
@@ -130,7 +131,7 @@ def test_seeder_concave_gear_matches_the_simulated_cut():
     env, made = cut_gear_made(pitch, spec, tooth_at=tooth_at)
     assert made == {"method": "envelope", "cutter": "shaper", "why": None}
     sim, _ = cut_gear_made(pitch, replace(spec, method="simulated"), tooth_at=tooth_at)
-    assert shapely.hausdorff_distance(env.boundary, sim.boundary, densify=0.05) < 0.25
+    assert hausdorff_distance(env.boundary, sim.boundary, densify=0.05) < 0.25
     extra = env.difference(sim)
     assert all(2 * g.area / g.length < 1e-3 for g in shapely.get_parts(extra) if g.length)
     assert 0 <= sim.area - env.area < 2e-3 * env.area

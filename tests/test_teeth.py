@@ -377,9 +377,10 @@ def test_toothed_transplanter_gears_mesh_but_are_undercut(tmp_path):
     assert [g["teeth"] for g in rec["gears"]] == [80, 20]
     assert [g["teeth_on_outline"] for g in rec["gears"]] == [80, 20]
     assert rec["verdict"] == "not manufacturable"
+    # 80 teeth make its module 2.567 mm: no stock cutter (gears/modules.py) either
     assert sorted((f["gear"], f["check"]) for f in rec["findings"]) == [
-        ("internal", "undercut"), ("pitch curves", "cuttable_module_margin"),
-        ("planet", "undercut")]
+        ("internal", "undercut"), ("internal_planet", "standard_module"),
+        ("pitch curves", "cuttable_module_margin"), ("planet", "undercut")]
     z_eq = {f["gear"]: f["value"] for f in rec["findings"] if f["check"] == "undercut"}
     assert z_eq["internal"] == pytest.approx(8.5, abs=0.1)
     assert z_eq["planet"] == pytest.approx(9.6, abs=0.1)
@@ -489,9 +490,11 @@ def test_tooth_proportions_are_parameters_checked_and_recorded(tmp_path):
     from tests.conftest import EXAMPLES
 
     out = tmp_path / "g"
+    # cut and meshed; its sun's 20 teeth make a module no stock cutter has: that alone fails
     assert main(["gears", str(EXAMPLES / "rice_transplanter_khv.toml"), "--out", str(out),
-                 "--pressure-angle", "25"]) == 0
+                 "--pressure-angle", "25"]) == 4
     rec = json.loads((out / "verification.json").read_text())
+    assert {f["check"] for f in rec["findings"]} == {"standard_module"}
     assert rec["tooth"] == {"pressure_angle_deg": 25.0, "addendum": 1.0, "dedendum": 1.25}
     assert rec["all_pairs_mesh"]
     sun = next(g for g in rec["gears"] if g["name"] == "sun")

@@ -158,7 +158,7 @@ def test_the_kernels_give_numpys_values_to_the_last_bit(monkeypatch):
     inversion run in numba (``trains.kernels``): the same values as NumPy's, bit for bit
     (per-row and shared angles, several turns both ways, a NaN angle; inverted at rising,
     falling and scattered targets: the interval walked to or bisected), and so the same
-    mate."""
+    mate. (The law's own tables by ``trains.fused.pair_laws``: tests/test_trains_fused.py.)"""
     from plantmech.trains import curves
     from plantmech.trains.curves import hermite_periodic
 
@@ -169,9 +169,9 @@ def test_the_kernels_give_numpys_values_to_the_last_bit(monkeypatch):
     x[2, 7] = np.nan
     target = np.broadcast_to(np.linspace(-10.0, 10.0, 2048), (5, 2048))
     runs = []
+    law = pair_law("external", curve, 1.0)  # one law (NumPy's: 5 x 2048 points) for both
     for points in (1, 2**62):  # every table in numba, then none
         monkeypatch.setattr(curves, "KERNEL_POINTS", points)
-        law = pair_law("external", curve, 1.0)
         runs.append((*hermite_periodic(curve.r, curve.dr, x),
                      *hermite_periodic(curve.r, curve.dr, shared), law.invert(target),
                      law.invert(-target), law.invert(x[:, 2000:]), law.mate().r))

@@ -21,6 +21,10 @@ def test_unit_of_reads_the_suffix_of_a_name_or_dotted_path():
     # only the end counts: a "_deg" or "_mm" inside a name is not a unit
     assert unit_of("deg_mm_count") == ""
     assert unit_of("x_mm.ratio") == ""
+    # an item of a list field carries the list's unit
+    assert unit_of("train.pairs.0.driver.radii_mm.3") == "mm"
+    assert unit_of("train.pairs.0.driver.cos_mm.12") == "mm"
+    assert unit_of("pairs.0") == ""
 
 
 def test_the_rule_is_written_once():
@@ -57,3 +61,30 @@ def test_the_app_and_the_optimizer_name_the_same_units():
         assert p["unit"] == unit_of(p["field"])
         if p["unit"] == "deg":  # angles get +-45 deg, the rest +-25 %
             assert (p["min"], p["max"]) == (p["value"] - 45.0, p["value"] + 45.0)
+
+
+def test_the_khv_panel_lists_every_number_of_its_tables_by_its_unit():
+    """The K-H-V example (no optimizer bounds of its own) is edited by its numbers: the
+    sun's radii item by item, the carrier's angle, the arm and the seedling box, each in
+    its unit and with its current value inside its box; counts (teeth, arms) are not
+    edited. The same for the K-H-V train written as a general file."""
+    from plantmech.app.server import editable_parameters
+    from plantmech.design_planetary import get_path
+
+    for path, sun in (("rice_transplanter_khv.toml", "sun_gear"),
+                      ("planetary/rice_transplanter_khv.toml", "train.pairs.0.driver")):
+        design = load_design(ROOT / "examples" / path)
+        params = editable_parameters(design)
+        fields = [p["field"] for p in params]
+        assert [f"{sun}.radii_mm.{i}" for i in range(8)] == [
+            f for f in fields if ".radii_mm." in f]
+        assert "carrier.initial_angle_deg" in fields
+        assert not any(f.endswith(("teeth", "arms")) for f in fields)
+        for p in params:
+            node = design
+            for part in p["field"].split("."):
+                node = node[int(part)] if part.isdigit() else getattr(node, part)
+            assert p["value"] == node and p["min"] < node < p["max"]
+            assert p["unit"] == unit_of(p["field"])
+        if path.startswith("planetary"):
+            assert get_path(design, "train.pairs.0.driver.radii_mm.4") == 19.6

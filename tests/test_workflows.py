@@ -92,3 +92,23 @@ def test_inverse_speed_objectives_refuse_an_infeasible_design():
     assert not job.result.feasible
     with pytest.raises(ValueError, match="feasible inverse design"):
         inverse_speed_objectives(job)
+
+
+def test_one_set_of_seeder_checks_in_every_command():
+    """The seeder file's checks are the same 17 in `inverse`, in `design`'s full-resolution
+    check (``optimize.jobs.verify``) and in the app: Table 1 (7), attitude (3), speeds (3),
+    the pitch curves' manufacturability (4); a [train] with its planned trajectory too."""
+    from plantmech.app.server import evaluate
+    from plantmech.optimize.jobs import verify
+    from plantmech.workflows import run_seeder_inverse, seeder_checks
+
+    d = load_design(EXAMPLES / "sugarcane_seeder.toml")
+    inverse = [c["name"] for c in seeder_checks(run_seeder_inverse(d, speeds=True).summary)]
+    checked = [c["name"] for c in verify(d, True)["objectives"]]
+    app = [c["name"] for c in evaluate(d)["checks"]]
+    assert len(inverse) == 17 and len(set(inverse)) == 17
+    assert checked == inverse and sorted(app) == sorted(inverse)
+    assert [n for n in inverse if "speed" in n] == [
+        "seeding_peak_speed", "return_min_speed_static", "return_min_speed_dynamic"]
+    train = load_design(EXAMPLES / "sugarcane_seeder_optimized.toml")
+    assert sorted(c["name"] for c in verify(train, True)["objectives"]) == sorted(inverse)

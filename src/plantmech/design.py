@@ -13,8 +13,6 @@ and counts are bounded by what a planting mechanism can be (:data:`MAX_SIZE_MM`,
 from __future__ import annotations
 
 import os
-import stat
-import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -29,6 +27,8 @@ from pydantic import (
     field_validator,
     model_validator,
 )
+
+from plantmech.inputs import parse_toml, read_input_text
 
 SECTION_LETTERS = ("a", "b", "c", "d", "e", "f")
 
@@ -153,6 +153,12 @@ class Trajectory(_Strict):
     sections: Sections = Field(description="section points a-f as type-value point indices")
     samples: Samples = Field(3600, description="samples of the motion per carrier turn "
                              "(3600 = 0.1 deg)")
+    error_estimate_limit_mm: PositiveMM = Field(
+        1.0, description="`plantmech inverse`: largest accepted error estimate (mm), the "
+        "distance of the pitch radii and of the tip at equal carrier angle between the design "
+        "and the same design made from every other type-value point "
+        "(objectives.inverse_estimate); above it the verdict is not met and names where to "
+        "add points")
 
     @field_validator("points")
     @classmethod
@@ -356,6 +362,15 @@ class SectionAngles(_Strict):
                 if vals[i] == vals[j]:
                     raise ValueError(f"{SECTION_LETTERS[i]} and {SECTION_LETTERS[j]} are "
                                      f"both at {vals[i]:g} deg: section points are distinct")
+        offsets = [(v - vals[0]) % 360.0 for v in vals]
+        for k in range(1, 6):
+            if offsets[k] <= offsets[k - 1]:
+                got = ", ".join(f"{x} = {v:g}" for x, v in zip(SECTION_LETTERS, vals,
+                                                                strict=True))
+                raise ValueError(
+                    f"sections out of order ({got}): going round the carrier turn from a, "
+                    f"{SECTION_LETTERS[k]} must come after {SECTION_LETTERS[k - 1]} "
+                    "(picking ab, transport bcd, seeding de, return efca)")
         return self
 
 
@@ -465,6 +480,17 @@ class Manufacturing(_Strict):
     min_module_mm: float = Field(1.0, gt=0, le=50, allow_inf_nan=False, strict=True,
                                  description="smallest module the gears may have (strength), mm "
                                              "(seeder; the transplanters use limits.min_module_mm)")
+    modules_mm: list[Annotated[float, Strict(), Field(gt=0, le=50, allow_inf_nan=False)]] | None = (
+        Field(None, min_length=1, max_length=100,
+              description="the modules the workshop has cutters for, mm; default: ISO 54 "
+                          "series I and II (gears/modules.py); a gear cut at another module is "
+                          "a finding"))
+    special_module: StrictBool = Field(False, description="true: the workshop has a special "
+                                       "cutter, a module outside the list is accepted")
+    material: Literal["steel", "cast_iron", "pom", "pa66"] = Field(
+        "steel", description="gear material for the strength table of `plantmech verify` "
+        "(contact/strength.py: C45 steel, grey cast iron GJL-250 by ISO 6336; POM, PA66 by "
+        "VDI 2736)")
 
     @model_validator(mode="after")
     def _root_clearance(self):
@@ -505,7 +531,41 @@ class SeederDesign(_Strict):
         return self
 
 
-def _format_error(path, err: ValidationError) -> str:
+def _model_in(annotation):
+    """The pydantic model a field's annotation holds (through Optional, list, dict), or
+    None."""
+    import typing
+
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in typing.get_args(annotation):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _fields_at(model, loc) -> list[str]:
+    """The field names a table at ``loc`` (a pydantic error's location, without its last
+    part) accepts in ``model``; [] where the walk cannot follow (a tagged union)."""
+    cls = model
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        fields = {f.alias or name: f for name, f in cls.model_fields.items()}
+        if part not in fields:
+            return []
+        cls = _model_in(fields[part].annotation)
+        if cls is None:
+            return []
+    return [f.alias or name for name, f in cls.model_fields.items()]
+
+
+def _format_error(path, err: ValidationError, model=None) -> str:
+    """The error naming each bad field; with ``model`` (the validated class), an unknown
+    field gets the closest known names of its table ("did you mean")."""
+    from plantmech.typos import did_you_mean
+
     lines = [f"{path}: invalid design file"]
     for e in err.errors():
         loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
@@ -514,6 +574,9 @@ def _format_error(path, err: ValidationError) -> str:
             msg = "required field is missing"
         elif e["type"] == "extra_forbidden":
             msg = "unknown field (check the spelling)"
+            if model is not None and e["loc"]:
+                hint = did_you_mean(str(e["loc"][-1]), _fields_at(model, e["loc"][:-1]))
+                msg = f"unknown field{hint}" if hint else msg
         got = e.get("input")
         tail = ""
         if e["type"] not in ("missing",) and not isinstance(got, dict | list):
@@ -628,9 +691,29 @@ class Arm(_Strict):
             raise ValueError(f"needle_length_mm = {self.needle_length_mm:g} exceeds S_mm = "
                              f"{self.S_mm:g}: the needle is part of the arm")
         for layer, poly in (self.outline or {}).items():
-            if len(poly) < 3:
-                raise ValueError(f"outline.{layer} has {len(poly)} points; a polygon needs 3")
+            _check_outline(poly, f"outline.{layer}")
         return self
+
+
+def _check_outline(poly: list, field: str) -> None:
+    """A drawn outline: at least 3 points enclosing an area (not all on one line), its
+    edges crossing nowhere (a GEOS-valid polygon)."""
+    if len(poly) < 3:
+        raise ValueError(f"{field} has {len(poly)} points; a polygon needs 3")
+    p = np.asarray(poly, dtype=float)
+    sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
+    if sv[0] == 0 or sv[-1] <= 1e-9 * sv[0]:
+        raise ValueError(f"{field} encloses no area (its {len(poly)} points lie on one line "
+                         "or coincide); give a polygon")
+    import shapely
+
+    shape = shapely.Polygon(p)
+    if not shape.is_valid:
+        reason = shapely.is_valid_reason(shape)
+        raise ValueError(f"{field} is not a simple polygon ({reason}): its edges may not "
+                         "cross; list the points once around the outline")
+    if shape.area <= 1e-6 * float(np.ptp(p, axis=0).max()) ** 2:
+        raise ValueError(f"{field} encloses no area; give a polygon")
 
 
 class SeedlingBox(_Strict):
@@ -783,69 +866,17 @@ import plantmech.design_planetary  # noqa: E402, F401
 
 def _read_design_file(path: Path) -> str:
     """Text of a design file: a regular file (opened non-blocking, so a FIFO or device
-    never hangs), at most MAX_FILE_BYTES, UTF-8."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    except FileNotFoundError:
-        raise DesignError(f"{path}: no such design file") from None
-    except IsADirectoryError:
-        raise DesignError(f"{path}: is a directory, not a design file") from None
-    except OSError as exc:
-        raise DesignError(f"{path}: cannot be opened ({exc.strerror})") from None
-    try:
-        st = os.fstat(fd)
-        if stat.S_ISDIR(st.st_mode):
-            raise DesignError(f"{path}: is a directory, not a design file")
-        if not stat.S_ISREG(st.st_mode):
-            raise DesignError(f"{path}: not a regular file (a pipe, socket or device); give a "
-                              "design file")
-        if st.st_size > MAX_FILE_BYTES:
-            raise DesignError(f"{path}: {st.st_size} bytes; a design file is at most "
-                              f"{MAX_FILE_BYTES} bytes")
-        data = os.read(fd, MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise DesignError(f"{path}: cannot be read ({exc.strerror})") from None
-    finally:
-        os.close(fd)
-    if len(data) > MAX_FILE_BYTES:
-        raise DesignError(f"{path}: larger than {MAX_FILE_BYTES} bytes")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise DesignError(f"{path}: not a UTF-8 text file") from None
+    never hangs), at most MAX_FILE_BYTES, UTF-8 (``plantmech.inputs``); a missing one is
+    named with the nearest design file beside it ("did you mean")."""
+    if not os.path.lexists(path):
+        from plantmech.typos import did_you_mean
 
-
-def _nesting_depth(text: str) -> int:
-    """Deepest bracket nesting outside strings and comments (a cheap guard before the TOML
-    parser, which recurses once per level)."""
-    depth = best = 0
-    quote = None
-    i, n = 0, len(text)
-    while i < n:
-        ch = text[i]
-        if quote:
-            if ch == "\\" and quote == '"':
-                i += 2
-                continue
-            if text.startswith(quote, i):
-                i += len(quote)
-                quote = None
-                continue
-        elif ch == "#":
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-            continue
-        elif ch in "\"'":
-            quote = ch * 3 if text.startswith(ch * 3, i) else ch
-            i += len(quote)
-            continue
-        elif ch in "[{":
-            depth += 1
-            best = max(best, depth)
-        elif ch in "]}":
-            depth = max(depth - 1, 0)
-        i += 1
-    return best
+        try:
+            near = [p.name for p in path.parent.iterdir() if p.suffix == ".toml"]
+        except OSError:
+            near = []
+        raise DesignError(f"{path}: no such design file{did_you_mean(path.name, near)}")
+    return read_input_text(path, "design file", MAX_FILE_BYTES, DesignError)
 
 
 def _dict_depth(obj, level: int = 0) -> int:
@@ -859,15 +890,7 @@ def _dict_depth(obj, level: int = 0) -> int:
 
 
 def _parse_toml(text: str, source: str) -> dict:
-    if _nesting_depth(text) > MAX_NESTING:
-        raise DesignError(f"{source}: arrays or tables nested deeper than {MAX_NESTING} "
-                          "levels; a design file needs at most 3")
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{source}: not valid TOML: {exc}") from None
-    except RecursionError:
-        raise DesignError(f"{source}: arrays or tables nested too deeply") from None
+    return parse_toml(text, source, MAX_NESTING, DesignError, "a design file needs at most 3")
 
 
 def load_design(source: str | Path | dict, name: str | None = None):
@@ -915,6 +938,6 @@ def _validate(raw: dict, path) -> Any:
     try:
         return MECHANISMS[mech].model_validate(raw)
     except ValidationError as exc:
-        raise DesignError(_format_error(path, exc)) from None
+        raise DesignError(_format_error(path, exc, MECHANISMS[mech])) from None
     except RecursionError:
         raise DesignError(f"{path}: nested too deeply") from None

@@ -91,13 +91,13 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         # nothing the job may move: the file names its free fields, or the design stands
         say(f"      not met: {', '.join(_failed(check))}")
         say("[2/3] not optimized: the file frees no field ([optimize.variables]: the dotted "
-            "paths the optimizer may move, docs/design-file.md)")
+            "paths the optimizer may move: plantmech docs design-file)")
         stage("optimize", skipped="the file has no [optimize.variables]")
     else:
         name = problem_for(design)
         if check is not None:
             say(f"      not met: {', '.join(_failed(check))}")
-        say(f"[2/3] optimizing ({name}, seed {seed}; every objective and manufacturability "
+        say(f"[2/3] optimizing ({name}, random seed {seed}; every objective and manufacturability "
             "required)")
         opt_dir = out / "optimize"
         opt_dir.mkdir()
@@ -135,10 +135,18 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
                 say(f"      {line}")
             if name == "seeder-layered":
                 say("      why a seeder path can force uncuttable gears: "
-                    "docs/manufacturability.md")
-    header = (f"Design made by `plantmech design` from {design_input} (seed {seed}); "
-              "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec)))
-    (out / "design.toml").write_text(design_toml(final, header), encoding="utf-8")
+                    "plantmech docs manufacturability")
+    final, check, std = _standard_module(final, check, verify)
+    if std is not None:
+        rec["standard_module"] = std
+        if "tried" in std:  # a stage only where the job tried to scale the gears
+            stage("standard_module", **{k: v for k, v in std.items() if k != "line"})
+        say(f"      {std['line']}")
+    header = (f"Design made by `plantmech design` from {design_input} (random seed {seed}); "
+              "see summary.json" + "".join(f"\n{line}" for line in choice_lines(opt_rec))
+              + (f"\n{std['line']}" if std is not None else ""))
+    (out / "design.toml").write_text(design_toml(final, header, Path(design_input)),
+                                     encoding="utf-8")
     written.append(out / "design.toml")
     failed = _failed(check)
     cuttable = not any(n.startswith(("cuttable_module", "working_pressure_angle",
@@ -165,12 +173,75 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         rec["gears_skipped"] = True
     rec["final_checks"] = check["objectives"]
     rec["verdict"] = verdict(problems=failed)
+    from plantmech.outputs.caveats import caveats
+
+    # what the verdict rests on: limits from the file, thin margins, the job's changes
+    rec["caveats"] = caveats(design, check["objectives"], final,
+                             dict(opt_rec, standard_module=rec.get("standard_module")))
     say("      writing the report (report.html, mechanism.gif)")
     written += _report(final, out, rec, gears)
     rec["wall_s"] = round(time.perf_counter() - t0, 2)
     write_json(out / "summary.json", rec)
     written.append(out / "summary.json")
     return DesignOutcome(rec, written)
+
+
+def _scaled(design, scale: float):
+    """The transplanter ``design`` with its gear's pitch curve (and a given centre distance)
+    scaled by ``scale``: the same ratio law, the module times ``scale``."""
+    from plantmech.design import load_design
+
+    raw = design.model_dump(exclude_none=True, mode="json")
+    gear = raw["internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"]
+    gear["radii_mm"] = [r * scale for r in gear["radii_mm"]]
+    if "centre_distance_mm" in gear:
+        gear["centre_distance_mm"] *= scale
+    return load_design(raw)
+
+
+def _standard_module(final, check, verify):
+    """(design, check, record or None): a transplanter whose gear carries a fixed tooth count
+    at a module no stock cutter has (``gears.modules``) and meets every objective is scaled
+    to the nearest standard module (series I first), if the scaled design still meets every
+    objective at full resolution; the record says what was tried."""
+    from plantmech.gears import modules
+
+    if final.mechanism not in ("rice_transplanter", "rice_transplanter_khv") \
+            or check is None or not check["all_met"]:
+        return final, check, None
+    row = next((o for o in check["objectives"] if o["name"] == "module"), None)
+    if row is None or row["value"] is None:
+        return final, check, None
+    m, man = float(row["value"]), final.manufacturing
+    mods = modules.available(man)
+    if modules.is_standard(m, mods):
+        return final, check, {"module_mm": round(m, 6), "standard": True, "scale": 1.0,
+                              "line": f"standard module: {m:g} mm (ISO 54 series "
+                                      f"{modules.series_of(m) or '-'}), no change"}
+    if man.special_module:
+        return final, check, {"module_mm": round(m, 6), "standard": False, "scale": 1.0,
+                              "line": f"module {m:.4f} mm kept: the file allows a special "
+                                      "module ([manufacturing] special_module = true)"}
+    tried = []
+    for m_std, scale in modules.scale_candidates(m, mods, final.limits.min_module_mm):
+        # a hair above (the check's module is rounded to 1e-6 mm), so the scaled module is
+        # not a rounding below a limit it meets; well inside the cutter tolerance RTOL
+        cand = _scaled(final, scale * (1 + 1e-5))
+        c = verify(cand, True)
+        tried.append({"module_mm": m_std, "scale": round(scale, 6), "all_met": c["all_met"],
+                      "failed": _failed(c)})
+        if c["all_met"]:
+            series = modules.series_of(m_std)
+            return cand, c, {
+                "module_mm": m_std, "standard": True, "from_module_mm": round(m, 6),
+                "scale": round(scale, 6), "tried": tried,
+                "line": f"standard module: {m:.4f} -> {m_std:g} mm (ISO 54 series {series}): "
+                        f"the gear's pitch curve scaled by {scale:.4f}, every objective "
+                        "re-checked at full resolution"}
+    why = "; ".join(f"{t['module_mm']:g} mm fails {', '.join(t['failed'])}" for t in tried) \
+        or "no standard module within 10 % at or above the smallest module (xi)"
+    return final, check, {"module_mm": round(m, 6), "standard": False, "tried": tried,
+                          "line": f"module {m:.4f} mm is not standard and was kept: {why}"}
 
 
 def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
@@ -205,6 +276,7 @@ def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
         figures += [(f, gdir / f) for f in gears["files"] if f.endswith(".png")]
         drawings = [(f, gdir / f) for f in gears["files"] if f.endswith(".svg")]
     v = rec["verdict"]
+    summary["caveats"] = [c["text"] for c in rec.get("caveats", [])]
     return write_report(out / "report.html", summary, figures, animation,
                         gear_drawings=drawings, title=f"{final.name}: plantmech design",
                         command="plantmech design",

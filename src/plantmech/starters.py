@@ -40,7 +40,8 @@ STARTERS: dict[str, Starter] = {
          "[trajectory.sections]: which point starts picking (a), transport (b, c, d), "
          "seeding (e) and the return (f)",
          "[attitude] and [speed]: the limits of the section-4.1 objectives"),
-        ("plantmech inverse {file} --out out/inverse --verify --report",
+        ("plantmech design {file} --out out/design",
+         "plantmech inverse {file} --out out/inverse --verify --report",
          "plantmech forward {file} --out out/forward --report",
          "plantmech optimize {file} --problem seeder-layered --out out/optimize --report",
          "plantmech gears {file} --out out/gears --report"),
@@ -53,7 +54,8 @@ STARTERS: dict[str, Starter] = {
          "angles_deg (mm)",
          "[train] L1_mm, L2_mm, a1_mm, a2_mm: carrier, arm and centre distances (mm)",
          "[train.dwell]: the sun's toothless sector (delete the table for none)"),
-        ("plantmech forward {file} --out out/forward --report",
+        ("plantmech design {file} --out out/design",
+         "plantmech forward {file} --out out/forward --report",
          "plantmech optimize {file} --problem seeder-layer2 --out out/optimize --report",
          "plantmech gears {file} --out out/gears --report"),
     ),
@@ -64,7 +66,8 @@ STARTERS: dict[str, Starter] = {
         ("[internal_gear] radii_mm and phases_deg: the lobed internal pitch curve (mm, deg)",
          "[arm], [carrier]: the planting arm and the arms' start",
          "[seedling_box] and [field]: where the seedlings are picked and planted"),
-        ("plantmech forward {file} --out out/forward --report",
+        ("plantmech design {file} --out out/design",
+         "plantmech forward {file} --out out/forward --report",
          "plantmech optimize {file} --problem transplanter --out out/optimize --report",
          "plantmech gears {file} --out out/gears --report"),
     ),
@@ -78,8 +81,8 @@ STARTERS: dict[str, Starter] = {
          "[arm], [carrier]: the arm's length and start, the arms and the carrier's sense",
          "[limits]: what the tip path must do; [optimize.variables]: the fields the "
          "optimizer may move (dotted paths with bounds)"),
-        ("plantmech forward {file} --out out/forward --report",
-         "plantmech design {file} --out out/design",
+        ("plantmech design {file} --out out/design",
+         "plantmech forward {file} --out out/forward --report",
          "plantmech gears {file} --out out/gears",
          "plantmech verify {file} --gears out/gears --out out/verify"),
     ),
@@ -92,16 +95,32 @@ def _examples_dir():
     return resources.files("plantmech") / "examples"
 
 
+#: the subdirectories of shipped examples: study specs and general planetary trains
+EXAMPLE_GROUPS = ("studies", "planetary")
+
+
 def list_examples() -> list[str]:
-    """Names (without ``.toml``) of the example designs shipped in the package."""
-    return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
+    """Names (without ``.toml``) of the example files shipped in the package: the designs,
+    then ``studies/<name>`` (the study specs of ``plantmech study --spec``) and
+    ``planetary/<name>``."""
+    root = _examples_dir()
+    names = sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
+    for group in EXAMPLE_GROUPS:
+        names += sorted(f"{group}/{p.name[:-5]}" for p in (root / group).iterdir()
+                        if p.name.endswith(".toml"))
+    return names
 
 
 def example_path(name: str) -> Path:
-    """Path of a shipped example design, by name with or without ``.toml``."""
+    """Path of a shipped example file, by name with or without ``.toml``
+    (``"sugarcane_seeder"``, ``"studies/seeder_tolerance"``)."""
+    from plantmech.typos import did_you_mean
+
     stem = name[:-5] if name.endswith(".toml") else name
-    if stem not in list_examples():
-        raise KeyError(f"no example {name!r}; shipped: {', '.join(list_examples())}")
+    names = list_examples()
+    if stem not in names:
+        raise KeyError(f"no example {name!r}{did_you_mean(stem, names)}; shipped: "
+                       + ", ".join(names))
     return Path(str(_examples_dir() / f"{stem}.toml"))
 
 
@@ -117,7 +136,8 @@ def starter_text(kind: str, file_name: str = "design.toml") -> str:
     head += [f"  - {line}" for line in s.edit_first]
     head += ["", "Then run (every command checks the file and names a bad field):"]
     head += [f"  {c.format(file=file_name)}" for c in s.commands]
-    head += ["", "Units: mm and degrees; m/s for speeds. Every field: the project's docs/.", ""]
+    head += ["", "Units: mm and degrees; m/s for speeds. Every field: plantmech docs "
+             "design-file.", ""]
     import textwrap
 
     lines = []
@@ -129,27 +149,53 @@ def starter_text(kind: str, file_name: str = "design.toml") -> str:
     return "\n".join(f"# {h}".rstrip() for h in lines) + "\n" + body
 
 
+#: the starting design a shipped study spec runs on, by the spec's name prefix
+STUDY_DESIGNS = {"seeder": "seeder-train", "transplanter": "transplanter",
+                 "planetary": "planetary"}
+
+
+def study_kinds() -> list[str]:
+    """``plantmech init`` kinds of the shipped study specs: ``studies/<name>``."""
+    return [n for n in list_examples() if n.startswith("studies/")]
+
+
+def study_text(kind: str, file_name: str = "study.toml") -> str:
+    """A shipped study spec (``kind`` = ``studies/<name>``) under a header of comments: the
+    starting design it runs on and the command."""
+    design = STUDY_DESIGNS[kind.split("/", 1)[1].split("_", 1)[0]]
+    design_file = f"{design.replace('-', '_')}.toml"
+    head = [f"Study spec written by `plantmech init {kind}`, copied from the shipped example",
+            f"'{kind}.toml'; it runs on a {design} design (`plantmech init {design} DIR`):",
+            f"  plantmech study DIR/{design_file} --spec {file_name} --out out/study --report",
+            "Needs plantmech[studies] (Dask, pyarrow). Every field: plantmech docs studies.", ""]
+    body = example_path(kind).read_text(encoding="utf-8")
+    return "\n".join(f"# {h}".rstrip() for h in head) + "\n" + body
+
+
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
     """Write the starting design of ``kind`` into ``directory`` (created if needed) as
     ``file_name`` (default ``<kind>.toml``; a plain file name, never a path out of
-    ``directory``); never overwrites nor writes through a link: raises
+    ``directory``); a study spec for ``studies/<name>`` (:func:`study_kinds`). Never
+    overwrites nor writes through a link: raises
     :class:`~plantmech.outputs.files.OutputError` (ValueError for a ``file_name`` that is a
     path). The file appears whole or not at all (``OutputFile``); a directory created for it
     is removed again if it is not written."""
     from plantmech.outputs.files import OutputFile
 
     directory = Path(directory)
-    name = file_name or f"{kind.replace('-', '_')}.toml"
+    name = file_name or f"{kind.split('/')[-1].replace('-', '_')}.toml"
     if name in (".", "..") or Path(name).name != name or "/" in name or "\\" in name:
         raise ValueError(f"--name {file_name!r}: give a file name, not a path (it is written "
                          f"into {directory})")
     target = directory / name
     missing = [d for d in [directory, *directory.parents] if not d.exists()]
     directory.mkdir(parents=True, exist_ok=True)
+    text = (study_text(kind, str(target)) if kind.startswith("studies/")
+            else starter_text(kind, str(target)))
     try:
         with OutputFile(target, what="init", hint="plantmech init never overwrites a "
                         "file") as tmp:
-            tmp.write_text(starter_text(kind, str(target)), encoding="utf-8")
+            tmp.write_text(text, encoding="utf-8")
     except BaseException:
         for d in missing:  # the directories made for it, innermost first
             try:

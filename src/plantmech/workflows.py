@@ -31,6 +31,7 @@ from plantmech.objectives.inverse_evaluation import (
     InfeasibleDesign,
     SeederInverseJob,
     run_seeder_inverse,
+    seeder_checks,
     seeder_inverse_checks,
 )
 from plantmech.objectives.layer1 import (
@@ -67,6 +68,7 @@ __all__ = [
     "field_setup", "gear_pairs", "inverse_settings", "inverse_speed_objectives",
     "layer1_bounds", "locate_section_points", "pitch_curve_findings", "run_gears",
     "run_seeder_forward", "run_seeder_inverse", "run_transplanter", "section_reference_psi",
+    "seeder_checks",
     "seeder_inverse_checks", "seeder_inverse_checks_population", "seeding_point_placement",
     "simulate_transplanter", "tooth_proportions", "train_from_design", "train_from_inverse",
     "train_from_inverse_job", "trajectory_deviation", "trajectory_deviation_batch",
@@ -240,6 +242,7 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     from dataclasses import asdict
 
     from plantmech.gears import findings as fnd
+    from plantmech.gears.modules import module_finding
     from plantmech.gears.outline import fold_backs, teeth_on_outline
     from plantmech.gears.teeth import gear_checks, mesh_check, placed
     from plantmech.outputs import gear_files as gf
@@ -319,11 +322,17 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         mesh = mesh_check(pair, steps)
         record["mesh"].append(mesh)
         findings += fnd.mesh_findings(mesh, spec.module, backlash, limits)
+        # a module no stock cutter has (gears.modules)
+        findings += [f for f in [module_finding(pair.name, spec.module,
+                                                design.manufacturing)] if f]
         ga, gb = placed(pair, pair.phi_a[0], pair.phi_b[0])
         gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb, names)
         record["files"].append(f"{pair.name}_mesh.png")
     record["all_pairs_mesh"] = all(m["ok"] for m in record["mesh"])
     findings += pitch_curve_findings(design)
     record["verdict"] = fnd.verdict(findings)
+    from plantmech.outputs.caveats import limits_from_file
+
+    record["caveats"] = limits_from_file(design)  # the file's limits the verdict rests on
     write_json(out / "verification.json", record)
     return record

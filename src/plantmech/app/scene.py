@@ -193,6 +193,15 @@ def seeder_inverse_scene(job, frames: int = 360, detail: int = 720) -> dict:
            "feasible": bool(res.feasible), "samples": int(d.trajectory.samples),
            "diagnostics": diagnostics}
     if res.arm_angle_realized is None or res.r2 is None or not res.feasible:
+        if res.total_ratio is not None and res.carrier_angle is not None:
+            # no train: the ratio the trajectory asks for is drawn, its bad span marked
+            # (the diagnostics' carrier angles), with the planned attitude
+            ks = frame_index(len(res.carrier_angle), detail)
+            out["plots"] = {"carrier_angle_deg": _r(res.carrier_angle[ks] * DEG, 3),
+                            "total_ratio": _r(res.total_ratio[ks], 5)}
+            if res.arm_angle is not None:
+                arm = res.arm_angle
+                out["plots"]["attitude_deg"] = _r((arm[ks] - arm[0]) * DEG, 3)
         return out
     psi = res.carrier_angle
     n = len(psi)

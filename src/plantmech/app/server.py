@@ -332,24 +332,40 @@ def _planetary_parameters(design) -> list[dict]:
             if isinstance(pair.get(part), dict):
                 candidates.append((f"train.pairs.{k}.{part}", f"pair {k + 1} {part}",
                                    pair[part]))
-    for prefix, label, table in candidates:
+    return _general_parameters(candidates)
+
+
+def _general_parameters(tables) -> list[dict]:
+    """Every number of the given tables ``(dotted prefix, label, table dict)``, a list of
+    lengths (``radii_mm``) item by item, with a box of +-25 % (angles +-45 deg, an
+    eccentricity within 0..0.95) around the current value; counts and speeds (arms,
+    lobes, teeth, speed) are not edited."""
+    from plantmech.units import unit_of
+
+    out = []
+    for prefix, label, table in tables:
         for key, value in table.items():
-            if isinstance(value, bool) or not isinstance(value, int | float):
+            if isinstance(value, list) and unit_of(key) == "mm" and all(
+                    isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+                items = [(f"{key}.{i}", f"{key} {i}", v) for i, v in enumerate(value)]
+            elif isinstance(value, bool) or not isinstance(value, int | float):
                 continue
-            if key in ("arms", "lobes", "speed_deg_s"):
-                continue
-            path = f"{prefix}.{key}"
-            unit = unit_of(key)
-            if unit == "deg":
-                lo, hi = value - 45.0, value + 45.0
             else:
-                span = 0.25 * abs(value) or 1.0
-                lo, hi = value - span, value + span
-            if key == "eccentricity":
-                lo, hi = max(lo, 0.0), min(hi, 0.95)
-            out.append({"field": path, "label": f"{label} {key}",
-                        "unit": unit, "value": float(value), "min": float(lo),
-                        "max": float(hi)})
+                items = [(key, key, value)]
+            if key in ("arms", "lobes", "teeth", "speed_deg_s"):
+                continue
+            unit = unit_of(key)
+            for sub, name, v in items:
+                if unit == "deg":
+                    lo, hi = v - 45.0, v + 45.0
+                else:
+                    span = 0.25 * abs(v) or 1.0
+                    lo, hi = v - span, v + span
+                if key == "eccentricity":
+                    lo, hi = max(lo, 0.0), min(hi, 0.95)
+                out.append({"field": f"{prefix}.{sub}", "label": f"{label} {name}",
+                            "unit": unit, "value": float(v), "min": float(lo),
+                            "max": float(hi)})
     return out
 
 
@@ -361,6 +377,10 @@ def editable_parameters(design) -> list[dict]:
         return []
     if design.mechanism == "planetary":
         return _planetary_parameters(design)
+    if design.mechanism == "rice_transplanter_khv":  # no optimizer bounds: its numbers
+        data = design_json(design)
+        return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
+            "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])
     from plantmech.optimize.problems import Transplanter
 
     gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
@@ -430,13 +450,26 @@ def warm_up() -> None:
 
 
 def same_origin(headers) -> bool:
-    """A WebSocket handshake comes from the app's own page: no Origin (not a browser) or
-    an Origin whose host and port are the Host header's (WebSockets are not bound by
-    the browser's same-origin rule, so a page elsewhere could open one)."""
+    """A WebSocket handshake or a POST comes from the app's own page: no Origin (not a
+    browser) or an Origin whose host and port are the Host header's (WebSockets are not
+    bound by the browser's same-origin rule, and a "simple" cross-origin POST is sent
+    before any CORS check, so a page elsewhere could start a task); a browser's
+    ``Sec-Fetch-Site`` other than same-origin (or none: typed by the user) is refused too."""
+    site = headers.get("sec-fetch-site")
+    if site is not None and site not in ("same-origin", "none"):
+        return False
     origin = headers.get("origin")
     if origin is None:
         return True
     return origin.split("://", 1)[-1].rstrip("/") == headers.get("host", "")
+
+
+def _json_content_type(headers) -> bool:
+    """The request body is declared ``application/json`` (parameters such as charset
+    allowed): a form or text/plain body, which a page elsewhere may send without a CORS
+    preflight, is never read."""
+    kind = headers.get("content-type", "").split(";", 1)[0].strip().lower()
+    return kind == "application/json"
 
 
 LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "[::1]", "testserver")
@@ -451,8 +484,10 @@ def _loopback_host(headers) -> bool:
 
 class BodyLimit:
     """ASGI middleware: a POST, PUT or PATCH needs a Content-Length of at most
-    ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise). Plain ASGI rather than
-    ``@app.middleware("http")``: that wrapper costs every edit request a task and a stream.
+    ``MAX_BODY_BYTES`` (411 / 413 with a JSON error otherwise), and, from a loopback Host,
+    the app's own origin (403: :func:`same_origin`) and an ``application/json`` body (415).
+    Plain ASGI rather than ``@app.middleware("http")``: that wrapper costs every edit
+    request a task and a stream.
 
     ``compute``: with it, ``POST /api/evaluate`` from a loopback Host is answered here —
     body read, handed to ``compute`` (``pool.run``), its bytes sent — without FastAPI's
@@ -472,6 +507,15 @@ class BodyLimit:
                 error = (411, "a request body needs a Content-Length")
             elif not length.isdigit() or int(length) > MAX_BODY_BYTES:
                 error = (413, f"request body over the {MAX_BODY_BYTES} byte limit")
+            elif _loopback_host(scope["headers"]):  # another Host: 400 from TrustedHost
+                headers = {k.decode("latin-1").lower(): v.decode("latin-1")
+                           for k, v in scope["headers"]}
+                if not same_origin(headers):
+                    error = (403, "a request from another origin (a page elsewhere) is "
+                             "refused: the app's API answers its own page only")
+                elif not _json_content_type(headers):
+                    error = (415, "a request body must be JSON (Content-Type: "
+                             "application/json)")
             if error is not None:
                 await JSONResponse({"error": error[1]}, status_code=error[0])(
                     scope, receive, send)
@@ -574,9 +618,11 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     app.add_middleware(BodyLimit, compute=compute)
 
     async def body(request: Request) -> dict:
-        try:
-            data = await request.json()
-        except ValueError:
+        import orjson
+
+        try:  # orjson: nesting bounded (1024), no recursion to exhaust (json's raised
+            data = orjson.loads(await request.body())  # RecursionError: a 500)
+        except orjson.JSONDecodeError:
             raise AppError(400, "request body is not valid JSON") from None
         if not isinstance(data, dict):
             raise AppError(400, "request body must be a JSON object")
@@ -617,16 +663,18 @@ def create_app(initial: Path | None = None, workers: int | None = None,
     @app.post("/api/parse")
     async def parse(request: Request):
         """A TOML text the user opened in the page (the browser reads the file)."""
-        import tomllib
+        from plantmech.design import MAX_NESTING, DesignError
+        from plantmech.inputs import parse_toml
 
         data = await body(request)
         text, label = data.get("text"), str(data.get("name") or "design")[:80]
         if not isinstance(text, str):
             raise AppError(400, "field 'text': the design file's text is missing")
-        try:
-            raw = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise AppError(422, f"{label}: not valid TOML: {exc}") from None
+        try:  # as a design file is parsed: nesting bounded before the parser recurses
+            raw = parse_toml(text, label, MAX_NESTING, DesignError,
+                             "a design file needs at most 3")
+        except DesignError as exc:
+            raise AppError(422, str(exc)) from None
         design = validate_design(raw, label)
         return {"name": label, "design": design_json(design)}
 
@@ -722,9 +770,10 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
         if mechanism == "planetary":  # the fields its [optimize.variables] frees
             names = ["planetary"]
-        else:
-            names = [p for p in PROBLEMS if p != "planetary"
-                     and (p == "transplanter") == (mechanism != "sugarcane_seeder")]
+        elif mechanism == "sugarcane_seeder":
+            names = [p for p in PROBLEMS if p.startswith("seeder-")]
+        else:  # the transplanter problem takes a rice_transplanter design only
+            names = ["transplanter"] if mechanism == "rice_transplanter" else []
         out = []
         for p in names:  # the app requires manufacturability (the job's defaults with it)
             algo, gen, pop, stages = job_defaults(p)

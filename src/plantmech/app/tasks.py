@@ -75,7 +75,9 @@ def _own_group() -> None:
 
 
 def _kill(process) -> None:
-    """Kill a task's process and its own children (its process group)."""
+    """Kill a task's process and its own children (its process group). Called only while
+    the task process is not reaped (:func:`_alive` never reaps it), so that its process
+    group id cannot belong to anything else yet."""
     if process.pid is None:
         return
     try:
@@ -85,6 +87,31 @@ def _kill(process) -> None:
             process.kill()
     except (ProcessLookupError, PermissionError):
         pass
+
+
+def _alive(process) -> bool:
+    """Whether the task process still runs, without reaping it (``is_alive`` would, and
+    its process group id could then be reused before :func:`_end` kills the group)."""
+    if not hasattr(os, "waitid"):
+        return process.is_alive()
+    try:
+        return os.waitid(os.P_PID, process.pid,
+                         os.WEXITED | os.WNOHANG | os.WNOWAIT) is None
+    except ChildProcessError:  # reaped already
+        return False
+
+
+def _end(task) -> None:
+    """A task whose result (or failure, or cancellation) is in: kill its whole process
+    group and reap its process. Nothing of it outlives it: a finished optimization's
+    process waited at exit for its pool's workers, which waited for work, and both
+    stayed (about 500 MB) until the server stopped."""
+    with task.ending:
+        if task.reaped:
+            return
+        _kill(task.process)
+        task.process.join(timeout=10)
+        task.reaped = True
 
 
 def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) -> None:
@@ -123,6 +150,18 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
         else:
             objectives = [k for k in pareto if k in (rec.get("objectives_minimized") or [])]
         files = ["best.toml", "run.json", "history.csv", "pareto.csv"]
+        # nothing meets everything: the run's trade-off archive (agronomic against
+        # manufacturability) is what the page draws
+        tradeoff = None
+        for rel in ("tradeoff.csv", "layer2/tradeoff.csv"):
+            if (run_dir / rel).is_file():
+                tradeoff = _read_csv(run_dir / rel)
+                if "/" not in rel:
+                    files.append(rel)
+                break
+        from plantmech.optimize.jobs import summary_lines
+
+        verified = rec.get("verified_full_resolution")
         from plantmech.design import load_design
 
         best_json = load_design(run_dir / "best.toml").model_dump(mode="json",
@@ -132,7 +171,11 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
                         "history": hist, "pareto": pareto, "objectives": objectives,
                         "pareto_designs": designs, "best_design": best_json,
                         "best_toml": best, "files": files,
-                        "note": rec.get("note")}))
+                        "note": rec.get("note"), "tradeoff": tradeoff,
+                        # the rows the run's verdict judges, and its printed summary
+                        "result_checks": (verified or {}).get("objectives")
+                        or rec.get("objectives") or [],
+                        "summary": summary_lines(rec)}))
     except Exception as exc:  # noqa: BLE001 - reported to the page, never a traceback
         q.put(("error", f"{type(exc).__name__}: {exc}"))
 
@@ -157,8 +200,14 @@ def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
             teeth = scene.teeth_for_scene(drawn, outlines)
         except Exception as exc:  # noqa: BLE001 - the page then draws pitch curves only
             teeth = {"error": f"{type(exc).__name__}: {exc}"}
+        from plantmech.gears.findings import describe, headline
+
+        # the verdict of verification.json as `plantmech gears` prints it, with its findings
         q.put(("done", {"record": rec, "files": list(rec["files"]) + ["verification.json"],
-                        "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth}))
+                        "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth,
+                        "verdict": rec["verdict"], "headline": headline(rec),
+                        "findings": [{"gear": f["gear"], "check": f["check"],
+                                      "text": describe(f)} for f in rec["findings"]]}))
     except Exception as exc:  # noqa: BLE001
         q.put(("error", f"{type(exc).__name__}: {exc}"))
 
@@ -175,6 +224,8 @@ class Task:
         self.started = time.time()
         self.process = None
         self.queue = None
+        self.ending = threading.Lock()
+        self.reaped = False
         self.files_dir = self.dir / ("gears" if kind == "gears" else "run")
 
 
@@ -223,7 +274,7 @@ class TaskManager:
                     _kill(task.process)
                     task.state, task.error = "failed", (
                         f"time limit of {task.limit_s:g} s exceeded: the task was stopped")
-                elif not task.process.is_alive() and task.queue.empty():
+                elif not _alive(task.process) and task.queue.empty():
                     task.state = "failed"
                     task.error = task.error or (
                         f"the worker process ended without a result (exit code "
@@ -235,7 +286,7 @@ class TaskManager:
                 task.result, task.state = payload, "done"
             else:
                 task.error, task.state = payload, "failed"
-        task.process.join(timeout=5)
+        _end(task)
 
     def status(self, task_id: str) -> dict | None:
         t = self.tasks.get(task_id)
@@ -263,6 +314,6 @@ class TaskManager:
 
     def shutdown(self) -> None:
         for t in self.tasks.values():
-            if t.process is not None and t.process.is_alive():
-                _kill(t.process)
+            if t.process is not None:
+                _end(t)
             shutil.rmtree(t.dir, ignore_errors=True)

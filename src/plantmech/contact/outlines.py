@@ -13,6 +13,10 @@ from pathlib import Path
 import numpy as np
 
 TWO_PI = 2.0 * np.pi
+#: largest gear file read (bytes; 'plantmech gears' writes well under 1 MB a gear)
+MAX_GEAR_FILE_BYTES = 64_000_000
+#: most outline points in one gear file
+MAX_GEAR_VERTICES = 2_000_000
 
 
 class GearFileError(ValueError):
@@ -132,32 +136,66 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
 
 def read_gear_dxf(path: Path, layer: str | None = None) -> GearOutline:
     """The gear on ``layer`` (default: the file's only layer with polylines) of a DXF."""
+    import io
+
     import ezdxf
 
+    from plantmech.design import MAX_SIZE_MM
+    from plantmech.inputs import read_input_bytes
+
     path = Path(path)
-    if not path.is_file():
+    if not path.exists() and not path.is_symlink():
         raise GearFileError(f"{path}: gear file not found")
+    data = read_input_bytes(path, "gear file (DXF)", MAX_GEAR_FILE_BYTES, GearFileError)
     try:
-        doc = ezdxf.readfile(path)
-    except (OSError, ezdxf.DXFStructureError) as exc:
-        raise GearFileError(f"{path}: not a readable DXF file ({exc})") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = data.decode("cp1252", errors="replace")  # an older DXF's code page
+    try:
+        doc = ezdxf.read(io.StringIO(text))
+        entities = list(doc.modelspace())
+    except (ezdxf.DXFError, ValueError, IndexError, KeyError, TypeError, AttributeError,
+            EOFError) as exc:
+        raise GearFileError(f"{path}: not a readable DXF file ({type(exc).__name__}: "
+                            f"{str(exc)[:200]})") from None
     by_layer: dict[str, list] = {}
-    for e in doc.modelspace():
+    vertices = 0
+    for e in entities:
         kind = e.dxftype()
-        if kind == "LWPOLYLINE":
-            pts = np.asarray(e.get_points("xy"), dtype=float)
-            closed = bool(e.closed)
-        elif kind == "POLYLINE":
-            pts = np.asarray([v.dxf.location[:2] for v in e.vertices], dtype=float)
-            closed = bool(e.is_closed)
-        else:
-            continue
+        try:
+            if kind == "LWPOLYLINE":
+                pts = np.asarray(e.get_points("xy"), dtype=float).reshape(-1, 2)
+                closed = bool(e.closed)
+            elif kind == "POLYLINE":
+                pts = np.asarray([v.dxf.location[:2] for v in e.vertices],
+                                 dtype=float).reshape(-1, 2)
+                closed = bool(e.is_closed)
+            else:
+                continue
+        except (ezdxf.DXFError, ValueError, IndexError, TypeError, AttributeError) as exc:
+            raise GearFileError(f"{path}: a damaged {kind} ({type(exc).__name__}: "
+                                f"{str(exc)[:200]})") from None
+        where = str(e.dxf.layer)[:64]  # for messages
+        vertices += len(pts)
+        if vertices > MAX_GEAR_VERTICES:
+            raise GearFileError(f"{path}: more than {MAX_GEAR_VERTICES:,} outline points; "
+                                "not a gear file of 'plantmech gears'")
         if not closed and not (len(pts) > 2 and np.allclose(pts[0], pts[-1])):
-            raise GearFileError(f"{path}: layer '{e.dxf.layer}': a polyline of "
+            raise GearFileError(f"{path}: layer '{where}': a polyline of "
                                 f"{len(pts)} points is not closed")
         if not np.all(np.isfinite(pts)):
-            raise GearFileError(f"{path}: layer '{e.dxf.layer}': a polyline has a "
+            raise GearFileError(f"{path}: layer '{where}': a polyline has a "
                                 "non-finite coordinate")
+        far = float(np.abs(pts).max(initial=0.0))
+        if far > MAX_SIZE_MM:
+            raise GearFileError(f"{path}: layer '{where}': a coordinate of {far:.6g} mm; a "
+                                f"gear lies within +-{MAX_SIZE_MM:g} mm of its centre")
+        if len(pts) >= 3:
+            c = pts - pts.mean(axis=0)
+            sv = np.linalg.svd(c, compute_uv=False)
+            if sv[0] == 0 or sv[-1] <= 1e-9 * sv[0]:
+                raise GearFileError(f"{path}: layer '{where}': a polyline of {len(pts)} "
+                                    "points encloses no area (its points lie on one line)")
         by_layer.setdefault(e.dxf.layer, []).append(pts)
     if not by_layer:
         raise GearFileError(f"{path}: no closed polylines (gear outlines) in the file")

@@ -241,6 +241,8 @@ def free_play(driven: GearOutline, driver: GearOutline, c_driven, c_driver, q_dr
         sb, pb, eb, qb = _crossings(pd, pn, en1, max_turn)
         step = np.r_[sa, sb]
         dq = np.r_[qa, -qb]
+        if not len(step):  # no contact within +-max_turn at any step of the chunk: no
+            continue       # play is found there (NaN: contact lost; gears of another train)
         kind_a = np.r_[np.ones(len(sa), bool), np.zeros(len(sb), bool)]
         vert = np.r_[pa, pb]
         tooth = np.r_[driven.tooth_of_vertex[vn[sa, pa]], driven.tooth_of_vertex[vn[sb, eb]]]
@@ -415,9 +417,10 @@ def _witnessed(steps, st_e, dq_e, count, st, vid, dq, order, low, after, max_tur
     n = len(low)
     # inside intervals of every vertex
     st_o, vid_o, dq_o = st[order], vid[order], dq[order]
-    last = np.r_[(st_o[1:] != st_o[:-1]) | (vid_o[1:] != vid_o[:-1]), True]
-    nxt = np.where(last, max_turn, np.r_[dq_o[1:], max_turn])
-    first = np.r_[True, last[:-1]]
+    m = len(st_o)  # no crossing at all: every array below is empty (np.r_ would add one)
+    last = np.r_[(st_o[1:] != st_o[:-1]) | (vid_o[1:] != vid_o[:-1]), True][:m]
+    nxt = np.where(last, max_turn, np.r_[dq_o[1:], max_turn][:m])
+    first = np.r_[True, last[:-1]][:m]
     s_low, v_low = np.nonzero(low)
     first_dq = np.full(low.shape, max_turn)
     first_dq[st_o[first], vid_o[first]] = dq_o[first]

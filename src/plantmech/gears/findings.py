@@ -169,6 +169,17 @@ def verdict(findings: list) -> str:
     return VERDICT_NOT_OK
 
 
+def headline(record: dict) -> str:
+    """The verdict line of a gears record (``run_gears``), as ``plantmech gears`` prints it
+    after "verdict: " and the app's Make panel shows it."""
+    findings = record["findings"]
+    if record["verdict"] == VERDICT_OK and not findings:
+        return "ok - every gear can be cut, the pairs mesh, every file is what it claims"
+    places = {f["gear"] for f in findings}
+    return (f"NOT MET - {record['verdict']}: {len(findings)} findings on {len(places)} gears "
+            "or pairs")
+
+
 def describe(f: dict) -> str:
     """One line for a finding: gear, check, value against limit, place and why."""
     where = f["where"]

@@ -38,9 +38,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-# ISO 54 first-choice modules (mm), the modules a workshop has cutters for
-STANDARD_MODULES = (0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0,
-                    12.0, 16.0, 20.0)
+from plantmech.gears.modules import FIRST_SERIES
 
 
 def _inv(a):
@@ -224,13 +222,26 @@ def _gear_bounds(g: GearShape, rules: CuttingRules) -> tuple[dict, dict]:
     convex = np.where(mask & (rho > 0), rho, big)
     concave = np.where(mask & (rho < 0), -rho, big)
     r = np.where(mask, g.radius, big)
-    bounds = module_bounds(g.name, convex.min(axis=1), concave.min(axis=1), r.min(axis=1),
-                           g.perimeter, rules, g.internal)
-    where = {f"undercut/pointed {g.name}": (g.name, _argmin_angle(convex, g.angle)),
-             f"concave span {g.name}": (g.name, _argmin_angle(concave, g.angle))}
-    if not g.internal:
-        where[f"hub {g.name}"] = (g.name, _argmin_angle(r, g.angle))
-    where[f"teeth {g.name}"] = (g.name, np.full(rho.shape[0], np.nan))
+    return gear_bounds(g.name, (convex.min(axis=1), _argmin_angle(convex, g.angle)),
+                       (concave.min(axis=1), _argmin_angle(concave, g.angle)),
+                       (r.min(axis=1), _argmin_angle(r, g.angle)), g.perimeter, rules,
+                       g.internal)
+
+
+def gear_bounds(name: str, convex, concave, radius, perimeter, rules: CuttingRules,
+                internal: bool = False) -> tuple[dict, dict]:
+    """Upper module bounds (mm, (P,)) of one gear and where each binds, from its extremes
+    on its toothed spans: ``convex``, ``concave`` and ``radius`` are each ((P,) smallest
+    value (mm; inf where none), (P,) body angle of the first smallest, deg) of the convex
+    and concave (magnitude) radius of curvature and the pitch radius; ``perimeter`` (P,)
+    mm. ``_gear_bounds`` (from the sampled shape) and a fused kernel's reductions
+    (``trains.fused``) both end here."""
+    bounds = module_bounds(name, convex[0], concave[0], radius[0], perimeter, rules, internal)
+    where = {f"undercut/pointed {name}": (name, convex[1]),
+             f"concave span {name}": (name, concave[1])}
+    if not internal:
+        where[f"hub {name}"] = (name, radius[1])
+    where[f"teeth {name}"] = (name, np.full(np.shape(convex[0])[0], np.nan))
     return bounds, where
 
 
@@ -246,24 +257,34 @@ def assess_pair(pair: PairShape, rules: CuttingRules) -> PairVerdict:
         bounds[f"internal difference {pair.name}"] = d.min(axis=1) / rules.min_internal_difference
         where[f"internal difference {pair.name}"] = (pair.gears[0].name,
                                                      _argmin_angle(d, pair.gears[0].angle))
-    P = np.asarray(pair.mu).shape[0]
+    mu = np.abs(np.asarray(pair.mu, dtype=float))
+    return pair_verdict(pair.name, [(g.name, g.perimeter) for g in pair.gears], bounds, where,
+                        (mu.max(axis=1), _argmin_angle(-mu, pair.gears[0].angle)),
+                        pair.module, rules)
+
+
+def pair_verdict(name: str, perimeters: list, bounds: dict, where: dict, mu, module,
+                 rules: CuttingRules) -> PairVerdict:
+    """The verdict of a pair from its gears' module ``bounds`` and ``where`` they bind
+    (``gear_bounds``, and the internal difference's), its gears' ``perimeters`` [(name,
+    (P,) mm)], driver first, ``mu`` ((P,) largest |mu| rad, (P,) its body angle deg on the
+    first gear) and the fixed ``module`` (None: the window chooses)."""
+    P = np.shape(mu[0])[0]
     high = np.minimum(np.full(P, np.inf), module_high(bounds))
     low = np.full(P, rules.min_module_mm)
-    if pair.module is not None:
-        module = np.broadcast_to(np.asarray(pair.module, dtype=float), (P,)).copy()
+    if module is not None:
+        module = np.broadcast_to(np.asarray(module, dtype=float), (P,)).copy()
         low = np.maximum(low, module)  # the fixed module must fit: m <= m_hi
     else:
-        module = choose_module(pair.gears[0].perimeter, low, high)
-    teeth = {g.name: np.where(np.isfinite(module), np.round(np.asarray(g.perimeter)
-                                                            / (np.pi * np.where(
-                                                                np.isfinite(module), module,
-                                                                1.0))), np.nan)
-             for g in pair.gears}
-    mu = np.asarray(pair.mu, dtype=float)
-    work = rules.pressure_angle_deg + np.degrees(np.abs(mu).max(axis=1))
-    where["working pressure angle"] = (pair.gears[0].name,
-                                       _argmin_angle(-np.abs(mu), pair.gears[0].angle))
-    return PairVerdict(pair.name, low, high, module, teeth, work, bounds, where)
+        module = choose_module(perimeters[0][1], low, high)
+    teeth = {g: np.where(np.isfinite(module), np.round(np.asarray(perim)
+                                                       / (np.pi * np.where(
+                                                           np.isfinite(module), module,
+                                                           1.0))), np.nan)
+             for g, perim in perimeters}
+    work = rules.pressure_angle_deg + np.degrees(mu[0])
+    where["working pressure angle"] = (perimeters[0][0], mu[1])
+    return PairVerdict(name, low, high, module, teeth, work, bounds, where)
 
 
 def shape_from_polar(name: str, t, rho, drho, ddrho, dphi=None, ddphi=None,
@@ -308,7 +329,7 @@ def choose_module(perimeter, low, high) -> np.ndarray:
     P = np.atleast_1d(np.asarray(perimeter, dtype=float))
     low = np.broadcast_to(np.asarray(low, dtype=float), P.shape)
     high = np.broadcast_to(np.asarray(high, dtype=float), P.shape)
-    std = np.asarray(STANDARD_MODULES)
+    std = np.asarray(FIRST_SERIES)
     fits = (std[None, :] <= high[:, None]) & (std[None, :] >= low[:, None])
     m0 = np.where(fits.any(axis=1), np.where(fits, std[None, :], -np.inf).max(axis=1),
                   np.minimum(high, P / np.pi))

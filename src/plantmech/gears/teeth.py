@@ -16,8 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from plantmech.gears.modules import FIRST_SERIES
+
 TWO_PI = 2.0 * np.pi
-STANDARD_MODULES = (0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
 
 
 @dataclass
@@ -75,9 +76,10 @@ def check_tooth_counts(module: float, perimeters: dict, source: str = "--module"
 
 
 def standard_module(perimeter: float, min_teeth: int = 12, multiple: int = 1) -> float:
-    """The largest standard module that leaves at least ``min_teeth`` teeth."""
-    ok = [m for m in STANDARD_MODULES if perimeter / (np.pi * m) >= min_teeth]
-    return max(ok) if ok else STANDARD_MODULES[0]
+    """The largest ISO 54 series-I module (``gears.modules``) that leaves at least
+    ``min_teeth`` teeth."""
+    ok = [m for m in FIRST_SERIES if perimeter / (np.pi * m) >= min_teeth]
+    return max(ok) if ok else FIRST_SERIES[0]
 
 
 def involute_tooth(rp: float, m: float, alpha: float, ha: float, hf: float,

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def polar_curvature_rows(rho, drho, ddrho, dphi, ddphi, plain):
     """Signed radius of curvature (P, N) of polar curves from (P, N) tables of rho, rho',
     rho'' and phi', phi'' (``plain``: phi' = 1, phi'' = 0, the tables not read):

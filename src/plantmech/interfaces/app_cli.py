@@ -13,6 +13,11 @@ import sys
 def _run(args) -> int:
     from pathlib import Path
 
+    from plantmech.extras import refused
+
+    if refused("app", "'plantmech app'"):
+        return 2
+
     from plantmech.design import DesignError
 
     initial = Path(args.design) if args.design else None
@@ -50,39 +55,18 @@ def _run(args) -> int:
     return 0
 
 
-def _port(text: str) -> int:
-    import argparse
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a port number") from None
-    if not 1 <= v <= 65535:
-        raise argparse.ArgumentTypeError(f"{v} is not a port number (1-65535)")
-    return v
-
-
-def _workers(text: str) -> int:
-    import argparse
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if not 0 <= v <= 64:
-        raise argparse.ArgumentTypeError(f"{v} compute workers: expected 0 to 64")
-    return v
-
-
 def register(subparsers) -> None:
+    from plantmech.interfaces.cli import _number
+
     p = subparsers.add_parser("app", help="interactive design app in the browser "
-                              "(local server on 127.0.0.1)")
+                              "(local server on 127.0.0.1; needs plantmech[app])")
     p.add_argument("design", nargs="?", help="design file (TOML) to open; never overwritten")
-    p.add_argument("--port", type=_port, default=8765, help="port on 127.0.0.1 (default 8765)")
+    p.add_argument("--port", type=_number(int, 1, strict=False, maximum=65535), default=8765,
+                   help="port on 127.0.0.1 (1-65535, default 8765)")
     p.add_argument("--host", default="127.0.0.1", choices=("127.0.0.1", "localhost"),
                    help="loopback only")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
-    p.add_argument("--workers", type=_workers, default=None,
+    p.add_argument("--workers", type=_number(int, 0, strict=False, maximum=64), default=None,
                    help="processes computing edits (default: one per usable core; 0: in the "
                    "server's own threads)")
     p.set_defaults(func=_run)

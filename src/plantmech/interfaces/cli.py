@@ -1,16 +1,15 @@
 """plantmech: design planting mechanisms driven by non-circular planetary gear trains.
 
-Sugarcane seeders (Liu et al. 2023, Int J Agric & Biol Eng 16(6)): from a planned tip
-trajectory to the gear pitch curves, forward simulation and the paper's objectives; rice
-transplanters (Zhou et al. 2022, J Agric Eng LIII:1412): the differential internal-engagement
-and K-H-V trains and the twelve objectives; automatic optimization; gear teeth and
-manufacturing files; an HTML report of every job (--report).
+From a planned tip path (or a published parameter set) to gears a workshop can cut, with
+one verdict: ``plantmech design`` checks the design, optimizes every objective and the
+manufacturability checks, cuts the teeth and writes DXF/SVG/STL files and a report.
+Sugarcane seeders (Liu et al. 2023), rice transplanters (Zhou et al. 2022) and general
+non-circular planetary trains.
 
+``plantmech design DESIGN.toml --out DIR``: the whole job, to cut gears (start here).
 ``plantmech init KIND DIR``: write a commented starting design.
-``plantmech inverse DESIGN.toml --out DIR [--verify]``: trajectory -> gear train.
-``plantmech forward DESIGN.toml --out DIR``: gear train -> motion and objectives.
-``plantmech optimize DESIGN.toml --problem NAME --out DIR``: automatic optimization.
-``plantmech gears DESIGN.toml --out DIR``: teeth, checks and manufacturing files.
+``plantmech docs [TOPIC]``: the documentation, shipped with the package.
+``plantmech inverse | forward | optimize | gears | verify``: the steps one at a time.
 
 Exit status (every command): 0 everything asked of the design is met (objectives, checks,
 manufacturability), 2 invalid input (names the field, gear or angle), 3 infeasible design,
@@ -26,7 +25,8 @@ import sys
 import time
 from pathlib import Path
 
-from plantmech import __version__
+from plantmech import __version__, typos
+from plantmech.outputs.caveats import caveats
 from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
     EXIT_INPUT,
@@ -138,8 +138,8 @@ def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
     forward``, ``plantmech gears``, ``plantmech optimize --problem planetary``,
     ``plantmech inverse`` (from a [trajectory]), ``plantmech verify`` and the app so far;
-    any other command or problem refuses it by name (DesignError, exit 2), and
-    ``--report`` on it too."""
+    any other command or problem refuses it by name (DesignError, exit 2). ``--report``
+    of forward, gears, optimize, study and design takes it; of inverse not yet."""
     from plantmech.design import DesignError
 
     command = getattr(args, "command", None)
@@ -157,7 +157,8 @@ def refuse_planetary(args, design) -> None:
         raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
                           f"optimized with --problem planetary ('{problem}' is for the seeder "
                           "and the rice transplanters)")
-    if command not in ("forward", "study", "design") and getattr(args, "report", False):
+    if command not in ("forward", "gears", "optimize", "study", "design") \
+            and getattr(args, "report", False):
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
                           "verification.json without it)")
@@ -184,7 +185,7 @@ def _inverse_body(args, design, run) -> int:
     out = run.path
     t0 = time.perf_counter()
     try:
-        job = run_seeder_inverse(design)
+        job = run_seeder_inverse(design, speeds=True, estimate=True)
     except TrajectoryError as exc:
         print(f"error: {args.design}: field 'trajectory.points': {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -213,8 +214,12 @@ def _inverse_body(args, design, run) -> int:
     if "round_trip_not_computable" in s:
         problems.append(f"round trip (--verify) not computable: {s['round_trip_not_computable']}")
     v = s["verdict"] = verdict(s["trajectory_checks"], s.get("objectives", []),
-                               s.get("manufacturing_checks", []), infeasible=not res.feasible,
+                               s.get("manufacturing_checks", []),
+                               s.get("dwell_checks", []), s.get("error_estimate_checks", []),
+                               infeasible=not res.feasible,
                                problems=problems)
+    cav = s["caveats"] = caveats(design, s["trajectory_checks"] + s.get("objectives", [])
+                                 + s.get("manufacturing_checks", []))
     write_json(out / "summary.json", s)
     _print_summary(s)
     if args.report:
@@ -225,8 +230,10 @@ def _inverse_body(args, design, run) -> int:
     print(_wrote(run, written))
     if not res.feasible:
         print("INFEASIBLE: no pitch curves written (see diagnostics above)", file=sys.stderr)
-    print(verdict_line(v, "feasible, every planning check and attitude objective met, "
-                          "pitch curves cuttable"))
+    print(verdict_line(v, "feasible, every planning check, attitude and speed objective "
+                          "met, pitch curves cuttable" + (
+                              "" if s.get("error_estimate", {}).get("computed", True) else
+                              " (its error estimate was not computed: see above)"), cav))
     return v["exit_code"]
 
 
@@ -268,6 +275,7 @@ def _forward_body(args, design, run) -> int:
         return EXIT_INFEASIBLE
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
+    cav = job.summary["caveats"] = caveats(design, job.summary["objectives"])
     written = write_forward_outputs(out, job)
     figures = []
     if not args.no_plots:
@@ -284,7 +292,7 @@ def _forward_body(args, design, run) -> int:
 
         written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
-    print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable"))
+    print(verdict_line(v, "every section-4.1 objective met, pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -303,6 +311,7 @@ def _forward_transplanter(args, design, run) -> int:
         return EXIT_INPUT
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])
+    cav = job.summary["caveats"] = caveats(design, job.summary["objectives"])
     written = write_transplanter_outputs(out, job)
     figures = []
     if not args.no_plots:
@@ -333,7 +342,7 @@ def _forward_transplanter(args, design, run) -> int:
 
         written += forward_report(args, out, job, figures, run=run)
     print(_wrote(run, written))
-    print(verdict_line(v, "every objective met, pitch curves cuttable"))
+    print(verdict_line(v, "every objective met, pitch curves cuttable", cav))
     return v["exit_code"]
 
 
@@ -367,6 +376,7 @@ def _optimize_body(args, design, run) -> int:
     for line in summary_lines(outcome.record):
         print(line)
     written = list(outcome.written)
+    cav = _optimize_caveats(design, out, outcome.record)
     if args.report:
         from plantmech.interfaces.report_cli import optimize_report
 
@@ -376,8 +386,29 @@ def _optimize_body(args, design, run) -> int:
     print(verdict_line(v, "best.toml meets every objective"
                        + (" and manufacturability check" if outcome.record.get(
                            "manufacturability_required") else "")
-                       + ", re-checked at full resolution"))
+                       + ", re-checked at full resolution", cav))
     return v["exit_code"]
+
+
+def _optimize_caveats(design, out, record: dict) -> list:
+    """The optimize verdict's caveats (``outputs.caveats``: the file's limits, the thin
+    margins of the re-checked best design, what the optimizer changed of the file), added
+    to run.json."""
+    from plantmech.design import DesignError, load_design
+    from plantmech.outputs.files import write_json
+
+    best = None
+    if (out / "best.toml").is_file():
+        try:
+            best = load_design(out / "best.toml")
+        except DesignError:
+            best = None
+    rows = (record.get("verified_full_resolution") or {}).get("objectives") \
+        or record.get("objectives") or []
+    cav = record["caveats"] = caveats(design, rows, best, record)
+    if (out / "run.json").is_file():
+        write_json(out / "run.json", record)
+    return cav
 
 
 def _gears(args) -> int:
@@ -390,8 +421,9 @@ def _gears(args) -> int:
 
 
 def _gears_body(args, design, run) -> int:
-    from plantmech.gears.findings import VERDICT_OK, describe
+    from plantmech.gears.findings import VERDICT_OK, describe, headline
     from plantmech.gears.manufacturability import rules_for
+    from plantmech.outputs.caveats import lines as caveat_lines
     from plantmech.workflows import run_gears
 
     out = run.path
@@ -433,10 +465,10 @@ def _gears_body(args, design, run) -> int:
         gears_report(args, out, design, rec, run=run)
     for f in rec["findings"]:
         print(f"  NOT OK {describe(f)}")
+    for line in caveat_lines(rec.get("caveats", [])):
+        print(line)
     ok = rec["verdict"] == VERDICT_OK
-    print("verdict: ok - every gear can be cut, the pairs mesh, every file is what it claims"
-          if ok else f"verdict: NOT MET - {rec['verdict']}: {len(rec['findings'])} findings on "
-          f"{len(failed)} gears or pairs")
+    print(f"verdict: {headline(rec)}")
     return EXIT_OK if ok else EXIT_NOT_MET
 
 
@@ -483,10 +515,14 @@ def _print_summary(s: dict) -> None:
             where += f" (carrier angle {a:.1f}-{b:.1f} deg)"
         print(f"  {d['severity'].upper()} [{d['kind']}]{where}: {d['message']}")
     from plantmech.outputs.files import check_line
+    from plantmech.workflows import seeder_checks
 
-    for c in s["trajectory_checks"] + s.get("objectives", []) + s.get("manufacturing_checks",
-                                                                        []):
+    for c in seeder_checks(s):
         print(check_line(c))
+    if "error_estimate" in s:
+        from plantmech.objectives.inverse_estimate import estimate_line
+
+        print(estimate_line(s["error_estimate"]))
     if "realized_vs_planned_max_deviation_mm" in s:
         print(f"  gear train vs planned trajectory: max deviation "
               f"{s['realized_vs_planned_max_deviation_mm']:.3f} mm")
@@ -496,15 +532,17 @@ def _print_summary(s: dict) -> None:
 
 
 def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
-    """argparse type: a finite number above (or, strict=False, at least) ``minimum``,
-    and, if given, at least ``least`` and at most ``maximum``."""
+    """argparse type of every numeric option (the one place their ranges are checked): a
+    finite ``kind`` (int or float) above (or, strict=False, at least) ``minimum``, and,
+    if given, at least ``least`` and at most ``maximum``; never wrapped or rounded."""
     import math
 
     def parse(text: str):
         try:
             v = kind(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+            what = "a whole number" if kind is int else "a number"
+            raise argparse.ArgumentTypeError(f"{text!r} is not {what}") from None
         bad = (not math.isfinite(v) or (v <= minimum if strict else v < minimum)
                or (least is not None and v < least) or (maximum is not None and v > maximum))
         if bad:
@@ -517,16 +555,66 @@ def _number(kind, minimum, strict: bool = True, maximum=None, least=None):
     return parse
 
 
+#: the range of every random seed option (NumPy's and pymoo's seeds are 32 bits)
+SEED = {"minimum": 0, "strict": False, "maximum": 2**32 - 1}
+class _Parser(argparse.ArgumentParser):
+    """argparse with "did you mean" on a misspelled command, choice or option, and an
+    unknown option reported by the command's own usage (not the top level's)."""
+
+    def parse_args(self, args=None, namespace=None):
+        args, unknown = self.parse_known_args(args, namespace)
+        if unknown:
+            sub = self._command_parser(getattr(args, "command", None)) or self
+            options = [o[2:] for o in sub._option_string_actions if o.startswith("--")]
+            hints = "".join(typos.did_you_mean(u.split("=")[0].lstrip("-"), options)
+                            .replace(" '", " '--") for u in unknown if u.startswith("-"))
+            sub.error(f"unrecognized arguments: {' '.join(unknown)}{hints}")
+        return args
+
+    def _command_parser(self, command):
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                return action.choices.get(command)
+        return None
+
+    def error(self, message):
+        import re
+
+        m = re.search(r"invalid choice: '(.*)' \(choose from (.*)\)$", message)
+        if m:
+            choices = re.findall(r"'([^']*)'", m.group(2))
+            message += typos.did_you_mean(m.group(1), choices)
+        if message.endswith("required: COMMAND"):
+            message += ("; start with 'plantmech init transplanter my' then 'plantmech design "
+                        "my/transplanter.toml --out out' ('plantmech --help': every command)")
+        super().error(message)
+
+
 def build_parser() -> argparse.ArgumentParser:
     from plantmech.interfaces.report_cli import add_report_option
 
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="plantmech", description="\n".join(__doc__.split("\n\n")[:2]),
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="Start with: plantmech init seeder mydesign; then plantmech inverse "
-        "mydesign/seeder.toml --out out --report. 'plantmech COMMAND --help' for each.")
+        epilog="Start with: plantmech init transplanter my; then plantmech design "
+        "my/transplanter.toml --out out (cut gears, design.toml and a verdict). "
+        "'plantmech COMMAND --help' for each; 'plantmech docs' for the documentation.")
     p.add_argument("--version", action="version", version=f"plantmech {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    from plantmech.interfaces import (
+        app_cli,
+        design_cli,
+        docs_cli,
+        init_cli,
+        report_cli,
+        schema_cli,
+        study_cli,
+        verify_cli,
+    )
+
+    design_cli.register(sub)  # the main job first, then how to start, then the steps
+    init_cli.register(sub)
+    docs_cli.register(sub)
     inv = sub.add_parser("inverse", help="seeder or planetary [trajectory]: planned tip "
                          "trajectory -> gear train (inverse design of Liu et al. 2023, "
                          "section 3)",
@@ -593,21 +681,21 @@ def build_parser() -> argparse.ArgumentParser:
                        help="also write STEP solids (needs plantmech[step]; seconds per gear)")
     add_report_option(gears)
     gears.set_defaults(func=_gears)
-    from plantmech.optimize import PROBLEMS
+    from plantmech.optimize import ALGORITHMS, PROBLEMS
 
     opt = sub.add_parser("optimize", help="automatic optimization of a design's objectives")
     opt.add_argument("design", help="design file (TOML); never overwritten")
     opt.add_argument("--problem", required=True, choices=PROBLEMS)
     add_output_options(opt)
-    opt.add_argument("--seed", type=_number(int, 0, strict=False, maximum=2**32 - 1),
+    opt.add_argument("--seed", type=_number(int, **SEED),
                      default=0, help="random seed (0 to 2^32 - 1): the same seed gives the "
                      "same run")
     opt.add_argument("--generations", type=_number(int, 1, strict=False, maximum=10_000),
                      default=None, help="generations (1-10000); default per problem")
     opt.add_argument("--pop", type=_number(int, 4, strict=False, maximum=2000),
                      default=None, help="population size (4-2000)")
-    opt.add_argument("--algorithm", choices=("nsga2", "de", "cmaes"), default=None,
-                     help="default per problem (docs/optimization.md)")
+    opt.add_argument("--algorithm", choices=ALGORITHMS, default=None,
+                     help="default per problem (plantmech docs optimization)")
     opt.add_argument("--points", type=_number(int, 4, strict=False, maximum=128),
                      default=16, help="interpolation radii per gear for the seeder's layer 2 "
                      "(4-128)")
@@ -619,7 +707,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="seeder problems that move type-value points: 'auto' moves the "
                      "seeding point e (and f) on when, at e, a return speed above its "
                      "minimum needs a seeding speed above its limit (the three-bar bound, "
-                     "docs/optimization.md); 'keep' never moves it")
+                     "plantmech docs optimization); 'keep' never moves it")
     opt.add_argument("--no-manufacturability", action="store_true",
                      help="only report the pitch-curve manufacturability checks (cuttable "
                      "module, working pressure angle, tooth fit) instead of requiring them; "
@@ -627,22 +715,10 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("--quiet", action="store_true", help="no progress bar")
     add_report_option(opt)
     opt.set_defaults(func=_optimize)
-    from plantmech.interfaces import (
-        app_cli,
-        design_cli,
-        init_cli,
-        report_cli,
-        schema_cli,
-        study_cli,
-        verify_cli,
-    )
-
-    design_cli.register(sub)
-    init_cli.register(sub)
+    verify_cli.register(sub)
     schema_cli.register(sub)
     study_cli.register(sub)
     report_cli.register(sub)
-    verify_cli.register(sub)
     app_cli.register(sub)
     return p
 
@@ -686,7 +762,12 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout = _ReaderMayLeave(sys.stdout)
         except (OSError, ValueError):  # no file behind it (captured by a test): nothing to do
             pass
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    for a in sys.argv[1:] if argv is None else argv:
+        # argparse takes "--option=--" as the option left out (its default), silently
+        if a.startswith("--") and a.endswith("=--"):
+            parser.error(f"argument {a[:-3]}: '--' is not a value")
+    args = parser.parse_args(argv)
     if args.command != "init":
         import matplotlib
 

@@ -7,7 +7,7 @@ import sys
 
 
 def register(sub) -> None:
-    from plantmech.interfaces.cli import _number, add_output_options
+    from plantmech.interfaces.cli import SEED, _number, add_output_options
 
     p = sub.add_parser(
         "design", help="the whole job: check, optimize every objective and manufacturability, "
@@ -15,15 +15,17 @@ def register(sub) -> None:
     p.add_argument("design", help="design file (TOML): a seeder trajectory or [train], or a "
                    "transplanter parameter set; never overwritten")
     add_output_options(p)
-    p.add_argument("--seed", type=int, default=0, help="random seed of the optimizer "
-                   "(same seed, same result)")
-    p.add_argument("--generations", type=_number(int, 1, strict=False), default=None,
-                   help="optimizer generations (default per problem, docs/optimization.md)")
-    p.add_argument("--module", type=_number(float, 0.0), default=None,
-                   help="tooth module, mm (default: the largest the pitch curves allow)")
-    p.add_argument("--time-limit", type=_number(float, 0.0), default=None,
+    p.add_argument("--seed", type=_number(int, **SEED), default=0, help="random seed of the "
+                   "optimizer (0 to 2^32 - 1; same seed, same result)")
+    p.add_argument("--generations", type=_number(int, 1, strict=False, maximum=10_000),
+                   default=None, help="optimizer generations (1-10000; default per problem, "
+                   "plantmech docs optimization)")
+    p.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5), default=None,
+                   help="tooth module, mm (0.5-50; default: the largest the pitch curves "
+                   "allow)")
+    p.add_argument("--time-limit", type=_number(float, 0.0, maximum=7 * 86400.0), default=None,
                    help="seconds the optimization may take (it stops at the end of the "
-                   "generation that passes it, and says so); default: none")
+                   "generation that passes it, and says so; up to a week); default: none")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.add_argument("--report", action="store_true",
                    help="accepted for symmetry with the other commands: 'design' always "
@@ -61,5 +63,6 @@ def _body(args, design, run) -> int:
         print(f"report: {run.final(report)}")
     v = outcome.verdict
     print(verdict_line(v, "every objective and manufacturability check met, the gears mesh, "
-                          "the workshop files are written (design.toml, gears/)"))
+                          "the workshop files are written (design.toml, gears/)",
+                       rec.get("caveats", ())))
     return v["exit_code"]

@@ -22,6 +22,9 @@ def _init(args) -> int:
         return 2
     from plantmech.starters import STARTERS
 
+    if args.kind not in STARTERS:  # a study spec: its header says how to run it
+        print(f"wrote {path}: the study spec {args.kind}; how to run it: its first lines")
+        return 0
     print(f"wrote {path}: {STARTERS[args.kind].what}")
     print("next:")
     for c in STARTERS[args.kind].commands:
@@ -30,16 +33,20 @@ def _init(args) -> int:
 
 
 def register(subparsers) -> None:
-    from plantmech.starters import STARTERS
+    from plantmech.starters import STARTERS, study_kinds
 
     kinds = "; ".join(f"{k}: {s.what.split(':')[0]}" for k, s in STARTERS.items())
+    studies = study_kinds()
     p = subparsers.add_parser(
         "init", help="write a commented starting design (seeder, seeder-train, transplanter, "
         "planetary)",
         description="Write a commented starting design into DIR, copied from a shipped "
         f"example, with what to edit first and the commands to run. Kinds: {kinds}. "
+        f"Study specs for 'plantmech study': {', '.join(studies)}. "
         "An existing file is never overwritten (exit 2).")
-    p.add_argument("kind", choices=list(STARTERS), help="what to start from")
+    p.add_argument("kind", choices=list(STARTERS) + studies, metavar="KIND",
+                   help=f"what to start from: {', '.join(STARTERS)}, or a study spec "
+                   "(studies/...)")
     p.add_argument("dir", help="directory to write into (created if missing)")
     p.add_argument("--name", default=None,
                    help="file name in DIR, not a path (default: KIND.toml with '-' as '_')")

@@ -34,6 +34,9 @@ def forward_planetary(args, design, run) -> int:
     summary = planetary_summary(design, motion, values, found)
     summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = summary["verdict"] = verdict(summary["objectives"])
+    from plantmech.outputs.caveats import caveats
+
+    cav = summary["caveats"] = caveats(design, summary["objectives"])
     written = write_planetary_outputs(out, design, motion, summary)
     if not args.no_plots:
         from plantmech.outputs import planetary_plots as pp
@@ -61,5 +64,5 @@ def forward_planetary(args, design, run) -> int:
     print("wrote: " + ", ".join(str(run.final(p)) for p in written))
     what = ("every limit of [limits] met" if summary["objectives"] else
             "the train closes and runs (no [limits] given: nothing else checked)")
-    print(verdict_line(v, what))
+    print(verdict_line(v, what, cav))
     return v["exit_code"]

@@ -70,8 +70,13 @@ def inverse_planetary(args, design, run) -> int:
             "tip_y_mm": res.tip.imag, "carrier_abs_deg": res.carrier * deg,
             "arm_abs_deg": res.arm * deg, "ratio": res.ratio})
         written.append(out / "inverse.csv")
+    if "estimate" in job:
+        summary["error_estimate"] = job["estimate"]
     summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = summary["verdict"] = verdict(job["rows"], infeasible=not res.feasible)
+    from plantmech.outputs.caveats import caveats
+
+    cav = summary["caveats"] = caveats(design, job["rows"])
     write_json(out / "summary.json", summary)
     written.append(out / "summary.json")
     if not args.no_plots:
@@ -87,6 +92,10 @@ def inverse_planetary(args, design, run) -> int:
         print(f"  carrier arm {res.centre_distance:.4f} mm, arm {res.arm_length:.4f} mm")
     for reason in res.reasons:
         print(f"  INFEASIBLE: {reason}", file=sys.stderr)
+    if job.get("seeder") is not None:  # seed 000's warnings (the dwell's)
+        for d in job["seeder"].diagnostics:
+            if d.severity == "warning":
+                print(f"  WARNING [{d.kind}]: {d.message}")
     if res.feasible:
         print(f"  ratio {summary['ratio_range'][0]:.4f}-{summary['ratio_range'][1]:.4f}, sun "
               f"radius {summary['sun_radius_mm'][0]:.3f}-{summary['sun_radius_mm'][1]:.3f} mm, "
@@ -95,6 +104,10 @@ def inverse_planetary(args, design, run) -> int:
 
     for r in job["rows"]:
         print(check_line(r, 30, digits=4))
+    if "estimate" in job:
+        from plantmech.objectives.inverse_estimate import estimate_line
+
+        print(estimate_line(job["estimate"]))
     print("wrote: " + ", ".join(str(run.final(p)) for p in written))
     if res.feasible and "max_realized_tip_deviation_mm" in (job["deviation"] or {}):
         summary_note = ("feasible; the written design's forward tip follows the inverse "
@@ -106,5 +119,7 @@ def inverse_planetary(args, design, run) -> int:
     else:
         summary_note = ("feasible; the written design's forward tip passes through every "
                         "type-value point and meets every limit of [limits]")
-    print(verdict_line(v, summary_note))
+    if not job.get("estimate", {"computed": True})["computed"]:
+        summary_note += " (its error estimate was not computed: see above)"
+    print(verdict_line(v, summary_note, cav))
     return v["exit_code"]

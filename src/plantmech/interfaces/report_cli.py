@@ -78,6 +78,13 @@ def design_animation(design):
     from plantmech.workflows import run_seeder_forward, run_transplanter
 
     try:
+        if design.mechanism == "planetary":
+            from plantmech.outputs.report import planetary_animation
+            from plantmech.trains.model import simulate
+            from plantmech.trains.spec import build_from_design
+
+            return planetary_animation(design, simulate(build_from_design(design),
+                                                        design.samples))
         if design.mechanism == "sugarcane_seeder":
             return seeder_forward_animation(run_seeder_forward(design))
         return transplanter_animation(run_transplanter(design))
@@ -100,11 +107,28 @@ def optimize_report(args, out: Path, outcome, run=None) -> list[Path]:
             anim = design_animation(load_design(best))
         except DesignError as exc:
             print(f"  report: no animation ({exc})", file=sys.stderr)
-    rec = dict(outcome.record)
+    rec = one_objective_table(outcome.record)
     rec.setdefault("name", f"optimize --problem {args.problem}")
     return _finish(write_report(out / REPORT_NAME, rec, figures, anim,
                                 verdict=(bool(outcome.feasible), _optimize_verdict(outcome)),
                                 command=_command(args)), run=run)
+
+
+def one_objective_table(rec: dict) -> dict:
+    """An optimization record for the report with one objective table per run: where the
+    best design was re-checked at full resolution (``verified_full_resolution``), its
+    re-checked objectives (the ones the verdict reads) replace the optimizer's own rows,
+    as "objectives at full resolution"; a layered job's layers alike."""
+    out = {}
+    for k, v in rec.items():
+        out[k] = one_objective_table(v) if isinstance(v, dict) else v
+    checked = out.get("verified_full_resolution")
+    if isinstance(checked, dict) and "objectives" in checked:
+        out.pop("objectives", None)
+        out["verified_full_resolution"] = {k: v for k, v in checked.items()
+                                           if k != "objectives"}
+        out["objectives at full resolution"] = checked["objectives"]
+    return out
 
 
 def _optimize_verdict(outcome) -> str:
@@ -151,6 +175,10 @@ def _study_report(args) -> int:
     """Draw the missing plots and the page into temporary files beside the target; the page
     replaces the target in one rename, then the plots join the study directory (never
     replacing a file there)."""
+    from plantmech.extras import refused
+
+    if refused("studies", "'plantmech report' (a study's results are Parquet files)"):
+        return 2
     import os
     import shutil
     import tempfile

@@ -47,7 +47,7 @@ def _schema(args) -> int:
 def register(subparsers) -> None:
     """Add the ``schema`` subcommand."""
     p = subparsers.add_parser("schema", help="JSON Schema of design files (for editors); "
-                              "reference: docs/design-file.md")
+                              "reference: plantmech docs design-file")
     p.add_argument("mechanism", nargs="?", default=None,
                    help="one mechanism's schema: sugarcane_seeder, rice_transplanter or "
                    "rice_transplanter_khv (default: any design file)")

@@ -18,24 +18,17 @@ from pathlib import Path
 EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET = 0, 2, 3, 4
 
 
-def _positive_int(text: str) -> int:
-    import argparse
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
-    return v
-
-
 def register(subparsers) -> None:
+    from plantmech.interfaces.cli import _number
+    from plantmech.studies.spec import MAX_CHUNKS
+
     p = subparsers.add_parser("study", help="tolerance Monte Carlo, sweeps, multi-start "
-                              "optimization on Dask")
+                              "optimization on Dask (needs plantmech[studies])")
     p.add_argument("design", help="design file (TOML); never overwritten")
     p.add_argument("--spec", required=True, help="study file (TOML): kind = 'tolerance', "
-                   "'sweep' or 'multi-start' (examples/studies/)")
+                   "'sweep' or 'multi-start'; shipped ones: plantmech.example_path("
+                   "'studies/seeder_tolerance') and the other studies/ names of "
+                   "plantmech.list_examples()")
     p.add_argument("--out", required=True, help="output directory; rerun with the same "
                    "inputs and --out to resume a study stopped by --max-chunks or a failed "
                    "chunk (a --out holding this same study needs no --force)")
@@ -45,9 +38,10 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
                    "default: a local cluster on this machine")
-    p.add_argument("--workers", type=_positive_int, default=2,
-                   help="worker processes of the local cluster (default 2)")
-    p.add_argument("--max-chunks", type=_positive_int, default=None,
+    p.add_argument("--workers", type=_number(int, 1, strict=False, maximum=64), default=2,
+                   help="worker processes of the local cluster (1-64, default 2)")
+    p.add_argument("--max-chunks", type=_number(int, 1, strict=False, maximum=MAX_CHUNKS),
+                   default=None,
                    help="stop after this many new chunks (resume later)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -59,6 +53,10 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    from plantmech.extras import refused
+
+    if refused("studies", "'plantmech study'"):
+        return EXIT_INPUT
     from plantmech.interfaces.cli import run_command
     from plantmech.studies.spec import StudySpecError, load_spec
 
@@ -81,13 +79,13 @@ def _same_study(args, spec, out: Path) -> bool:
     """``out`` holds this very study (study.json with the inputs' fingerprint): it is
     resumed without --force (its finished chunks are kept). Another study there is
     refused by name (OutputError)."""
-    import json
-
     from plantmech.design import DesignError, load_design
     from plantmech.outputs.files import OutputError
 
     try:
-        state = json.loads((out / "study.json").read_text(encoding="utf-8"))
+        from plantmech.studies.summary import read_state
+
+        state = read_state(out)  # bounded: a FIFO or a device there is no study
         same = state.get("fingerprint") == _fingerprint(load_design(args.design), spec)
     except (OSError, ValueError, AttributeError, DesignError):
         return False
@@ -102,8 +100,24 @@ def _body(args, design, run, spec) -> int:
     from plantmech.outputs import signals
     from plantmech.studies.engine import StudyStateError
     from plantmech.studies.parameters import StudyInputError
+    from plantmech.studies.spec import StudySpecError
     from plantmech.workflows import InfeasibleDesign
 
+    try:  # the spec against the design, before any work: a refusal keeps nothing
+        if spec.kind == "multi-start":
+            from plantmech.studies.multistart import check_problem
+
+            check_problem(design, spec, args.spec)
+        else:
+            from plantmech.studies.parameters import check_parameters
+
+            try:
+                check_parameters(design, list(spec.parameters))
+            except StudyInputError as exc:
+                raise StudySpecError(f"{args.spec}: field 'parameters': {exc}") from None
+    except StudySpecError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     out = run.path
     if args.scheduler and args.workers != 2:
         print("note: --workers is ignored with --scheduler (the cluster has its own)",
@@ -111,8 +125,9 @@ def _body(args, design, run, spec) -> int:
     fp = _fingerprint(design, spec)
     try:
         if spec.kind == "multi-start":
-            from plantmech.studies.multistart import run_multistart
+            from plantmech.studies.multistart import check_problem, run_multistart
 
+            check_problem(design, spec, args.spec)  # before a start is sent
             outcome = run_multistart(design, spec, out, fp, str(args.design), args.scheduler,
                                      args.workers, not args.quiet, args.max_chunks)
         else:
@@ -123,7 +138,7 @@ def _body(args, design, run, spec) -> int:
     except StudyInputError as exc:
         print(f"error: {args.spec}: field 'parameters': {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except StudyStateError as exc:
+    except (StudyStateError, StudySpecError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except InfeasibleDesign:

@@ -27,25 +27,29 @@ def register(subparsers) -> None:
     from plantmech.interfaces.cli import add_output_options
 
     add_output_options(p)
-    p.add_argument("--steps", type=_number(int, 8, strict=False), default=720,
-                   help="carrier steps per turn (720: 0.5 deg)")
-    p.add_argument("--max-te", type=_number(float, 0.0), default=0.5,
+    p.add_argument("--steps", type=_number(int, 8, strict=False, maximum=36_000), default=720,
+                   help="carrier steps per turn (8-36000; 720: 0.5 deg)")
+    p.add_argument("--max-te", type=_number(float, 0.0, maximum=360.0), default=0.5,
                    help="limit on each pair's transmission error (mid band), deg")
-    p.add_argument("--max-attitude-error", type=_number(float, 0.0), default=1.0,
+    p.add_argument("--max-attitude-error", type=_number(float, 0.0, maximum=360.0), default=1.0,
                    help="limit on the arm's attitude error through the train, deg")
-    p.add_argument("--max-tip-band", type=_number(float, 0.0), default=5.0,
+    p.add_argument("--max-tip-band", type=_number(float, 0.0, maximum=10_000.0), default=5.0,
                    help="limit on the tip band (both ends of the free play), mm")
-    p.add_argument("--density", type=_number(float, 0.0), default=7850.0,
-                   help="gear material density, kg/m^3 (loads)")
-    p.add_argument("--face-width", type=_number(float, 0.0), default=None,
+    p.add_argument("--density", type=_number(float, 0.0, least=100.0, maximum=30_000.0),
+                   default=7850.0,
+                   help="gear material density, kg/m^3 (100-30000; loads)")
+    p.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0), default=None,
                    help="gear face width, mm (default: the gears' verification.json, else 12)")
-    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False), default=1.0,
+    p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=1.0,
                    help="arm mass, kg (a slender rod planet axis -> tip)")
-    p.add_argument("--payload", type=_number(float, 0.0, strict=False), default=0.5,
+    p.add_argument("--payload", type=_number(float, 0.0, strict=False, maximum=1000.0),
+                   default=0.5,
                    help="cane / seedling mass at the tip, kg")
-    p.add_argument("--carrier-speed", type=_number(float, 0.0), default=360.0,
+    p.add_argument("--carrier-speed", type=_number(float, 0.0, maximum=36_000.0), default=360.0,
                    help="carrier speed for the loads, deg/s (the papers': 360)")
-    p.add_argument("--no-loads", action="store_true", help="skip the multibody loads")
+    p.add_argument("--no-loads", action="store_true", help="skip the multibody loads (they "
+                   "need plantmech[loads]: without it they are reported not computed, exit 4)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
     p.set_defaults(func=run)
 
@@ -121,6 +125,7 @@ def _body(args, design, run) -> int:
         spec = _load_spec(args, gears_dir)
         loads = _record_loads(
             rec, lambda: seeder_loads(train, simulate(train, samples=3600), gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -158,8 +163,10 @@ def _run_transplanter(args, design, gears, out) -> dict:
     if not args.no_loads:
         from plantmech.contact.transplanter_loads import differential_loads, khv_loads
 
+        spec = _load_spec(args, Path(args.gears))
         loads = _record_loads(rec, lambda: (khv_loads if khv else differential_loads)(
-            design, gears, _load_spec(args, Path(args.gears))))
+            design, gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -200,8 +207,9 @@ def _run_planetary(args, design, gears, out) -> dict:
     rec = planetary_record(contact, _limits(args))
     loads = None
     if not args.no_loads:
-        loads = _record_loads(rec, lambda: planetary_loads(
-            design, gears, _load_spec(args, Path(args.gears))))
+        spec = _load_spec(args, Path(args.gears))
+        loads = _record_loads(rec, lambda: planetary_loads(design, gears, spec))
+        _record_strength(rec, design, gears, loads, spec.face_width_mm)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -217,8 +225,18 @@ def _record_loads(rec: dict, compute):
     """Run ``compute()`` (a loads dict) into ``rec``: the loads without their series, and
     the energy-balance check (< 1 %) in the checks and the verdict; a loads computation
     refused with a ValueError is recorded as skipped. Returns the loads (None if skipped)."""
+    from plantmech.extras import MissingExtra, require
     from plantmech.objectives import Check
 
+    try:
+        require("loads", "the multibody loads")
+    except MissingExtra as exc:  # the contact is checked; the verdict says what is missing
+        note = f"not computed: {exc} (or --no-loads to leave them out)"
+        rec["loads"] = {"not_computed": note}
+        rec["checks"].append(Check("loads: energy balance error", None, "< 1", False, "%",
+                                   note=note).as_dict())
+        rec["ok"] = False
+        return None
     try:
         loads = compute()
     except ValueError as exc:
@@ -232,6 +250,57 @@ def _record_loads(rec: dict, compute):
     return loads
 
 
+def _record_strength(rec: dict, design, gears, loads, face_width_mm: float) -> None:
+    """The strength table (``contact/strength.py``) into ``rec`` and its safeties into the
+    checks and the verdict; said "not computed" where there are no loads or no rating for
+    the train."""
+    if loads is None:
+        rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
+        return
+    if design.mechanism == "sugarcane_seeder":
+        rec["strength"] = {"not_computed": "the replacement-gear rating reads the contact "
+                           "geometry of the transplanters and the general planetary train "
+                           "(contact/strength.py); write the seeder as a mechanism = "
+                           "\"planetary\" file (examples/planetary/) to rate it"}
+        return
+    from plantmech.contact.strength import strength_record
+
+    st = strength_record(design, gears, loads, face_width_mm)
+    rec["strength"] = st
+    rec["checks"] += st["checks"]
+    rec["ok"] = rec["ok"] and all(c["ok"] for c in st["checks"])
+
+
+def _strength_lines(st: dict) -> list[str]:
+    """The printed strength table: per gear the root and flank stress and safety at the
+    worst contact (arm, carrier angle, tooth); the shafts."""
+    if "not_computed" in st:
+        return [f"  strength not computed: {st['not_computed']}"]
+    mat = st["material"]
+    lines = [f"  strength ({st['method']}; {mat['label']}, K_A {st['rating']['K_A']:g}, "
+             f"face width {st['face_width_mm']:g} mm):"]
+    for g in st["gears"]:
+        for kind in ("root", "flank"):
+            w = g[kind]
+            lines.append(
+                f"    {'ok  ' if w['safety'] >= w['min_safety'] else 'FAIL'} {g['gear']:<9} "
+                f"{kind:<5} {w['stress_MPa']:8.1f} MPa  safety {w['safety']:6.2f} (min "
+                f"{w['min_safety']:g})  at arm {w['arm']}, carrier {w['carrier_angle_deg']:.1f}"
+                f" deg, tooth {w['tooth'] or '-'} (replacement z {w['equivalent_teeth']:g}, F_t "
+                f"{w['tangential_force_N']:.0f} N)")
+    for sh in st["shafts"]:
+        if "skipped" in sh:
+            lines.append(f"    shaft of the {sh['gear']}: not checked ({sh['skipped']})")
+            continue
+        lines.append(
+            f"    {'ok  ' if sh['ok'] else 'FAIL'} {sh['gear']} shaft d {sh['diameter_mm']:.1f}"
+            f" mm: torque {sh['torque_N_m']:.2f} N m, torsion {sh['torsion_MPa']:.0f} MPa, "
+            f"bending {sh['bending_MPa']:.0f} MPa, von Mises {sh['von_mises_MPa']:.0f} MPa, "
+            f"safety {sh['safety']:.2f} (min {sh['min_safety']:g}), wall "
+            f"{sh.get('wall_mm', float('nan')):.1f} mm")
+    return lines
+
+
 def _load_spec(args, gears_dir: Path):
     """The loads' inputs from the command line (face width: the gears' record's)."""
     from plantmech.contact.loads import LoadSpec
@@ -243,8 +312,9 @@ def _load_spec(args, gears_dir: Path):
 
 
 def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
-    """Write verification.json, print the figures, the checks and the verdict (last, the
-    same object as the record's ``verdict``); the exit code is the verdict's."""
+    """Write verification.json, print the figures, the checks, the caveats and the verdict
+    (last, the same object as the record's ``verdict``); the exit code is the verdict's."""
+    from plantmech.outputs.caveats import caveats
     from plantmech.outputs.files import check_line, write_json
     from plantmech.outputs.verdict import verdict, verdict_line
 
@@ -262,6 +332,7 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
                    "loads", {}) else "")
     if not_run:
         rec["not_checked"] = [not_run]
+    rec["caveats"] = caveats(design, rec["checks"])
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
           f"({rec['step_deg']:.2f} deg), {rec['wall_time_s']:.1f} s")
@@ -304,12 +375,16 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
                   f"{imp['drive_work_J']:+.3f} J, peak input torque "
                   f"{imp['peak_input_torque_N_m']:.1f} N m")
     elif "loads" in rec:
-        print(f"  loads skipped: {rec['loads']['skipped']}")
+        print(f"  loads skipped: {rec['loads']['skipped']}" if "skipped" in rec["loads"]
+              else f"  loads {rec['loads']['not_computed']}")
+    if "strength" in rec:
+        for line in _strength_lines(rec["strength"]):
+            print(line)
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
     print("wrote: " + ", ".join(str(run.final(out / f)) for f in files))
     print(verdict_line(v, "the gear files drive the train within every limit"
-                       + (f"; {not_run}" if not_run else "")))
+                       + (f"; {not_run}" if not_run else ""), rec["caveats"]))
     return v["exit_code"]
 
 
@@ -323,9 +398,13 @@ def _where(at: dict | None) -> str:
 
 def _face_width(gears_dir: Path) -> float:
     """The face width the gears were written with (their verification.json), else 12 mm."""
-    import json
+    import math
 
-    try:
-        return float(json.loads((gears_dir / "verification.json").read_text())["face_width_mm"])
-    except (OSError, ValueError, KeyError, TypeError):
+    from plantmech.inputs import read_input_json
+
+    try:  # read bounded: a FIFO or a device there is no record (never a hang)
+        rec = read_input_json(gears_dir / "verification.json", "gears record", 64_000_000, 32)
+        width = float(rec["face_width_mm"])
+    except (ValueError, KeyError, TypeError):
         return 12.0
+    return width if math.isfinite(width) and 0 < width <= 1000 else 12.0

@@ -49,6 +49,33 @@ TWO_PI = 2.0 * np.pi
 ILLINOIS_ITERATIONS = 30
 
 
+#: largest step of gear 2's pitch radius at the dwell's lock point (mm) that a locking arc
+#: (one radius on both sides, seed 000 Eq. 5) is taken to close
+DWELL_LOCK_TOLERANCE_MM = 0.01
+
+
+def dwell_lock_check(info: dict) -> dict:
+    """The check that a toothless dwell can lock (``InverseResult.dwell``): gear 2's pitch
+    radius where meshing stops and where it resumes (the same point of gear 2, which
+    stands still in between) within ``DWELL_LOCK_TOLERANCE_MM``; otherwise the note says
+    why the path cannot have a lock there."""
+    e = info["edge_pitch_radii"]
+    end, start = e["meshing_end"], e["meshing_start"]
+    jump = info["lock_radius_jump"]
+    ok = bool(jump <= DWELL_LOCK_TOLERANCE_MM)
+    note = ("gear 2's pitch radius where the teeth stop meshing and where they resume (the "
+            "same point of gear 2: it stands still through the dwell)")
+    if not ok:
+        note += (f": {end['r2']:.2f} mm against {start['r2']:.2f} mm, the sun's "
+                 f"{end['r1']:.2f} against {start['r1']:.2f} mm. The ratio law before the "
+                 "dwell and after it differ there, so no locking arc (one radius on both "
+                 "sides) fits and Eq. 5 has no edge radius: theta2 and edge_radius are not "
+                 "computed. Plan the dwell where the planet turns at the same rate "
+                 "relative to the carrier just before it and just after it")
+    return {"name": "dwell_lock_radius_jump_mm", "value": round(float(jump), 6), "unit": "mm",
+            "limit": f"<= {DWELL_LOCK_TOLERANCE_MM:g} mm", "ok": ok, "note": note}
+
+
 @dataclass
 class Diagnostic:
     """One finding of the inverse design: where and why."""
@@ -58,6 +85,10 @@ class Diagnostic:
     between_points: list[int] | None = None
     carrier_angle_deg: list[float] | None = None
     severity: str = "error"  # "error" makes the design infeasible; "warning" does not
+    #: the first and last flagged samples' carrier angles (deg) where ``carrier_angle_deg``
+    #: is refined between samples: the optimizer's grading reads the samples, as the
+    #: population path does (``_run_score``)
+    sample_angle_deg: list[float] | None = None
 
     def as_dict(self) -> dict:
         return {
@@ -622,10 +653,18 @@ def inverse_population(points, samples: int = 360, a1: float | None = None,
                           "r4": float(e_r4)}
         info["edge_pitch_radii"] = edges
         before, after = edges["meshing_end"]["r1"], edges["meshing_start"]["r1"]
-        edge = dwell.edge_radius if dwell.edge_radius is not None else 0.5 * (before + after)
-        info["edge_radius"] = float(edge)
         info["sun_radius_at_ends"] = [float(before), float(after)]
-        info["theta2"] = toothless_sector_follower_angle(info["theta1"], edge, A1[r])
+        # gear 2 stands still through the dwell: the same point of it faces the sun where
+        # meshing stops and where it resumes, so a locking arc needs one radius there
+        jump = abs(edges["meshing_end"]["r2"] - edges["meshing_start"]["r2"])
+        info["lock_radius_jump"] = float(jump)
+        if jump <= DWELL_LOCK_TOLERANCE_MM:
+            edge = dwell.edge_radius if dwell.edge_radius is not None else 0.5 * (before
+                                                                                 + after)
+            info["edge_radius"] = float(edge)
+            info["theta2"] = toothless_sector_follower_angle(info["theta1"], edge, A1[r])
+        else:  # no radius locks: Eq. 5 has nothing to apply to (dwell_lock_check says why)
+            info["edge_radius"] = info["theta2"] = None
         info["max_tip_deviation"] = float(np.hypot(*(tip_real[r] - tip[r]).T).max())
 
     out = InversePopulation(
@@ -739,14 +778,26 @@ def inverse_design(traj, settings: InverseSettings, fused: bool = True) -> Inver
     res.dwell = pop.dwell[0]
     g_real = pop.total_ratio[0]
     res.total_ratio = g_real
-    for s, e in cyclic_runs(pop.ratio_bad[0]):
+    runs = cyclic_runs(pop.ratio_bad[0])
+    if runs:  # located on the law's spline between the samples (geometry.refine)
+        from plantmech.geometry.refine import periodic_law, run_of_law
+
+        spline = periodic_law(res.planet_rel - psi)
+        scale = res.dwell["ratio_scale"] if res.dwell is not None else 1.0
+
+        def law(x):
+            return scale * (spline(x, 1) + 1.0)
+
+    for s, e in runs:
+        run = run_of_law(law, psi, s, e)
         diags.append(Diagnostic(
             "ratio_not_positive",
             "the planet would have to stop or turn back relative to the carrier "
-            f"(d psi4/d psi reaches {_on_run(g_real, s, e).min():.3f}): a gear pair cannot give a "
+            f"(d psi4/d psi reaches {run['minimum']:.4f}): a gear pair cannot give a "
             "zero or negative speed ratio, pitch radius would be <= 0",
             _bracket_points(traj, u[s], u[e]),
-            [float(np.degrees(psi[s])), float(np.degrees(psi[e]))],
+            [float(np.degrees(np.mod(run[k], TWO_PI))) for k in ("start", "end")],
+            sample_angle_deg=[float(np.degrees(psi[s])), float(np.degrees(psi[e]))],
         ))
     if failure == "ratio_not_positive":
         return res
@@ -786,6 +837,21 @@ def inverse_design(traj, settings: InverseSettings, fused: bool = True) -> Inver
             f"off the plan by up to {dev.max():.2f} mm (largest at carrier angle "
             f"{np.degrees(psi[k]):.1f} deg)",
             _bracket_points(traj, u[k], u[k]),
+            [float(np.degrees(res.dwell["carrier_start"])),
+             float(np.degrees(res.dwell["carrier_end"]))],
+            severity="warning",
+        ))
+    if res.dwell is not None and res.dwell["theta2"] is None:
+        e = res.dwell["edge_pitch_radii"]
+        dw = settings.dwell
+        diags.append(Diagnostic(
+            "dwell_cannot_lock",
+            f"gear 2 cannot lock in the dwell q{dw.start}-q{dw.end}: its pitch radius is "
+            f"{e['meshing_end']['r2']:.2f} mm where the teeth stop meshing and "
+            f"{e['meshing_start']['r2']:.2f} mm where they resume (a step of "
+            f"{res.dwell['lock_radius_jump']:.2f} mm at the same point of gear 2), so no "
+            "locking arc fits and Eq. 5 gives no theta2 (check dwell_lock_radius_jump_mm)",
+            [dw.start, dw.end],
             [float(np.degrees(res.dwell["carrier_start"])),
              float(np.degrees(res.dwell["carrier_end"]))],
             severity="warning",

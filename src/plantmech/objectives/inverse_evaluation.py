@@ -69,8 +69,13 @@ def summary(res: InverseResult, design, planning, attitude, attitude_checks,
         d = dict(res.dwell)
         for k in ("theta1", "carrier_start", "carrier_end", "planned_rel_rotation", "theta2"):
             if k in d:
-                d[k + "_deg"] = float(d.pop(k) * DEG)
+                v = d.pop(k)
+                d[k + "_deg"] = None if v is None else float(v * DEG)
         out["dwell"] = d
+        if "lock_radius_jump" in d:
+            from plantmech.mechanisms.seeder_inverse import dwell_lock_check
+
+            out["dwell_checks"] = [dwell_lock_check(res.dwell)]
     if extra:
         out.update(extra)
     return out
@@ -96,9 +101,15 @@ class InfeasibleDesign(Exception):
         self.job = job
 
 
-def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> SeederInverseJob:
-    """Inverse design of the trajectory, Table 1, attitude and (``manufacturability``) the
-    manufacturability of the designed pitch curves (``objectives.seeder.gear_checks``)."""
+def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True,
+                       speeds: bool = False, estimate: bool = False) -> SeederInverseJob:
+    """Inverse design of the trajectory, Table 1, attitude, (``speeds``) the speed objectives
+    of the designed train (``inverse_speed_objectives``, after the attitude in the
+    summary's objectives) and (``manufacturability``) the manufacturability of the designed
+    pitch curves (``objectives.seeder.gear_checks``): with both, the seeder's whole set of
+    checks (``seeder_checks``); ``estimate``: the error estimate of a feasible design
+    (``objectives.inverse_estimate``: summary "error_estimate" and its checks
+    "error_estimate_checks")."""
     traj, res = inverse_design_of(design)
     sections = design.trajectory.sections.model_dump()
     planning = planning_checks(traj, sections, design.planning_limits)
@@ -109,13 +120,36 @@ def run_seeder_inverse(design: SeederDesign, manufacturability: bool = True) -> 
                                   res.point_carrier_angle, sections)
         checks = attitude_checks(att, design.attitude)
     summ = summary(res, design, planning, att, checks or [])
+    job = SeederInverseJob(design, traj, res, summ)
+    if speeds and res.feasible and res.tip_realized is not None:
+        summ["objectives"] += [c.as_dict() for c in inverse_speed_objectives(job)["checks"]]
     if res.feasible and manufacturability:  # can the designed pitch curves be cut?
         from plantmech.objectives.seeder import gear_checks
 
         metrics, g_checks = gear_checks(train_from_inverse(res), rules_for(design))
         summ["manufacturing"] = metrics["manufacturing"]
         summ["manufacturing_checks"] = [c.as_dict() for c in g_checks]
-    return SeederInverseJob(design, traj, res, summ)
+    if res.feasible and estimate:
+        from plantmech.mechanisms.seeder_trains import inverse_settings
+        from plantmech.objectives.inverse_estimate import estimate_rows, seeder_estimate
+
+        summ["error_estimate"] = seeder_estimate(design.trajectory.points,
+                                                 inverse_settings(design), res,
+                                                 design.trajectory.error_estimate_limit_mm)
+        summ["error_estimate_checks"] = estimate_rows(summ["error_estimate"])
+    return job
+
+
+def seeder_checks(summary: dict) -> list[dict]:
+    """The seeder's one set of checks, in one order, from a job's summary: Table 1's
+    planning checks (of the trajectory, when the design has one), the attitude and speed
+    objectives, the manufacturability of the pitch curves (17 for a feasible design with a
+    trajectory), and where the job made them the dwell's lock and the error estimate.
+    ``inverse``, ``design`` (its full-resolution check) and the app show these."""
+    return (list(summary.get("trajectory_checks", [])) + list(summary.get("objectives", []))
+            + list(summary.get("manufacturing_checks", []))
+            + list(summary.get("dwell_checks", []))
+            + list(summary.get("error_estimate_checks", [])))
 
 
 def seeder_inverse_checks(design: SeederDesign, samples: int = 720,

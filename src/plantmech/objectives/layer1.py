@@ -59,10 +59,12 @@ def inverse_speed_objectives(job) -> dict:
 
 def _span_deg(diagnostic) -> float:
     """Carrier angle (deg) a diagnostic covers: the backward turn of a carrier that would
-    have to turn back, else the clockwise span from its first to its last sample."""
-    if not diagnostic.carrier_angle_deg:
+    have to turn back, else the clockwise span from its first to its last sample (the
+    samples' angles where the reported ones are refined between samples)."""
+    angles = getattr(diagnostic, "sample_angle_deg", None) or diagnostic.carrier_angle_deg
+    if not angles:
         return 0.0
-    a, b = diagnostic.carrier_angle_deg
+    a, b = angles
     if diagnostic.kind == "carrier_not_monotonic":
         return abs(b - a)
     return (b - a) % 360.0

@@ -30,12 +30,19 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     found by a sweep over the segments sorted by their smallest x (``np.searchsorted`` on
     all designs' rows at once), then tested exactly: O(n log n + crossing candidates) per
     design instead of every one of the n^2 / 2 pairs (tests/test_objectives_planetary.py
-    holds it to the all-pairs count)."""
+    holds it to the all-pairs count). A population of ``curves.KERNEL_POINTS`` points or
+    more is counted by ``trains.fused.crossings`` (the same sweep per design, compiled)."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
     n = samples
     ax, ay = z.real, z.imag
+    from plantmech.trains.curves import use_kernels
+
+    if use_kernels(P * n):  # a population: per design, one sorted sweep (the same counts)
+        from plantmech.trains.fused import crossings
+
+        return crossings(np.ascontiguousarray(ax), np.ascontiguousarray(ay)).astype(int)
     bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
     xlo, xhi = np.minimum(ax, bx), np.maximum(ax, bx)
     ylo, yhi = np.minimum(ay, by), np.maximum(ay, by)
@@ -146,14 +153,40 @@ def population_evaluation(designs: list, samples: int | None = None) -> list[lis
     for i, d in enumerate(designs):
         groups.setdefault((structure_key(d), samples or d.samples), []).append(i)
     out: list = [None] * len(designs)
+    jobs = []
     for (_, n), members in groups.items():
         size = chunk_designs(designs[members[0]].train.grid)
-        for start in range(0, len(members), size):
-            part = members[start:start + size]
-            for i, rows in zip(part, _evaluate_group([designs[i] for i in part], n),
-                               strict=True):
-                out[i] = rows
+        jobs += [(members[start:start + size], n) for start in range(0, len(members), size)]
+
+    def run(job):
+        part, n = job
+        return part, _evaluate_group([designs[i] for i in part], n)
+
+    for part, rows in _mapped(run, jobs):
+        for i, r in zip(part, rows, strict=True):
+            out[i] = r
     return out
+
+
+def _mapped(fn, jobs: list):
+    """``map(fn, jobs)``, on ``PLANTMECH_KERNEL_THREADS`` threads when that asks for more
+    than one and there are several sub-populations (the fused kernels release the GIL;
+    each job's numbers are its own, so the results do not depend on the threads); one
+    thread by default (``mechanisms.seeder_kernel.kernel_threads``: on a shared machine the
+    optimizer's worker processes already fill the cores)."""
+    import os
+
+    if len(jobs) < 2 or os.environ.get("PLANTMECH_KERNEL_THREADS", "1").strip() in ("", "1"):
+        return map(fn, jobs)
+    from concurrent.futures import ThreadPoolExecutor
+
+    from plantmech.mechanisms.seeder_kernel import kernel_threads
+
+    threads = min(kernel_threads(), len(jobs))
+    if threads < 2:
+        return map(fn, jobs)
+    with ThreadPoolExecutor(threads) as pool:
+        return list(pool.map(fn, jobs))
 
 
 #: grid points (designs x pitch-curve grid) of one sub-population: each (P, grid) table
@@ -208,7 +241,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
     list that gets, per design in order, arm 1's (tip, tip rate, arm angle) over the
     carrier samples (complex mm, complex mm/rad, rad; None for a train that cannot be
     built)."""
-    from plantmech.trains.model import simulate
+    from plantmech.trains.model import simulate, simulate_tips
     from plantmech.trains.spec import TrainSpecError, build_from_designs
 
     try:
@@ -221,7 +254,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
         half = len(designs) // 2  # find the refused ones; evaluate the rest together
         return (_evaluate_group(designs[:half], samples, motions)
                 + _evaluate_group(designs[half:], samples, motions))
-    motion = simulate(built, samples)
+    motion = simulate_tips(built, samples) or simulate(built, samples)  # tips: all it reads
     if motions is not None:
         motions.extend((motion.tip[i, 0], motion.tip_rate[i, 0], motion.arm_angle[i, 0])
                        for i in range(len(designs)))

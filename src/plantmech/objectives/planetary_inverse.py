@@ -213,11 +213,19 @@ def first_order_inverse(traj: ClosedTrajectory, arm: str = "long", kind: str = "
     j_pts = np.searchsorted(u_dense, u_max + np.mod(traj.knots[:-1] - u_max, traj.period))
     res.point_carrier_angle_deg = np.degrees(psi_dense[np.clip(j_pts, 0, m)])
     if not g.min() > 0:
+        from plantmech.geometry.refine import minimum_between, periodic_law
+
         k = int(np.argmin(g))
+        spline = periodic_law(drift)
+        step = TWO_PI / n
+        x_min, g_min = minimum_between(
+            lambda x: (spline(x, 1) + net / TWO_PI) / (-s * sense), psi[k] - step,
+            psi[k] + step)  # between the samples (geometry.refine)
         res.reasons.append(
             f"the planet would have to stop or turn the other way relative to the carrier "
-            f"{_points_near(traj, u[k])} (carrier angle {np.degrees(psi[k]):.1f} deg; the "
-            f"{kind} pair's ratio law reaches {g[k]:.4f}, the planet turning {q:.3f} times "
+            f"{_points_near(traj, u[k])} (carrier angle "
+            f"{np.degrees(np.mod(x_min, TWO_PI)):.2f} deg; the "
+            f"{kind} pair's ratio law reaches {g_min:.4f}, the planet turning {q:.3f} times "
             "per sun turn): no one pair rolls this law (an external pair turns the planet "
             "against the sun, an internal one with it); a swinging arm needs a second-order "
             "train (seed 000)")
@@ -374,7 +382,22 @@ def run_first_order(design) -> dict:
     if not res.feasible:
         return job
     designed = first_order_design(design, res)
-    return _round_trip(job, designed, traj)
+    from plantmech.objectives.inverse_estimate import first_order_estimate
+
+    return _with_estimate(_round_trip(job, designed, traj), lambda: first_order_estimate(
+        tr.points, res, tr.arm, pair.kind, s, tr.samples, tr.error_estimate_limit_mm))
+
+
+def _with_estimate(job: dict, estimate) -> dict:
+    """``job`` with its error estimate (``objectives.inverse_estimate``; ``estimate()``
+    computes it) under "estimate" and its checks among the rows, if the design is
+    feasible."""
+    from plantmech.objectives.inverse_estimate import estimate_rows
+
+    if job["feasible"]:
+        job["estimate"] = estimate()
+        job["rows"] += estimate_rows(job["estimate"])
+    return job
 
 
 def _round_trip(job: dict, designed, traj) -> dict:
@@ -470,13 +493,24 @@ def _run_second_order(design) -> dict:
     res.follower_turns = 1.0
     res.carrier0_deg = float(np.degrees(seeder.carrier_abs[0]))
     res.arm0_deg = float(np.degrees(seeder.arm_angle_realized[0]))
+    from plantmech.objectives.inverse_estimate import seeder_estimate
+
+    def estimate():
+        return seeder_estimate(tr.points, settings, seeder, tr.error_estimate_limit_mm)
+
     if seeder.dwell is not None:  # the contacts' radii while the teeth mesh
         res.sun_radii = seeder.r1[np.isfinite(seeder.r1)]
         res.planet_radii = seeder.r4[np.isfinite(seeder.r4)]
-        return _round_trip(job, second_order_dwell_design(design, seeder), traj)
+        from plantmech.mechanisms.seeder_inverse import dwell_lock_check
+
+        job = _round_trip(job, second_order_dwell_design(design, seeder), traj)
+        if job["feasible"]:
+            job["rows"].append(dwell_lock_check(seeder.dwell))
+        return _with_estimate(job, estimate)
     res.sun_radii = seeder.r1[(-np.arange(len(seeder.r1))) % len(seeder.r1)]
     res.planet_radii = seeder.r4
-    return _round_trip(job, second_order_design(design, seeder), traj)
+    return _with_estimate(_round_trip(job, second_order_design(design, seeder), traj),
+                          estimate)
 
 
 def second_order_design(design, seeder):

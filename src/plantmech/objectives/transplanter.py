@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plantmech.design import TransplanterLimitsSpec as TransplanterLimits  # noqa: F401
+from plantmech.geometry.refine import cyclic_extreme
 from plantmech.mechanisms.transplanter import TransplanterMotion
 from plantmech.objectives import Check, limit_text, relative_violation
 
@@ -144,8 +145,10 @@ def stages(motion: TransplanterMotion, setup: FieldSetup) -> dict:
     has_pick = in_mat.any(axis=-1)
     deepest = np.argmin(np.where(in_mat, v, np.inf), axis=-1)
     p0, p1 = _run_around(in_mat, deepest)
-    ground = B[:, :1].imag.min(axis=-1) + setup.planting_depth  # (P, 1): arm 0 of each design
-    ground = ground[:, 0]
+    # the lowest point of arm 0's path, between the samples (geometry.refine)
+    lowest = cyclic_extreme(B[:, 0].imag, motion.tip_rate[:, 0].imag, TWO_PI / S,
+                            largest=False)
+    ground = lowest + setup.planting_depth  # (P,)
     below = B.imag < ground[:, None, None]
     kmin = np.argmin(B.imag, axis=-1)
     g_start, g_end = _run_around(below, kmin)
@@ -221,8 +224,9 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         "(vi) |upper - lower surface length| of the picked block: where the needle's pass "
         "crosses the mat's top and bottom surfaces, along the box floor")
     # --- (vii) trajectory height above ground ---------------------------------------
-    yB = motion.B[:, 0].imag
-    height = yB.max(axis=-1) - st["ground_y"]
+    S = motion.B.shape[-1]
+    height = cyclic_extreme(motion.B[:, 0].imag, motion.tip_rate[:, 0].imag, TWO_PI / S,
+                            largest=True) - st["ground_y"]  # between the samples
     add("trajectory_height", height, limits.min_trajectory_height_mm, None, "mm",
         "(vii) highest tip point above the ground (against bridging)")
     # --- (viii), (ix) absolute trajectory -------------------------------------------
@@ -234,7 +238,8 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     per_turn = J  # one plant per arm per carrier turn
     spacing = np.asarray(setup.spacing_nominal, dtype=float)
     incl = _forward_inclination(motion.B[:, 0], kmin, st["ground_y"], fwd_sign,
-                                spacing * per_turn, setup.check_height)
+                                spacing * per_turn, setup.check_height,
+                                motion.tip_rate[:, 0])
     spacing_text = (f"{float(spacing):g} mm" if spacing.ndim == 0 else
                     f"{spacing.min():g}-{spacing.max():g} mm over the designs")
     add("forward_inclination", incl, limits.min_forward_inclination_deg, None, "deg",
@@ -242,7 +247,7 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
         f"{setup.check_height:g} mm above it (nominal spacing {spacing_text})")
     spacings = np.arange(setup.spacing_range[0], setup.spacing_range[1] + 1e-9, 10.0)
     widths = _hole_width(motion.B[:, 0], st["below"][0][:, 0], st["below"][1][:, 0], fwd_sign,
-                         spacings * per_turn)
+                         spacings * per_turn, motion.tip_rate[:, 0], st["ground_y"])
     add("hole_width", widths.max(axis=1), None, limits.max_hole_width_mm, "mm",
         f"(ix) widest hole over plant spacings {spacings[0]:g}-{spacings[-1]:g} mm")
     # --- (x) gearbox clearance -------------------------------------------------------
@@ -295,10 +300,17 @@ def evaluate(motion: TransplanterMotion, setup: FieldSetup, limits: Transplanter
     return TransplanterEvaluation(names, units, lims, values, violation <= 0, violation, metrics)
 
 
-def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_height):
+def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_height,
+                         rate=None):
     """Angle (deg) between the forward ground direction and the chord of the absolute
     path from where the tip leaves the ground to where it is ``check_height`` above it
-    (all designs at once; ``advance_per_turn`` mm, shared or (P,))."""
+    (all designs at once; ``advance_per_turn`` mm, shared or (P,)). With ``rate`` (dB/dpsi
+    at the samples, mm/rad) both crossings are located on the path's cubic Hermite
+    segments between the samples (``geometry.refine``), else at the first sample past
+    them."""
+    from plantmech.geometry.periodic import hermite_basis
+    from plantmech.geometry.refine import hermite_crossing
+
     P, S = B.shape
     idx = np.mod(kmin[:, None] + np.arange(S)[None, :], S)  # from the lowest point on
     z = np.take_along_axis(B, idx, axis=1)
@@ -310,14 +322,33 @@ def _forward_inclination(B, kmin, ground, fwd_sign, advance_per_turn, check_heig
     hi = (y >= (ground + check_height)[:, None]) & (np.arange(S)[None, :] > k0[:, None])
     k1 = np.argmax(hi, axis=1)
     rows = np.arange(P)
-    ang = np.degrees(np.arctan2(y[rows, k1] - y[rows, k0], x[rows, k1] - x[rows, k0]))
+    ends = []
+    for k, level in ((k0, ground), (k1, ground + check_height)):
+        yk, xk = y[rows, k], x[rows, k]
+        if rate is None:
+            ends.append((xk, yk))
+            continue
+        h = TWO_PI / S
+        j = np.maximum(k - 1, 0)  # the segment j -> k holds the crossing (k > 0)
+        rj, rk = rate[rows, idx[rows, j]], rate[rows, idx[rows, k]]
+        adv = advance[:, 0] / S
+        dxj, dxk = rj.real * fwd_sign * h + adv, rk.real * fwd_sign * h + adv
+        s_ = hermite_crossing(y[rows, j], yk, rj.imag * h, rk.imag * h, level)
+        xs = hermite_basis(x[rows, j], xk, dxj, dxk, s_, 1.0)[0]
+        ys = hermite_basis(y[rows, j], yk, rj.imag * h, rk.imag * h, s_, 1.0)[0]
+        ends.append((np.where(k > 0, xs, xk), np.where(k > 0, ys, yk)))
+    (xa, ya), (xb, yb) = ends
+    ang = np.degrees(np.arctan2(yb - ya, xb - xa))
     return np.where(up.any(axis=1) & hi.any(axis=1), ang, np.nan)
 
 
-def _hole_width(B, start, end, fwd_sign, advances):
+def _hole_width(B, start, end, fwd_sign, advances, rate=None, ground=None):
     """Horizontal extent (mm) of the absolute path under the ground for each machine
     advance per carrier turn (P, len(advances)). Only the samples under the ground enter
-    (a short run of the cycle), grouped by design."""
+    (a short run of the cycle), grouped by design. With ``rate`` (dB/dpsi, mm/rad) and
+    ``ground`` (P,) the extent is the path's between the samples too (``geometry.refine``):
+    the cubic Hermite segments' extremes between the samples under the ground and the
+    points where the path crosses the ground (on the segments entering and leaving)."""
     P, S = B.shape
     rows, cols = np.nonzero(_span_mask(S, start, end))  # row-major: design by design
     out = np.full((P, len(advances)), -np.inf)  # a design with no sample: -inf, as max - min
@@ -328,8 +359,48 @@ def _hole_width(B, start, end, fwd_sign, advances):
     xa = x[None, :] + advances[:, None] * t[None, :]  # (A, N)
     has = np.bincount(rows, minlength=P) > 0
     first = np.searchsorted(rows, np.flatnonzero(has))
-    out[has] = (np.maximum.reduceat(xa, first, axis=1)
-                - np.minimum.reduceat(xa, first, axis=1)).T
+    hi_x = np.maximum.reduceat(xa, first, axis=1).T  # (designs with samples, A)
+    lo_x = np.minimum.reduceat(xa, first, axis=1).T
+    if rate is not None:
+        from plantmech.geometry.periodic import hermite_basis
+        from plantmech.geometry.refine import hermite_crossing, hermite_extreme
+
+        h = TWO_PI / S
+        adv = advances[:, None]
+
+        def xs(p, c, tt):  # x of the absolute path and its slope per sample at (p, c)
+            return (B.real[p, c] * fwd_sign[p] + adv * tt,
+                    rate.real[p, c] * fwd_sign[p] * h + adv / S)
+
+        # between consecutive samples under the ground: the extremes of the segments next
+        # to the largest and the smallest sample (the curve's lie there)
+        inside = cols != end[rows]
+        nxt = np.mod(cols + 1, S)
+        x0, d0 = xs(rows, cols, t)
+        x1, d1 = xs(rows, nxt, t + 1.0 / S)
+        group = (np.cumsum(has) - 1)[rows]  # row of hi_x / lo_x of each sample
+        tol = 1e-9 * (1.0 + np.abs(xa))
+        for ext, largest, fold in ((hi_x, True, np.maximum), (lo_x, False, np.minimum)):
+            at = ext.T[:, group]  # (A, N): the design's sampled extreme
+            near = inside[None, :] & ((np.abs(x0 - at) <= tol) | (np.abs(x1 - at) <= tol))
+            a_i, n_i = np.nonzero(near)
+            v = hermite_extreme(x0[a_i, n_i], x1[a_i, n_i], d0[a_i, n_i], d1[a_i, n_i],
+                                largest=largest)[1]
+            fold.at(ext, (group[n_i], a_i), v)
+        # where the path crosses the ground: entering (the segment start - 1 -> start)
+        # and leaving (end -> end + 1)
+        p = np.flatnonzero(has)
+        g = np.asarray(ground, dtype=float)[p]
+        for c0, tt0 in ((np.mod(start[p] - 1, S), -1.0 / S),
+                        (end[p], np.mod(end[p] - start[p], S) / S)):
+            c1 = np.mod(c0 + 1, S)
+            s_ = hermite_crossing(B.imag[p, c0], B.imag[p, c1], rate.imag[p, c0] * h,
+                                  rate.imag[p, c1] * h, g)
+            xa0, da0 = xs(p, c0, tt0)
+            xa1, da1 = xs(p, c1, tt0 + 1.0 / S)
+            xc = hermite_basis(xa0, xa1, da0, da1, s_[None, :], 1.0)[0].T
+            hi_x, lo_x = np.maximum(hi_x, xc), np.minimum(lo_x, xc)
+    out[has] = hi_x - lo_x
     return out
 
 

@@ -141,6 +141,10 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
             prefer_standard_teeth(problem, res, extra["design_choices"])
         else:
             problem = make_problem(design, name, layer2_points, manufacturability)
+            if name == "planetary" and problem.design_choices():
+                extra["design_choices"] = problem.design_choices()
+                if progress:
+                    print("variables: " + problem.design_choices()["variables"]["value"])
             res = run(problem, algorithm, seed, generations, pop, progress,
                       stop_when_feasible=algorithm != "nsga2")
         written, rec = write_run(out, res, problem, design_input, recheck, extra)
@@ -174,7 +178,8 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
     p2 = P.SeederLayer2(d2, gear_shape=manufacturability)
     r2 = run(p2, "nsga2", seed, user_gen or DEFAULTS["seeder-layer2"][1],
              user_pop or DEFAULTS["seeder-layer2"][2], progress)
-    w2, rec2 = write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)", recheck)
+    w2, rec2 = write_run(l2_dir, r2, p2, f"{design_input} (layer 1 best)", recheck,
+                         source=Path(design_input))
     written += w2
     (out / "best.toml").write_text((l2_dir / "best.toml").read_text(), encoding="utf-8")
     rec = {
@@ -241,12 +246,13 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
     from plantmech.optimize.runner import _out_of_time as out_of_time
     from plantmech.optimize.runner import run
 
-    current, records, tally = design, [], _Tally()
+    current, records, tally = design, [], _Tally(seed)
     for k, stage in enumerate(stages):
         judged = final is None or final(k)
         p = build(current, stage)
         r = run(p, algorithm, seed + k, max(1, int(round(generations * stage[-1]))), pop,
-                progress, stop_when_feasible=True, hook=hook)
+                progress, stop_when_feasible=True, hook=hook,
+                stage=f"stage {k + 1}/{len(stages)}" if len(stages) > 1 else None)
         tally.add(r, judged)
         current = p.decode(r.best_x)
         records.append({"stage": list(stage), "generations": r.generations,
@@ -260,24 +266,36 @@ def staged(design, build, stages, algorithm: str, seed: int, generations: int, p
 
 
 class _Tally:
-    """Evaluations, wall time and the first feasible design summed over several runs."""
+    """Evaluations, wall time, the first feasible design and the convergence history
+    summed over several runs (the stages of one job)."""
 
-    def __init__(self):
-        self.evals, self.wall, self.first = 0, 0.0, None
+    def __init__(self, seed: int):
+        self.seed, self.evals, self.wall, self.first = seed, 0, 0.0, None
+        self.history, self.stages = [], 0
 
     def add(self, r, judged: bool = True) -> None:
         """Count run ``r``; its first feasible design only if ``judged`` (its problem
-        holds the job's own objectives, not a stage's relaxed ones)."""
+        holds the job's own objectives, not a stage's relaxed ones). Its history joins the
+        job's, each row with its stage (1, 2, ... over the job), whether the stage holds
+        the job's own limits (``judged``), and the evaluations and wall time from the
+        job's start."""
         if judged and r.first_feasible_s is not None and self.first is None:
             self.first = (self.wall + r.first_feasible_s,
                           self.evals + r.first_feasible_evaluations)
+        for h in r.history:
+            self.history.append(dict(h, evaluations=h["evaluations"] + self.evals,
+                                     wall_s=round(h["wall_s"] + self.wall, 3),
+                                     stage=self.stages + h.get("stage", 1),
+                                     judged=bool(judged and h.get("judged", True))))
+        self.stages += max((h.get("stage", 1) for h in r.history), default=1)
         self.evals += r.evaluations
         self.wall += r.wall_s
 
     def onto(self, r):
-        """``r`` with the totals (its own counts replaced)."""
+        """``r`` with the job's totals, history and seed (its own replaced)."""
         r.evaluations, r.wall_s = self.evals, self.wall
         r.first_feasible_s, r.first_feasible_evaluations = self.first or (None, None)
+        r.history, r.seed = self.history, self.seed
         return r
 
 
@@ -294,7 +312,7 @@ def layer1_staged(design, algorithm: str, seed: int, generations: int, pop: int,
     def build(d, stage):
         return SeederLayer1(d, bound_mm=stage[0], gear_shape=gear_shape)
 
-    best, records, tally = None, [], _Tally()
+    best, records, tally = None, [], _Tally(seed)
     for k in range(shifts + 1 if shifts else 0):
         d = shift_seeding_point(design, k)
         p, r, rec = staged(d, build, (LAYER1_SCOUT,), algorithm, seed, generations, pop,
@@ -384,9 +402,10 @@ def transplanter_choices(design):
     depth 20 deg system's 17.10; ``prefer_standard_teeth`` goes back to the standard one if
     the final design passes with it). Returns (design to search, record of each choice)."""
     from plantmech.design import Manufacturing
+    from plantmech.optimize.problems import not_transplanter
 
     if design.mechanism != "rice_transplanter":
-        raise ValueError("the transplanter problem optimizes a rice_transplanter design")
+        raise ValueError(not_transplanter(design))
     d = design.model_copy(deep=True)
     choices = {}
     g = design.internal_gear
@@ -537,21 +556,25 @@ def verify(design, tooth_fit: bool = True) -> dict:
         from plantmech.workflows import run_transplanter
 
         objs = run_transplanter(design).summary["objectives"]
-    elif design.train is not None:
+    elif design.train is not None:  # the train's objectives, after its path's Table 1
+        from plantmech.objectives.seeder import planning_checks
         from plantmech.workflows import run_seeder_forward
 
-        objs = run_seeder_forward(design).summary["objectives"]
-    else:  # layer 1: Table 1, attitude and the speeds of the inverse design's motion
-        from plantmech.workflows import seeder_inverse_checks
+        job = run_seeder_forward(design)
+        objs = list(job.summary["objectives"])
+        if job.trajectory is not None:
+            objs = [c.as_dict() for c in planning_checks(
+                job.trajectory, design.trajectory.sections.model_dump(),
+                design.planning_limits)] + objs
+    else:  # layer 1: Table 1, attitude, speeds and pitch curves of the inverse design
+        from plantmech.workflows import run_seeder_inverse, seeder_checks
 
-        c = seeder_inverse_checks(design, design.trajectory.samples)
-        objs = [{"name": n, "value": None if not np.isfinite(v) else float(v), "unit": u,
-                 "limit": lim, "ok": bool(ok)}
-                for n, v, u, lim, ok in zip(c["names"], c["values"], c["units"], c["limits"],
-                                            c["ok"], strict=True)]
-        if c["infeasible"]:
-            objs.insert(0, {"name": "feasible_inverse", "value": c["infeasible"], "unit": "",
-                            "limit": "= 0 errors", "ok": False})
+        job = run_seeder_inverse(design, speeds=True)
+        objs = seeder_checks(job.summary)
+        errors = [x for x in job.result.diagnostics if x.severity == "error"]
+        if not job.result.feasible:
+            objs.insert(0, {"name": "feasible_inverse", "value": float(max(len(errors), 1)),
+                            "unit": "", "limit": "= 0 errors", "ok": False})
     if not tooth_fit:
         objs = [dict(o, required=False) if is_gear_shape_check(o["name"]) else o
                 for o in objs]
@@ -560,7 +583,7 @@ def verify(design, tooth_fit: bool = True) -> dict:
 
 
 def summary_lines(record: dict) -> list[str]:
-    lines = [f"{record['problem']}: {record['algorithm']}, seed {record['seed']}, "
+    lines = [f"{record['problem']}: {record['algorithm']}, random seed {record['seed']}, "
              f"{record['evaluations']} evaluations, {record['wall_s']:.1f} s"
              + (f" (first design meeting every objective after {record['first_feasible_s']:.1f} s)"
                 if record.get("first_feasible_s") is not None else "")]

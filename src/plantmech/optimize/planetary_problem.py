@@ -2,7 +2,10 @@
 against its [limits] and the pitch-curve manufacturability rules.
 
 The variables are the numeric fields the design file names in ``[optimize.variables]``
-(dotted paths, each with [lower, upper]; ``design_planetary.PlanetaryOptimize``). Every
+(dotted paths, each with [lower, upper]; ``design_planetary.PlanetaryOptimize``); a file
+without that table frees its shape by default (:func:`default_variables`: every non-zero
+length and shape number of its given pitch curves, then the arm length, each +-10 %, at
+most ``MAX_VARIABLES``; recorded in run.json's ``design_choices``). Every
 check of ``objectives.planetary.design_evaluation`` is a constraint (its relative
 violation must reach 0): the [limits] checks of the motion and, per pair, the module
 window and the working pressure angle (reported only, with ``--no-manufacturability``).
@@ -23,6 +26,66 @@ import numpy as np
 
 from plantmech.optimize.problems import Batch, DesignProblem, Variable, is_gear_shape_check
 
+#: the default variables' box: +- this fraction of the file's value
+DEFAULT_SPAN = 0.10
+#: the numeric fields of a pitch curve freed by default (lengths and shape numbers; the
+#: angles place a curve rather than shape it, the structure is not a number to search)
+_SHAPE_FIELDS = ("semi_major_mm", "eccentricity", "radius_mm", "offset_mm", "radii_mm",
+                 "mean_radius_mm", "cos_mm", "sin_mm")
+
+
+def default_variables(design, span: float = DEFAULT_SPAN) -> dict[str, list[float]]:
+    """{dotted path: [lower, upper]} freed when a planetary file names none: every non-zero
+    length and shape number of each given pitch curve (pairs in order, a list field item
+    by item), then the arm length, each within +-``span`` of its value, in that order up
+    to ``MAX_VARIABLES``. A bound that makes the file invalid on its own (an eccentricity
+    above its limit, an offset reaching its radius) is drawn halfway to the value until the
+    file takes it (five tries; else the field stays fixed)."""
+    from pydantic import ValidationError
+
+    from plantmech.design_planetary import MAX_VARIABLES, get_path, set_path
+
+    paths = []
+    for k, pair in enumerate(design.train.pairs):
+        for role in ("driver", "follower"):
+            curve = getattr(pair, role)
+            if curve is None:
+                continue
+            for name in _SHAPE_FIELDS:
+                value = getattr(curve, name, None)
+                base = f"train.pairs.{k}.{role}.{name}"
+                if isinstance(value, list):
+                    paths += [f"{base}.{i}" for i in range(len(value))]
+                elif value is not None:
+                    paths.append(base)
+    if design.arm.length_mm is not None:
+        paths.append("arm.length_mm")
+    data = design.model_dump(exclude={"optimize"})
+    out = {}
+    for path in paths:
+        if len(out) == MAX_VARIABLES:
+            break
+        value = float(get_path(design, path))
+        if value == 0.0:
+            continue
+        bounds = []
+        for sign in (-1.0, 1.0):
+            delta = span * abs(value)
+            for _ in range(5):
+                set_path(data, path, value + sign * delta)
+                try:
+                    design.__class__.model_validate(data)
+                    break
+                except ValidationError:
+                    delta /= 2
+            else:
+                delta = 0.0
+            set_path(data, path, value)
+            bounds.append(value + sign * delta)
+        if bounds[0] < bounds[1]:
+            out[path] = bounds
+    return out
+
 
 class PlanetaryProblem(DesignProblem):
     """The free variables of a planetary design file -> its checks as constraints."""
@@ -34,24 +97,39 @@ class PlanetaryProblem(DesignProblem):
         if design.mechanism != "planetary":
             raise ValueError("problem 'planetary' optimizes a mechanism = \"planetary\" design "
                              "(this file is a " + design.mechanism + ")")
-        if design.optimize is None:
-            raise ValueError("field 'optimize': problem 'planetary' needs an "
-                             "[optimize.variables] table naming the free fields, e.g. "
-                             "\"train.pairs.0.driver.eccentricity\" = [0.1, 0.4] "
-                             "(docs/design-file.md)")
-        from plantmech.design_planetary import get_path, set_path
+        from plantmech.design_planetary import PlanetaryOptimize, get_path, set_path
         from plantmech.units import unit_of
 
+        self.defaulted = design.optimize is None
+        opt = design.optimize
+        if opt is None:
+            free = default_variables(design)
+            if not free:
+                raise ValueError("field 'optimize': the file gives no [optimize.variables] "
+                                 "and has no non-zero pitch-curve length or arm length to "
+                                 "free by default; name the free fields, e.g. "
+                                 "\"train.pairs.0.driver.eccentricity\" = [0.1, 0.4] "
+                                 "(docs/design-file.md)")
+            opt = PlanetaryOptimize(variables=free)
         self.manufacturability = manufacturability
-        self.samples = design.optimize.samples
+        self.samples = opt.samples
         variables = []
-        for path, (lo, hi) in design.optimize.variables.items():
+        for path, (lo, hi) in opt.variables.items():
             def apply(d, val, path=path):
                 set_path(d, path, float(val))
             variables.append(Variable(path, float(get_path(design, path)), float(lo),
                                       float(hi), unit_of(path), apply))
         self.row_names = [r["name"] for r in self._rows(design)]
         super().__init__(design, variables, n_constr=len(self.row_names))
+
+    def design_choices(self) -> dict:
+        """run.json's ``design_choices`` entry of the variables when they were defaulted."""
+        if not self.defaulted:
+            return {}
+        return {"variables": {
+            "value": f"{len(self.variables)} fields +-{DEFAULT_SPAN:.0%} of the file's values "
+                     "(" + ", ".join(v.name for v in self.variables) + ")",
+            "set_by": "default: the file has no [optimize.variables]"}}
 
     def _rows(self, design) -> list[dict]:
         from plantmech.objectives.planetary import design_evaluation

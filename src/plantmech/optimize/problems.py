@@ -265,11 +265,30 @@ def _pool(workers: int):
     return ex
 
 
+class _Serial:
+    """A pool's ``submit`` run here at once: in a daemonic process (a Dask worker of a
+    multi-start study, a pool worker), which may not start processes of its own."""
+
+    @staticmethod
+    def submit(fn, *args):
+        from concurrent.futures import Future
+
+        f = Future()
+        try:
+            f.set_result(fn(*args))
+        except Exception as exc:  # noqa: BLE001 - raised again by result(), as a pool's
+            f.set_exception(exc)
+        return f
+
+
 def _in_pool(workers: int, use):
     """``use(pool)`` with the shared pool of ``workers`` processes; if a worker died (e.g.
-    killed), once more with a fresh pool."""
+    killed), once more with a fresh pool. In a daemonic process: one after another here."""
+    import multiprocessing as mp
     from concurrent.futures.process import BrokenProcessPool
 
+    if mp.current_process().daemon:
+        return use(_Serial)
     try:
         return use(_pool(workers))
     except BrokenProcessPool:
@@ -582,6 +601,19 @@ TRANSPLANTER_BOUNDS = {  # half-widths around the design's values
 }
 
 
+def not_transplanter(design) -> str:
+    """Why the transplanter problem refuses ``design``; for the K-H-V train, where its
+    optimizer is (its general train file with ``--problem planetary``)."""
+    msg = (f"the transplanter problem optimizes a rice_transplanter design (this file is a "
+           f"{design.mechanism})")
+    if design.mechanism == "rice_transplanter_khv":
+        msg += ("; the K-H-V train is optimized as a general train file: plantmech optimize "
+                "examples/planetary/rice_transplanter_khv.toml --problem planetary (its "
+                "pitch curves and arm, against the manufacturability rules; its transplanting "
+                "objectives (i)-(xv) are not yet evaluated on the general train)")
+    return msg
+
+
 class Transplanter(DesignProblem):
     """The published parameter set's variables (internal-gear radii, phi_H0, sigma, S,
     H1, beta, box position) -> the twelve objectives (i)-(xii) as constraints;
@@ -598,7 +630,7 @@ class Transplanter(DesignProblem):
                  interference: bool = True, tooth_fit: bool = False,
                  ring_scale_bound: float = 0.0):
         if design.mechanism != "rice_transplanter":
-            raise ValueError("the transplanter problem optimizes a rice_transplanter design")
+            raise ValueError(not_transplanter(design))
         self.samples = samples
         self.interference = interference
         self.tooth_fit = tooth_fit

@@ -15,9 +15,8 @@ from pymoo.core.callback import Callback
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
+from plantmech.optimize import ALGORITHMS  # noqa: F401  (re-exported)
 from plantmech.optimize.problems import Batch, DesignProblem
-
-ALGORITHMS = ("nsga2", "de", "cmaes")
 
 
 class WeightedViolation(Problem):
@@ -110,6 +109,7 @@ class _Recorder(Callback):
             G = pop.get("G")
             viol = np.maximum(G, 0).sum(axis=1) if G is not None and G.size else np.zeros(len(X))
         best = float(np.min(viol))
+        self.best_so_far = min(getattr(self, "best_so_far", np.inf), best)
         n_feas = int(np.sum(viol <= 1e-12))
         wall = time.perf_counter() - self.t0
         if n_feas and self.first_feasible_s is None:
@@ -120,7 +120,8 @@ class _Recorder(Callback):
                              "wall_s": round(wall, 3)})
         if self.bar is not None:
             self.bar.update(1)
-            self.bar.set_postfix(best_violation=f"{best:.4g}", feasible=n_feas)
+            # the least violation so far (the app reads this key from the bar)
+            self.bar.set_postfix(best_violation=f"{self.best_so_far:.4g}", feasible=n_feas)
         if self.hook is not None and self.hook(self.problem):
             self.stop = True
 
@@ -149,10 +150,11 @@ def _out_of_time() -> bool:
 
 def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
         generations: int = 40, pop_size: int = 40, progress: bool = True,
-        stop_when_feasible: bool = False, hook=None) -> RunResult:
+        stop_when_feasible: bool = False, hook=None, stage: str | None = None) -> RunResult:
     """Optimize ``problem``; the initial population holds the design's current values
     and samples spread over the bounds (seeded). ``hook(problem)`` is called after every
-    generation; it stops the run by returning True."""
+    generation; it stops the run by returning True. ``stage`` (e.g. "stage 2/4") names the
+    run in the progress bar when it is one of several."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.algorithms.soo.nonconvex.de import DE
     from pymoo.termination import get_termination
@@ -184,7 +186,8 @@ def run(problem: DesignProblem, algorithm: str = "nsga2", seed: int = 0,
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=generations, desc=problem.name, unit="gen", leave=False)
+        bar = tqdm(total=generations, desc=problem.name + (f" {stage}" if stage else ""),
+                   unit="gen", leave=False)
     t0 = time.perf_counter()
     problem.evaluations = 0
     problem.best_score, problem.best_x = np.inf, None

@@ -410,11 +410,32 @@ def _clean(obj, where: str = ""):
     return obj
 
 
+#: a job's summary.json (read by people) holds every number to this many significant
+#: digits, and says so in its ``precision`` key; the other JSON records keep full precision
+SUMMARY_DIGITS = 12
+SUMMARY_PRECISION = f"every number to {SUMMARY_DIGITS} significant digits"
+
+
+def _rounded(obj, digits: int):
+    if isinstance(obj, dict):
+        return {k: _rounded(v, digits) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_rounded(v, digits) for v in obj]
+    if isinstance(obj, float):
+        return float(f"{obj:.{digits}g}")
+    return obj
+
+
 def write_json(path: Path, data: dict) -> None:
     """JSON with every float finite; raises NonFiniteOutput naming the field otherwise.
     An objective or check (a dict with name, value, limit) whose value is missing or not
-    finite is written with value null, ok false and a ``not_computable`` reason."""
-    write_text_atomic(path, json.dumps(_clean(data), indent=2, allow_nan=False) + "\n")
+    finite is written with value null, ok false and a ``not_computable`` reason. A file
+    named summary.json has its numbers rounded to ``SUMMARY_DIGITS`` significant digits
+    and a ``precision`` key saying so."""
+    clean = _clean(data)
+    if Path(path).name == "summary.json" and isinstance(clean, dict):
+        clean = dict(_rounded(clean, SUMMARY_DIGITS), precision=SUMMARY_PRECISION)
+    write_text_atomic(path, json.dumps(clean, indent=2, allow_nan=False) + "\n")
 
 
 def write_text_atomic(path: Path, text: str) -> None:

@@ -21,6 +21,24 @@ OBJECTIVE_LABELS = {
 }
 
 
+# the pairs and gear-shape checks named in words (the trade-off plot's annotations)
+PAIR_WORDS = {"sun_gear2": "sun-gear 2 pair", "gear3_planet": "gear 3-planet pair"}
+CHECK_WORDS = (("pitch_tangent_angle_", "pitch tangent angle (working pressure angle less "
+                "the tool's), "),
+               ("working_pressure_angle_", "working pressure angle, "),
+               ("cuttable_module_", "cuttable module, "),
+               ("convex_", "convex pitch curve, "))
+
+
+def check_label(name: str) -> str:
+    """A check's name in words (its pair spelled out)."""
+    for prefix, words in CHECK_WORDS:
+        if name.startswith(prefix):
+            rest = name[len(prefix):]
+            return words + PAIR_WORDS.get(rest, rest.replace("_", " "))
+    return name.replace("_", " ")
+
+
 def objective_label(name: str) -> str:
     """Axis label (with unit) of an objective by its name."""
     return OBJECTIVE_LABELS.get(name, name.replace("_", " "))
@@ -31,32 +49,95 @@ def variable_column(name: str, unit: str) -> str:
     return name if not unit or name.endswith(f"_{unit}") else f"{name}_{unit}"
 
 
-def design_toml(design, header: str = "") -> str:
-    """A design as TOML that ``load_design`` reads back (comments of the input are lost;
-    ``header`` is written as comment lines)."""
-    import tomli_w
+def _toml_item(value):
+    """A tomlkit item written as a person would: a point (a list of numbers) on one line,
+    a list of points one point per line, a long list of numbers wrapped one per line."""
+    import tomlkit
+
+    if isinstance(value, dict):
+        table = tomlkit.table()
+        for k, v in value.items():
+            table[k] = _toml_item(v)
+        return table
+    if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+        aot = tomlkit.aot()
+        for v in value:
+            aot.append(_toml_item(v))
+        return aot
+    if isinstance(value, list):
+        arr = tomlkit.array()
+        for v in value:
+            arr.append(_toml_item(v) if isinstance(v, list) else v)
+        nested = any(isinstance(v, list) for v in value)
+        arr.multiline(nested or len(arr.as_string()) > 72)
+        return arr
+    return tomlkit.item(value)
+
+
+def _merge_toml(doc, new: dict, old: dict) -> None:
+    """Edit the parsed input ``doc`` (tomlkit, comments and layout kept) into ``new``: only
+    the values that differ from ``old`` (the input as loaded) are rewritten, keys the
+    design no longer has are removed, new ones appended."""
+    for k in [k for k in doc if k not in new]:
+        del doc[k]
+    for k, v in new.items():
+        if k in old and old[k] == v:  # unchanged: as written, or a default left out
+            continue
+        if (k in doc and isinstance(v, dict) and isinstance(old.get(k), dict)
+                and hasattr(doc[k], "keys")):
+            _merge_toml(doc[k], v, old[k])
+        else:
+            doc[k] = _toml_item(v)
+
+
+def design_toml(design, header: str = "", source: str | Path | None = None) -> str:
+    """A design as TOML that ``load_design`` reads back exactly, written as a person would (a
+    point per line; numbers in full, as they are the design that was checked: rounding can
+    break an exact fit such as a carrier holding its shafts in line). With ``source`` (the
+    input design file it was made from), the input is edited: its comments and layout kept,
+    only the values the design changed rewritten. ``header`` is written as comment lines on
+    top."""
+    import tomlkit
 
     data = design.model_dump(exclude_none=True, mode="json")
-    text = tomli_w.dumps(data)
+    doc = None
+    if source is not None:
+        from plantmech.design import DesignError, load_design
+
+        try:
+            text = Path(source).read_text(encoding="utf-8")
+            old = load_design(Path(source)).model_dump(exclude_none=True, mode="json")
+            doc = tomlkit.parse(text)
+            _merge_toml(doc, data, old)
+        except (OSError, DesignError, ValueError, tomlkit.exceptions.TOMLKitError):
+            doc = None  # the input is gone or changed: the design written afresh
+    if doc is None:
+        doc = tomlkit.document()
+        for k, v in data.items():
+            doc[k] = _toml_item(v)
+    text = tomlkit.dumps(doc)
     lines = [f"# {line}" if line else "#" for line in header.splitlines()]
     return ("\n".join(lines) + "\n\n" if lines else "") + text
 
 
 def write_run(out: Path, result, problem, design_input: str, recheck=None,
-              extra: dict | None = None) -> tuple[list[Path], dict]:
+              extra: dict | None = None, source: Path | None = None) -> tuple[list[Path], dict]:
     """Write every file of one run into ``out`` (created by the caller); returns (files,
     run record). ``recheck(path) -> {all_met, objectives}`` re-checks a written design file
     at full resolution: the best design and, if it fails, the next candidates of the final
     Pareto set, in order, until one passes (at most 5); ``best.toml`` is written after it,
     its header stating the re-checked verdict, and the record's ``feasible`` is the
-    re-checked one."""
+    re-checked one. The design files are the input file (``source``, default the path
+    ``design_input``) edited: its comments kept (``design_toml``)."""
     rec = dict(result.record(), **(extra or {}))
     best_x, verified, tried = result.best_x, None, 0
+    source = Path(design_input) if source is None else source
     if recheck is not None:
         partial = out / "best.toml.partial"
         for x in _candidates(result):
             tried += 1
-            partial.write_text(design_toml(problem.decode(x)), encoding="utf-8")
+            partial.write_text(design_toml(problem.decode(x), source=source),
+                               encoding="utf-8")
             v = recheck(partial)
             if verified is None or v["all_met"]:
                 best_x, verified = x, v
@@ -74,15 +155,18 @@ def write_run(out: Path, result, problem, design_input: str, recheck=None,
                   if verified is not None and not verified["all_met"] else
                   " (the closest design found)"))
     header = (f"Best design of `plantmech optimize --problem {result.problem}` "
-              f"(algorithm {result.algorithm}, seed {result.seed}, {result.evaluations} "
+              f"(algorithm {result.algorithm}, random seed {result.seed}, {result.evaluations} "
               f"evaluations, {result.wall_s:.1f} s)\nfrom {design_input}\nverdict: {status}; "
               "see run.json" + "".join(f"\n{line}" for line in choice_lines(rec)))
-    (out / "best.toml").write_text(design_toml(problem.decode(best_x), header),
+    (out / "best.toml").write_text(design_toml(problem.decode(best_x), header, source),
                                    encoding="utf-8")
     hist = result.history
-    write_csv(out / "history.csv", {k: np.array([h[k] for h in hist], dtype=float)
-                                    for k in ("generation", "evaluations", "best_violation",
-                                              "feasible_in_population", "wall_s")})
+    cols = {k: np.array([h[k] for h in hist], dtype=float)
+            for k in ("generation", "evaluations", "best_violation",
+                      "feasible_in_population", "wall_s")}
+    cols["best_so_far"] = best_so_far(hist)
+    cols["stage"] = np.array([h.get("stage", 1) for h in hist], dtype=float)
+    write_csv(out / "history.csv", cols)
     cols = {}
     for i, v in enumerate(problem.variables):
         cols[variable_column(v.name, v.unit)] = result.pareto_x[:, i]
@@ -180,7 +264,8 @@ def write_tradeoff(out: Path, t: dict, problem, rec: dict | None = None) -> list
         end = (rec or {}).get(key)
         if end is None:
             continue
-        fails = ", ".join(end["fails"][:4]) + (" ..." if len(end["fails"]) > 4 else "")
+        fails = "\n  ".join([check_label(n) for n in end["fails"][:4]]
+                            + (["..."] if len(end["fails"]) > 4 else []))
         ax.annotate(f"{label}\nfails: {fails or 'nothing'}",
                     (end["agronomic_violation"], end["manufacturing_violation"]),
                     xytext=(0.02 if align == "left" else 0.98, 0.55 if align == "left" else 0.3),
@@ -190,8 +275,8 @@ def write_tradeoff(out: Path, t: dict, problem, rec: dict | None = None) -> list
     yr = max(0.05, 1.15 * float(np.max(t["manufacturing"])))
     ax.set_xlim(-0.03 * xr, xr)  # the origin (everything met) stays in view
     ax.set_ylim(-0.03 * yr, yr)
-    ax.set_xlabel("agronomic objectives: summed relative violation (0 = all met)")
-    ax.set_ylabel("manufacturability: summed relative violation (0 = cuttable)")
+    ax.set_xlabel("agronomic objectives: summed relative violation / - (0: all met)")
+    ax.set_ylabel("manufacturability: summed relative violation / - (0: cuttable)")
     ax.set_title(f"Objectives against manufacturability, every evaluated design: "
                  f"{problem.name}", fontsize=10)
     ax.legend(fontsize=8, loc="upper right")
@@ -217,24 +302,57 @@ def plot_run(out: Path, result, problem) -> list[Path]:
 VIOLATION_FLOOR = 1e-6
 
 
+def best_so_far(history: list[dict]) -> np.ndarray:
+    """The least total violation found so far at each row of a run's history, restarted
+    at each stage (a stage's limits are its own: its violations are not comparable with
+    the previous stage's); never rises within a stage."""
+    out, best, stage = np.empty(len(history)), np.inf, None
+    for i, h in enumerate(history):
+        if h.get("stage", 1) != stage:
+            best, stage = np.inf, h.get("stage", 1)
+        best = min(best, h["best_violation"])
+        out[i] = best
+    return out
+
+
 def convergence_figure(result):
-    """Best total relative violation per evaluation (Figure). The floor line that marks
-    'every objective met' is drawn only when a design met them all."""
+    """The best design so far (least total relative violation) against evaluations, over
+    the whole job: every stage, each shaded and named (a relaxed stage's violation is
+    against its own limits). The floor line that marks 'every objective met' is drawn only
+    when a design met them all."""
     from matplotlib.figure import Figure
 
     hist = result.history
     fig = Figure(figsize=(10, 4.5), layout="constrained")
     ax = fig.subplots()
-    ev = [h["evaluations"] for h in hist]
-    ax.semilogy(ev, [max(h["best_violation"], VIOLATION_FLOOR) for h in hist], "k.-",
-                label="best design so far")
-    ax.set_xlabel("evaluations")
-    ax.set_ylabel("best total relative violation / -")
+    ev = np.array([h["evaluations"] for h in hist], dtype=float)
+    stage = np.array([h.get("stage", 1) for h in hist])
+    best = np.maximum(best_so_far(hist), VIOLATION_FLOOR)
+    n, labels = (int(stage.max()) if len(stage) else 1), set()
+    for k in range(1, n + 1):
+        rows = np.flatnonzero(stage == k)
+        if not len(rows):
+            continue
+        judged = all(hist[i].get("judged", True) for i in rows)
+        label = ("best design so far" if judged
+                 else "best so far, against the stage's relaxed limits")
+        ax.semilogy(ev[rows], best[rows], ".-", color="k" if judged else "0.55",
+                    label=None if label in labels else label)
+        labels.add(label)
+        if n > 1:
+            lo = ev[rows[0]] - (ev[rows[0]] - ev[rows[0] - 1]) / 2 if rows[0] else 0.0
+            hi = ev[rows[-1]]
+            if k % 2:
+                ax.axvspan(lo, hi, color="tab:blue", alpha=0.06, lw=0)
+            ax.text((lo + hi) / 2, 1.0, f"stage {k}/{n}", transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize=7)
+    ax.set_xlabel("evaluations (from the start of the job)")
+    ax.set_ylabel("least total relative violation so far / -")
     met = bool(result.feasible)
     verdict = ("every objective met" if met
                else "NOT met: the best design misses an objective")
-    ax.set_title(f"Convergence: {result.problem}, {result.algorithm}, seed {result.seed} "
-                 f"({verdict})")
+    ax.set_title(f"Convergence of {result.problem} ({result.algorithm}, random seed "
+                 f"{result.seed}): {verdict}", pad=14 if n > 1 else 6)
     if met:
         ax.axhline(VIOLATION_FLOOR, color="tab:green", lw=1, ls=":",
                    label=f"{VIOLATION_FLOOR:g}: violation 0, every objective met")

@@ -379,7 +379,9 @@ def _img_tag(item, alt: str) -> str:
         p = Path(item)
         mime = {".png": "image/png", ".svg": "image/svg+xml", ".gif": "image/gif",
                 ".jpg": "image/jpeg", ".jpeg": "image/jpeg"}[p.suffix.lower()]
-        raw = p.read_bytes()
+        from plantmech.inputs import read_input_bytes
+
+        raw = read_input_bytes(p, "image file", 256_000_000)  # never a FIFO or a device
     else:
         mime, raw = "image/png", _figure_png(item)
     b64 = base64.b64encode(raw).decode("ascii")
@@ -483,6 +485,10 @@ def build_report(summary: dict, figures=(), animation: Animation | None = None,
              f"&middot; {when}</p>",
              f'<div id="verdict" class="verdict {"ok" if ok else "fail"}">'
              f'{"&#10003;" if ok else "&#10007;"} {html.escape(text)}</div>']
+    if summary.get("caveats"):  # what the verdict rests on (outputs/caveats.py)
+        parts.append('<ul id="caveats" class="meta">' + "".join(
+            f"<li>caveat: {html.escape(str(c['text'] if isinstance(c, dict) else c))}</li>"
+            for c in summary["caveats"]) + "</ul>")
     if animation is not None:
         parts += [f'<h2 id="animation">{html.escape(animation.title)}</h2>',
                   _legend(animation), _svg_animation(animation),

@@ -168,7 +168,7 @@ def plot_pitch_curves(res) -> Figure:
         ax.plot(cx + rr * np.cos(a), cy + rr * np.sin(a), ls, color=col,
                 label=f"{key} ({np.nanmin(r):.1f}-{np.nanmax(r):.1f} mm)")
         ax.plot(cx, cy, "+", color=col)
-    if res.dwell is not None and "edge_radius" in res.dwell:
+    if res.dwell is not None and res.dwell.get("edge_radius") is not None:
         th = off - np.linspace(res.dwell["carrier_end"], res.dwell["carrier_start"], 50)
         e = res.dwell["edge_radius"]
         ax.plot(e * np.cos(th), e * np.sin(th), ":", color="tab:orange", lw=2,
@@ -197,6 +197,27 @@ def _shade_sections(ax, section_psi):
         for k, (lo, hi) in enumerate(spans):
             ax.axvspan(lo, hi, color=SECTION_COLOURS[name], alpha=0.15,
                        label=name.replace("_", " ") if k == 0 else None)
+
+
+def _wrapped_spans(p0: float, p1: float) -> list[tuple[float, float]]:
+    """The carrier-angle spans (deg, within 0-360) of the section from p0 to p1 (rad)."""
+    a0, a1 = (p0 * DEG) % 360.0, (p1 * DEG) % 360.0
+    return [(a0, a1)] if a1 >= a0 else [(a0, 360.0), (0.0, a1)]
+
+
+def _span_line(ax, p0: float, p1: float, y: float, label: str, **kw) -> None:
+    """A horizontal limit line drawn only over the section from p0 to p1 (rad)."""
+    for k, (lo, hi) in enumerate(_wrapped_spans(p0, p1)):
+        ax.hlines(y, lo, hi, lw=1.5, label=label if k == 0 else None, **kw)
+
+
+def _mark_points(ax, section_psi: dict) -> None:
+    """The section points a-f as labelled vertical lines at their carrier angles."""
+    for letter, p in section_psi.items():
+        x = (p * DEG) % 360.0
+        ax.axvline(x, color="0.35", lw=0.7)
+        ax.text(x, 1.0, letter, transform=ax.get_xaxis_transform(), ha="center",
+                va="bottom", fontsize=11, weight="bold", color="tab:red")
 
 
 def plot_forward_trajectories(job) -> Figure:
@@ -264,14 +285,19 @@ def plot_forward_speed(job) -> Figure:
             label=f"dynamic speed (v_c = {job.travel_m_s:.3f} m/s)")
     _mark_dwell(ax, deg, res.in_dwell, "toothless dwell: arm locked to the carrier, "
                 "static speed = w |OA| (plateau)")
-    ax.axhline(lim.seeding_max_m_s, color="tab:red", ls="--", lw=1,
-               label=f"seeding peak limit {lim.seeding_max_m_s:g} m/s")
-    ax.axhline(lim.return_min_m_s, color="0.3", ls=":", lw=1,
-               label=f"return minimum limit {lim.return_min_m_s:g} m/s")
+    # each limit drawn over the section its check reads (objectives 4-5): the seeding peak
+    # over de, the return minimum over ef (after f the tip may slow down: not checked)
+    psi = job.section_psi
+    _span_line(ax, psi["d"], psi["e"], lim.seeding_max_m_s, color="tab:red", ls="--",
+               label=f"seeding peak limit {lim.seeding_max_m_s:g} m/s (checked over de)")
+    _span_line(ax, psi["e"], psi["f"], lim.return_min_m_s, color="0.2", ls=":",
+               label=f"return minimum limit {lim.return_min_m_s:g} m/s (checked over ef)")
+    _mark_points(ax, psi)
     ax.set_xlim(0, 360)
     ax.set_xlabel("carrier angle (clockwise from start) / deg")
     ax.set_ylabel("tip speed / (m/s)")
-    ax.set_title(f"Tip speed at {speed:g} deg/s carrier speed")
+    ax.set_title(f"Tip speed at {speed:g} deg/s carrier speed (section points a-f marked)",
+                 pad=16)
     ax.grid(alpha=0.3)
     legend_outside(ax)
     return fig

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from plantmech.inputs import InputFileError
+
 REPORT_NAME = "report.html"
 
 _EXTRA_STYLE = """
@@ -34,31 +36,22 @@ _EXTRA_STYLE = """
 """
 
 
-class StudyReportError(ValueError):
-    """The directory holds no study, or its files cannot be read (names the file)."""
-
-
-def _read_json(path: Path) -> dict:
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise StudyReportError(f"{path}: not found (is {path.parent} the --out of "
-                               "'plantmech study'?)") from None
-    except (OSError, ValueError) as exc:
-        raise StudyReportError(f"{path}: cannot be read ({exc})") from None
+# The directory holds no study, or its files cannot be read (names the file): an input
+# file error, as every one (``plantmech.inputs``; ``studies.engine.StudyStateError`` from
+# the readers of the chunks and the summary is one too, so ``except StudyReportError``
+# catches them all).
+StudyReportError = InputFileError
 
 
 def load_study(out: str | Path) -> tuple[dict, dict]:
-    """(study.json, summary.json) of a study directory."""
+    """(study.json, summary.json) of a study directory, read bounded and checked against
+    what the report reads (``studies.summary``; StudyReportError naming file and field)."""
+    from plantmech.studies.summary import read_state, read_summary
+
     out = Path(out)
     if not out.is_dir():
         raise StudyReportError(f"{out}: not a directory")
-    state = _read_json(out / "study.json")
-    summary = _read_json(out / "summary.json")
-    if "kind" not in summary:
-        raise StudyReportError(f"{out / 'summary.json'}: no chunk of this study has finished "
-                               "yet: run 'plantmech study' again with the same --out")
-    return state, summary
+    return read_state(out), read_summary(out)
 
 
 def study_verdict(summary: dict) -> tuple[str, str]:
@@ -281,12 +274,18 @@ def _sensitivity_table(summary: dict) -> str:
     return "\n".join(rows)
 
 
+BAND_COLUMNS = ("carrier_angle_deg", "nominal_x_mm", "nominal_y_mm", "normal_x", "normal_y",
+                "mc_mean_mm", "mc_std_mm", "mc_min_mm", "mc_max_mm", "first_order_mean_mm",
+                "first_order_std_mm")
+
+
 def _band_from_csv(out: Path) -> dict | None:
+    from plantmech.studies.summary import read_csv
+
     path = out / "band.csv"
     if not path.exists():
         return None
-    arr = np.genfromtxt(path, delimiter=",", names=True)
-    col = {n: np.asarray(arr[n], float) for n in arr.dtype.names}
+    col = read_csv(path, BAND_COLUMNS)
     return {"carrier_angle_deg": col["carrier_angle_deg"],
             "nominal_tip_mm": np.c_[col["nominal_x_mm"], col["nominal_y_mm"]],
             "normal": np.c_[col["normal_x"], col["normal_y"]],
@@ -297,10 +296,12 @@ def _band_from_csv(out: Path) -> dict | None:
 
 
 def _plan_from_csv(out: Path) -> np.ndarray | None:
+    from plantmech.studies.summary import read_csv
+
     path = out / "plan.csv"
     if not path.exists():
         return None
-    arr = np.genfromtxt(path, delimiter=",", names=True)
+    arr = read_csv(path, ("x_mm", "y_mm"))
     return np.c_[arr["x_mm"], arr["y_mm"]]
 
 
@@ -316,7 +317,10 @@ def ensure_plots(out: Path, summary: dict, into: Path | None = None) -> list[Pat
              "sweep": ["sweep.png"], "multi-start": ["multistart.png"]}[kind]
     missing = [n for n in names if not (out / n).exists()]
     if missing:
+        from plantmech.studies.summary import check_columns
+
         data = read_results(out)
+        check_columns(data, summary, out)
         for n in missing:
             if n == "histograms.png":
                 sp.plot_histograms(into / n, data, summary)

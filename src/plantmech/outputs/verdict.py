@@ -14,9 +14,9 @@ EXIT_OK, EXIT_INPUT, EXIT_INFEASIBLE, EXIT_NOT_MET, EXIT_NO_SPACE = 0, 2, 3, 4, 
 def verdict(*check_lists, infeasible: bool = False, problems: list[str] | None = None) -> dict:
     """{status, ok, exit_code, failed}: ``check_lists`` are lists of check dicts (name, ok);
     ``problems`` further reasons for "not met" (a file that is not what it claims, a failed
-    re-check)."""
-    failed = [c["name"] for checks in check_lists for c in checks if not c.get("ok")]
-    failed += list(problems or [])
+    re-check, a check not run), listed first: the verdict line shows the first eight."""
+    failed = list(problems or [])
+    failed += [c["name"] for checks in check_lists for c in checks if not c.get("ok")]
     if infeasible:
         return {"status": "infeasible", "ok": False, "exit_code": EXIT_INFEASIBLE,
                 "failed": failed}
@@ -25,11 +25,15 @@ def verdict(*check_lists, infeasible: bool = False, problems: list[str] | None =
             "exit_code": EXIT_OK if ok else EXIT_NOT_MET, "failed": failed}
 
 
-def verdict_line(v: dict, what: str) -> str:
-    """The line every command prints last."""
+def verdict_line(v: dict, what: str, caveats=()) -> str:
+    """The line every command prints last, after its ``caveats`` (``outputs.caveats``: dicts
+    or texts), one "caveat:" line each."""
+    from plantmech.outputs.caveats import lines
+
+    head_lines = "".join(f"{line}\n" for line in lines(caveats))
     if v["status"] == "ok":
-        return f"verdict: ok - {what}"
+        return f"{head_lines}verdict: ok - {what}"
     head = "INFEASIBLE" if v["status"] == "infeasible" else "NOT MET"
     n = len(v["failed"])
     listed = ", ".join(v["failed"][:8]) + (f" and {n - 8} more" if n > 8 else "")
-    return f"verdict: {head}" + (f" - {n} not met: {listed}" if n else "")
+    return f"{head_lines}verdict: {head}" + (f" - {n} not met: {listed}" if n else "")

@@ -10,7 +10,8 @@ fingerprint: --out cannot resume a different study.
 
 Cluster: ``scheduler`` (an address such as tcp://host:8786) connects to a running Dask
 cluster, whose workers need plantmech installed; otherwise a local cluster of ``workers``
-processes (one thread each) is started and closed with the study.
+processes (one thread each) is started and closed with the study, every listener of it
+(scheduler, workers, nannies, dashboard) on the loopback address only.
 """
 
 from __future__ import annotations
@@ -25,11 +26,15 @@ from pathlib import Path
 
 import numpy as np
 
+from plantmech.inputs import InputFileError
+
 CHUNK_DIR = "chunks"
+#: the only address a local study cluster (scheduler, workers, nannies, dashboard) binds
+LOOPBACK = "127.0.0.1"
 
 
-class StudyStateError(ValueError):
-    """--out holds another study, or its files cannot be used."""
+class StudyStateError(InputFileError):
+    """--out holds another study, or its files cannot be used (names the file)."""
 
 
 @dataclass
@@ -65,10 +70,12 @@ def chunk_path(out: Path, index: int, ext: str = "parquet") -> Path:
 def claim_out_dir(out: Path, fingerprint: str, info: dict) -> None:
     """Record (or check) which study --out holds."""
     state = out / "study.json"
-    if state.exists():
+    if state.exists() or state.is_symlink():
+        from plantmech.studies.summary import read_state
+
         try:
-            old = json.loads(state.read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
+            old = read_state(out)
+        except StudyStateError as exc:
             raise StudyStateError(f"--out {out}: study.json cannot be read ({exc})") from None
         if old.get("fingerprint") != fingerprint:
             raise StudyStateError(
@@ -103,20 +110,84 @@ def write_chunk(out: Path, index: int, columns: dict, extras: dict | None) -> No
     os.replace(tmp, chunk_path(out, index))
 
 
-def read_results(out: Path) -> dict[str, np.ndarray]:
-    """Every finished chunk's rows, in chunk order: column -> array."""
+#: largest Parquet chunk file read back (bytes): a chunk of the largest size (100,000
+#: designs) of a few hundred columns is well under it
+MAX_CHUNK_BYTES = 512_000_000
+
+
+def _read_chunk(f: Path, rows_left: int):
+    """One Parquet chunk file, bounded (a regular file, MAX_CHUNK_BYTES, at most
+    ``rows_left`` rows, numeric or boolean columns): StudyStateError naming the file."""
     import pyarrow as pa
     import pyarrow.parquet as pq
+
+    from plantmech.inputs import read_input_bytes
+    from plantmech.studies.spec import MAX_DESIGNS
+
+    data = read_input_bytes(f, "Parquet chunk of a study", MAX_CHUNK_BYTES, StudyStateError)
+    try:
+        reader = pq.ParquetFile(pa.BufferReader(data))
+        rows = reader.metadata.num_rows
+        if rows > rows_left:
+            raise StudyStateError(f"{f}: {rows:,} rows, more than the chunks of one study "
+                                  f"hold in all ({MAX_DESIGNS:,} designs); not a chunk of a study")
+        table = reader.read()
+    except (pa.ArrowException, OSError, ValueError) as exc:
+        if isinstance(exc, StudyStateError):
+            raise
+        raise StudyStateError(f"{f}: not a Parquet chunk of a study "
+                              f"({type(exc).__name__}: {str(exc)[:200]})") from None
+    for col in table.schema:
+        t = col.type
+        if not (pa.types.is_integer(t) or pa.types.is_floating(t) or pa.types.is_boolean(t)):
+            raise StudyStateError(f"{f}: column {col.name!r} holds {t}, not numbers (not a "
+                                  "chunk of a study)")
+    return table
+
+
+def read_results(out: Path) -> dict[str, np.ndarray]:
+    """Every finished chunk's rows, in chunk order: column -> array. Each chunk is read
+    bounded (``_read_chunk``), at most MAX_DESIGNS rows in all, every chunk with the same
+    columns (StudyStateError naming the file otherwise)."""
+    import pyarrow as pa
+
+    from plantmech.studies.spec import MAX_DESIGNS
 
     files = sorted((out / CHUNK_DIR).glob("chunk_*.parquet"))
     if not files:
         return {}
-    table = pa.concat_tables([pq.read_table(f) for f in files])
+    tables, left = [], MAX_DESIGNS
+    for f in files:
+        tables.append(_read_chunk(f, left))
+        left -= tables[-1].num_rows
+        if tables[-1].schema.names != tables[0].schema.names:
+            raise StudyStateError(f"{f}: its columns differ from {files[0].name}'s (not a "
+                                  "chunk of the same study)")
+    try:
+        table = pa.concat_tables(tables, promote_options="permissive")
+    except pa.ArrowException as exc:
+        raise StudyStateError(f"{out / CHUNK_DIR}: the chunks' columns do not match "
+                              f"({str(exc)[:200]})") from None
     return {n: table.column(n).to_numpy() for n in table.column_names}
 
 
 def read_extras(out: Path) -> list[dict]:
-    return [dict(np.load(f)) for f in sorted((out / CHUNK_DIR).glob("chunk_*.npz"))]
+    """The chunks' extra arrays (``.npz``), each read bounded as a chunk is."""
+    import io
+    import zipfile
+
+    from plantmech.inputs import read_input_bytes
+
+    extras = []
+    for f in sorted((out / CHUNK_DIR).glob("chunk_*.npz")):
+        data = read_input_bytes(f, "chunk extras file (.npz)", MAX_CHUNK_BYTES,
+                                StudyStateError)
+        try:
+            with np.load(io.BytesIO(data), allow_pickle=False) as z:
+                extras.append({k: z[k] for k in z.files})
+        except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+            raise StudyStateError(f"{f}: not a chunk extras file ({exc})") from None
+    return extras
 
 
 @contextlib.contextmanager
@@ -136,8 +207,10 @@ def dask_client(scheduler: str | None = None, workers: int = 2):
         finally:
             client.close()
         return
+    # loopback only, the dashboard included (":0" listened on every interface)
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+                      host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0",
+                      silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield client
 

@@ -16,7 +16,28 @@ from plantmech.studies.engine import (
     read_results,
     run_chunks,
 )
-from plantmech.studies.spec import MultiStartSpec
+from plantmech.studies.spec import MultiStartSpec, StudySpecError
+
+#: the mechanism each problem optimizes, and whether it moves type-value points (and so
+#: needs a [trajectory])
+PROBLEM_MECHANISM = {"seeder-layer1": ("sugarcane_seeder", True),
+                     "seeder-layer2": ("sugarcane_seeder", False),
+                     "seeder-layered": ("sugarcane_seeder", True),
+                     "seeder-joint": ("sugarcane_seeder", False),
+                     "transplanter": ("rice_transplanter", False),
+                     "planetary": ("planetary", False)}
+
+
+def check_problem(design, spec: MultiStartSpec, source: str = "study file") -> None:
+    """StudySpecError naming ``source`` and the field when ``spec.problem`` cannot optimize
+    ``design`` (before a start is sent: every start would fail the same way)."""
+    mechanism, trajectory = PROBLEM_MECHANISM[spec.problem]
+    if design.mechanism != mechanism:
+        raise StudySpecError(f"{source}: field 'problem': {spec.problem!r} optimizes a "
+                             f"{mechanism} design, and {design.name!r} is a {design.mechanism}")
+    if trajectory and getattr(design, "trajectory", None) is None:
+        raise StudySpecError(f"{source}: field 'problem': {spec.problem!r} moves type-value "
+                             f"points: the design {design.name!r} needs a [trajectory]")
 
 
 def start_task(shared, payload):
@@ -47,12 +68,9 @@ def start_task(shared, payload):
 def run_multistart(design, spec: MultiStartSpec, out: Path, fingerprint: str,
                    design_input: str, scheduler: str | None = None, workers: int = 2,
                    progress: bool = True, max_chunks: int | None = None):
-    from plantmech.optimize.jobs import PROBLEMS
     from plantmech.studies.runner import StudyOutcome, wilson
 
-    if spec.problem not in PROBLEMS:
-        raise ValueError(f"field 'problem': unknown problem {spec.problem!r} (expected one of "
-                         f"{', '.join(PROBLEMS)})")
+    check_problem(design, spec)
     claim_out_dir(out, fingerprint, {"kind": spec.kind, "design": design.name,
                                      "problem": spec.problem})
     (out / "starts").mkdir(exist_ok=True)

@@ -124,10 +124,27 @@ def _check_names(names, known, mechanism):
                               f"(known: {', '.join(known)})")
 
 
+def _collinear(t) -> bool:
+    return abs(t.a1_mm + t.a2_mm - t.L1_mm) <= 1e-6 * t.L1_mm
+
+
 class SeederModel:
     """Variants of a seeder's [train] (see the module docstring for the model)."""
 
     mechanism = "sugarcane_seeder"
+
+    @staticmethod
+    def check(design, names: list[str]) -> None:
+        _check_names(names, SEEDER_PARAMETERS, "sugarcane_seeder")
+        t = design.train
+        if t is None:
+            raise StudyInputError("a seeder study needs a design with a [train] (pitch curves); "
+                                  "run 'plantmech optimize --problem seeder-layered' or give one")
+        if "L1_mm" in names and _collinear(t):
+            raise StudyInputError(
+                f"parameter 'L1_mm': the carrier is collinear (a1 + a2 = L1 = {t.L1_mm:.3f} mm),"
+                " so L1 follows from the centre distances: give tolerances on 'a1_mm' and "
+                "'a2_mm' instead")
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720, dense: int = 2048):
         from plantmech.objectives.seeder_design import (
@@ -135,22 +152,14 @@ class SeederModel:
             section_reference_psi,
         )
 
-        _check_names(names, SEEDER_PARAMETERS, "sugarcane_seeder")
+        self.check(design, names)
         t = design.train
-        if t is None:
-            raise StudyInputError("a seeder study needs a design with a [train] (pitch curves); "
-                                  "run 'plantmech optimize --problem seeder-layered' or give one")
         if t.closure not in ("centre_distance", "scale"):
             # toothed pairs close by their teeth: the variants' pairs are closed by solving
             # the centre distance (the nominal design is unchanged when it closes)
             design = design.model_copy(deep=True)
             design.train.closure = "centre_distance"
-        self.collinear = abs(t.a1_mm + t.a2_mm - t.L1_mm) <= 1e-6 * t.L1_mm
-        if "L1_mm" in names and self.collinear:
-            raise StudyInputError(
-                f"parameter 'L1_mm': the carrier is collinear (a1 + a2 = L1 = {t.L1_mm:.3f} mm),"
-                " so L1 follows from the centre distances: give tolerances on 'a1_mm' and "
-                "'a2_mm' instead")
+        self.collinear = _collinear(t)
         self.design, self.names = design, list(names)
         self.cycle_samples, self.dense = cycle_samples, dense
         self.reference_psi = section_reference_psi(design)
@@ -208,12 +217,16 @@ class SeederModel:
 class TransplanterModel:
     """Variants of a transplanter (seed 001): see the module docstring."""
 
-    def __init__(self, design, names: list[str], cycle_samples: int = 720):
-        from plantmech.mechanisms.transplanter_design import transplanter_travel_speed
-
+    @staticmethod
+    def check(design, names: list[str]) -> None:
         _check_names(names, TRANSPLANTER_PARAMETERS, design.mechanism)
         if design.mechanism != "rice_transplanter" and "ring_phase_deg" in names:
             raise StudyInputError("parameter 'ring_phase_deg': a K-H-V train has no lobe phase")
+
+    def __init__(self, design, names: list[str], cycle_samples: int = 720):
+        from plantmech.mechanisms.transplanter_design import transplanter_travel_speed
+
+        self.check(design, names)
         self.mechanism = design.mechanism
         if design.mechanism == "rice_transplanter" and design.internal_gear.centre_distance_mm:
             # the variants' pairs close by their teeth: solve the centre distance

@@ -168,6 +168,8 @@ class Curve:
                              "open turn (body angle 360 deg, the left side of its break)"
                              + (f" (design {d})" if self.designs > 1 else "")
                              + f" is not above {min_radius:g} mm")
+        if self.r.min() > min_radius or np.isnan(self.r.min()):  # one reduction, no mask
+            return
         bad = self.r <= min_radius
         if bad.any():
             d, k = (int(i) for i in np.argwhere(bad)[0])

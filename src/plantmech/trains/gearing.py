@@ -314,11 +314,69 @@ def assess(design, built=None, modules: list | None = None):
     """[PairVerdict] of every pair of a planetary design under its cutting rules
     (``gears.manufacturability.rules_for``), and the rules."""
     from plantmech.gears.manufacturability import assess_pair, rules_for
+    from plantmech.trains.curves import use_kernels
 
     built = built or built_train(design)
     rules = rules_for(design)
-    return [assess_pair(s, rules) for s in pair_shapes(built, gear_names(design), modules)], \
-        rules
+    names = gear_names(design)
+    if use_kernels(built.designs * built.laws[0].g.shape[1]) and all(
+            law.g_end is None for law in built.laws):  # a population: one fused pass
+        return fused_verdicts(built, names, rules, modules), rules
+    return [assess_pair(s, rules) for s in pair_shapes(built, names, modules)], rules
+
+
+def fused_verdicts(built, names: list[tuple[str, str]], rules, modules: list | None = None):
+    """[PairVerdict] of every pair of P built trains: ``assess_pair`` of ``pair_shapes``
+    with each gear's extremes reduced per design in one pass (``trains.fused.
+    pair_extremes``) instead of its (P, N) shape tables; the same verdicts (minima and
+    places equal, perimeters to 1e-15 relative: tests/test_trains_fused.py). Closed
+    curves only (an open curve's break: ``pair_shapes``)."""
+    from plantmech.gears.manufacturability import gear_bounds, pair_verdict
+    from plantmech.trains import fused as fz
+    from plantmech.trains.pairs import _KIND
+
+    def deg(angle):
+        return np.degrees(np.mod(angle, TWO_PI))
+
+    out = []
+    for k, law in enumerate(built.laws):
+        d = law.driver
+        N = d.r.shape[1]
+        h = TWO_PI / N
+        t = d.theta
+        _, kappa, c, _, _ = _KIND[law.kind]
+        ring_d, ring_f = law.kind == "internal", law.kind == "internal_ring_follower"
+        v, i = fz.pair_extremes(np.ascontiguousarray(d.r, dtype=float),
+                                np.ascontiguousarray(d.dr, dtype=float),
+                                np.ascontiguousarray(law.a, dtype=float), float(kappa),
+                                float(c), ring_d, ring_f, float(t[0]), h)
+        spec = built.train.pairs[k]
+        rolled, mate = names[k][::-1] if spec.follower is not None else names[k]
+        per_f = v[:, fz.PERIMETER_F]
+        if spec.dwell is None:
+            per_f = per_f / law.follower_turns
+        bounds, where = gear_bounds(rolled, (v[:, fz.CONVEX_D], deg(t[i[:, fz.AT_CONVEX_D]])),
+                                    (v[:, fz.CONCAVE_D], deg(t[i[:, fz.AT_CONCAVE_D]])),
+                                    (v[:, fz.RADIUS_D], deg(t[i[:, fz.AT_RADIUS_D]])),
+                                    v[:, fz.PERIMETER_D], rules, ring_d)
+        b, w = gear_bounds(mate, (v[:, fz.CONVEX_F], deg(v[:, fz.PHI_CONVEX_F])),
+                           (v[:, fz.CONCAVE_F], deg(v[:, fz.PHI_CONCAVE_F])),
+                           (v[:, fz.RADIUS_F], deg(v[:, fz.PHI_RADIUS_F])), per_f, rules,
+                           ring_f)
+        bounds.update(b)
+        where.update(w)
+        name = f"{names[k][0]}_{names[k][1]}"
+        if ring_d or ring_f:
+            bounds[f"internal difference {name}"] = (v[:, fz.DIFFERENCE]
+                                                      / rules.min_internal_difference)
+            where[f"internal difference {name}"] = (rolled,
+                                                    deg(t[i[:, fz.AT_DIFFERENCE]]))
+        fixed = None if modules is None or modules[k] is None else np.asarray(modules[k])
+        out.append(pair_verdict(name, [(rolled, v[:, fz.PERIMETER_D]), (mate, per_f)],
+                                bounds, where,
+                                (np.arctan(v[:, fz.MU_RATIO]), deg(t[i[:, fz.AT_MU]])),
+                                fixed, rules))
+    return out
 
 
 def pitch_curve_findings(design, modules: list | None = None) -> list[dict]:

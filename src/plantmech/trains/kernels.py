@@ -30,7 +30,7 @@ def _hermite(y0, y1, d0, d1, s, h):
     return value, slope
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def hermite_rows(y, dy, x, shared):
     """(value, slope) (P, M) of each row's periodic cubic Hermite interpolant through values
     ``y`` (P, N) and slopes ``dy`` (P, N) on the uniform grid 2 pi k / N, at angles ``x``
@@ -57,7 +57,7 @@ def hermite_rows(y, dy, x, shared):
     return value, slope
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def invert_rows(Fp, gq, q, target, newton):
     """Body angles theta (P, M) with Fp(theta) + q theta = ``target`` (P, M) (rad): ``Fp``
     (P, N) the law's periodic part and ``gq`` (P, N) its slope (g - q) on the uniform grid,

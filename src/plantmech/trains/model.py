@@ -450,6 +450,63 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
                        meshes)
 
 
+def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
+    """``simulate``'s tip motion (carrier, planet centre, tip, its rate, the arm angle and
+    its rate; no per-gear tables: ``gear_angles``, ``contact_radii`` ... empty) of a
+    population in one fused pass per design (``trains.fused.chain_tips``), for what reads
+    the tips only (``objectives.planetary.population_evaluation``); None where the pass
+    does not apply (an open curve's law, pairs on different grids, fewer than
+    ``curves.KERNEL_POINTS`` grid points): ``simulate`` then. The same tips to 1e-9 mm
+    (tests/test_trains_fused.py)."""
+    from plantmech.trains.curves import use_kernels
+
+    tr, P, J = built.train, built.designs, built.train.arms
+    laws = built.laws
+    N = laws[0].g.shape[1]
+    if not use_kernels(P * N) or any(law.g_end is not None or law.g.shape[1] != N
+                                     for law in laws):
+        return None
+    from plantmech.trains.fused import chain_tips
+
+    K = len(laws)
+    stack = [tuple(np.ascontiguousarray(getattr(law, t), dtype=float) for law in laws)
+             for t in ("Fp", "g", "dg")]
+    q_e = np.ascontiguousarray(np.stack([law.q_e for law in laws]))
+    delta = np.stack([np.broadcast_to(_column(sp.direction, P)[:, 0], (P,)) for sp in tr.pairs])
+    given = np.array([sp.follower is not None for sp in tr.pairs])
+    derived = np.array([i > 0 and sp.follower is not None for i, sp in enumerate(tr.pairs)])
+    shift = np.zeros((K, P))
+    for i, (sp, law) in enumerate(zip(tr.pairs, laws, strict=True)):
+        if i > 0 and sp.follower is not None:
+            shift[i] = _derived_driver_angle(sp, law, P)[:, 0, 0]
+        elif i > 0 and sp.driver is not None:
+            shift[i] = np.broadcast_to(_column(sp.phase, P)[:, 0], (P,))
+    offsets = np.array([_KIND_OFFSETS[sp.kind] for sp in tr.pairs])
+    sense = np.array([float(law.sense) for law in laws])
+    gap = built.toothless[0] if built.toothless else None
+    lock = np.zeros(P) if gap is None else np.broadcast_to(gap.lock.reshape(-1), (P,))
+    width = np.zeros(P) if gap is None else np.broadcast_to(gap.width.reshape(-1), (P,))
+    s = float(tr.carrier_sense)
+
+    def col(v):
+        return np.ascontiguousarray(np.broadcast_to(_column(v, P)[:, 0], (P,)), dtype=float)
+
+    tip, tip_rate, beta, beta_rate, centre = chain_tips(
+        *stack, q_e, np.ascontiguousarray(delta, dtype=float), given,
+        np.ascontiguousarray(offsets[:, 0]), np.ascontiguousarray(offsets[:, 1]), sense, shift,
+        derived, np.ascontiguousarray(lock, dtype=float), np.ascontiguousarray(width,
+                                                                             dtype=float),
+        -s if gap is None else float(gap.sense), gap is not None,
+        col(_sun_start(built)[:, 0, 0]), (float(tr.sun_speed_ratio) - 1) * s, col(tr.carrier0),
+        s, J, samples, np.ascontiguousarray(built.shafts[:, -1]), col(tr.arm_length),
+        col(tr.arm_angle), float(tr.sun_speed_ratio) == 0.0 and J > 1 and samples % J == 0)
+    psi = TWO_PI * np.arange(samples) / samples
+    offset = TWO_PI * np.arange(J) / J
+    carrier = _column(tr.carrier0, P)[:, :, None] + s * (psi[None, :] + offset[:, None])[None]
+    return TrainMotion(psi, np.broadcast_to(carrier, (P, J, samples)), [], [], [], [], centre,
+                       tip, beta, beta_rate, tip_rate, built, [])
+
+
 def _sun_start(built: BuiltTrain) -> np.ndarray:
     """The sun's body angle alpha_0(0) relative to the carrier line at psi = 0 (P|1, 1, 1)
     rad: from the first contact when the sun is derived, else its absolute orientation."""
@@ -506,4 +563,4 @@ def forward(train: Train, samples: int = 3600) -> TrainMotion:
 
 
 __all__ = ["PairSpec", "Train", "BuiltTrain", "TrainMotion", "Toothless", "PairMesh", "mesh",
-           "build", "simulate", "forward", "contact_angles"]
+           "build", "simulate", "simulate_tips", "forward", "contact_angles"]

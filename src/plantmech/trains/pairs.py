@@ -166,8 +166,8 @@ class PairLaw:
         """(F - q_e theta, g - q_e) at driver body angles ``theta`` (rad): the Hermite
         reading of ``Fp`` with its slopes (an open driver's never across its break)."""
         if self.g_end is None:
-            return hermite_periodic(self.Fp, self.g - self.q_e[:, None], theta)
-        return hermite_open(self.Fp, self.g - self.q_e[:, None], self.Fp[:, 0],
+            return hermite_periodic(self.Fp, self.slope, theta)
+        return hermite_open(self.Fp, self.slope, self.Fp[:, 0],
                             self.g_end - self.q_e, theta)
 
     def _ratio_at(self, theta) -> tuple[np.ndarray, np.ndarray]:
@@ -175,6 +175,14 @@ class PairLaw:
         if self.g_end is None:
             return hermite_periodic(self.g, self.dg, theta)
         return hermite_open(self.g, self.dg, self.g_end, self.dg_end, theta)
+
+    @property
+    def slope(self) -> np.ndarray:
+        """g - q_e (P, N): the slope table of F's periodic part ``Fp`` (computed once)."""
+        cached = self.__dict__.get("_slope")
+        if cached is None:
+            cached = self.__dict__["_slope"] = self.g - self.q_e[:, None]
+        return cached
 
     @property
     def sense(self) -> int:
@@ -219,7 +227,7 @@ class PairLaw:
 
             target = np.ascontiguousarray(np.broadcast_to(F_target, (P,) + F_target.shape[1:])
                                           .reshape(P, -1))
-            theta = invert_rows(np.ascontiguousarray(self.Fp), self.g - self.q_e[:, None],
+            theta = invert_rows(np.ascontiguousarray(self.Fp), self.slope,
                                 np.ascontiguousarray(self.q_e, dtype=float), target, 4)
             return theta.reshape((P,) + F_target.shape[1:])
         h = TWO_PI / N
@@ -235,7 +243,7 @@ class PairLaw:
         f0, f1 = table[rows, k], table[rows, k + 1]
         theta = th[k] + h * (y - f0) / np.where(f1 > f0, f1 - f0, 1.0)
         q = self.q_e[:, None]
-        slope = self.g - q
+        slope = self.slope
         for _ in range(4):  # Newton on the Hermite interpolant of F (its own slope)
             fp, dfp = (hermite_periodic(self.Fp, slope, theta) if self.g_end is None
                        else self._periodic_part(theta))
@@ -246,6 +254,17 @@ class PairLaw:
         """The follower's pitch curve on its own uniform grid (r, dr/dtheta_f): at
         follower angle phi the contact is at driver angle F^-1(sense * phi)."""
         P, N = self.g.shape
+        _, kappa, c, _, _ = _KIND[self.kind]
+        if not self.driver.open and use_kernels(P * N):  # one fused pass per design
+            from plantmech.trains.fused import mate_tables
+
+            rf, slope = mate_tables(np.ascontiguousarray(self.Fp), np.ascontiguousarray(self.g),
+                                    np.ascontiguousarray(self.q_e, dtype=float),
+                                    np.ascontiguousarray(self.driver.r, dtype=float),
+                                    np.ascontiguousarray(self.driver.dr, dtype=float),
+                                    np.ascontiguousarray(self.a, dtype=float), float(kappa),
+                                    float(c), float(self.sense))
+            return Curve(rf, slope, name)
         phi = TWO_PI * np.arange(N) / N
         theta_d = self.invert(np.broadcast_to(self.sense * phi, (P, N)))
         r_d, dr_d = self.driver(theta_d)
@@ -298,6 +317,12 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
     if not np.all(q > 0):
         raise PairError(f"{name}: follower_turns must be positive, got {q.min():g}")
     driver.check_positive(min_radius)
+    if not driver.open and use_kernels(P * N):  # a population: one fused pass per design
+        law = _fused_law(kind, driver, q, centre_distance, min_radius, name,
+                         float(q[0]) if scalar else q)
+        if law is not None:
+            return _checked(law, kind, driver, q, centre_distance, tolerance, name,
+                            periodic_mate)
     try:
         _admissible(kind, driver.r, q)  # a pair no centre distance can close: refused
         solved = solve_centre_distance(kind, driver.r, q) if centre_distance is None \
@@ -332,6 +357,44 @@ def pair_law(kind: str, driver: Curve, follower_turns, centre_distance=None,
         q_e = F[:, -1] / TWO_PI
         Fp = F[:, :-1] - q_e[:, None] * (h * np.arange(N))
         law = PairLaw(kind, driver, a, g, dg, Fp, q_e, float(q[0]) if scalar else q, name)
+    return _checked(law, kind, driver, q, centre_distance, tolerance, name, periodic_mate)
+
+
+def _fused_law(kind: str, driver: Curve, q: np.ndarray, centre_distance, min_radius: float,
+               name: str, turns) -> PairLaw | None:
+    """``pair_law``'s closed law of a population by ``trains.fused.pair_laws`` (the same
+    solve and spline, 1e-15 relative apart); None when a design is refused (a follower
+    radius not above ``min_radius``, no admissible centre distance): the NumPy path then
+    says which, with its message."""
+    from plantmech.trains.fused import pair_laws
+
+    P, N = driver.r.shape
+    try:
+        lo, hi = _admissible(kind, driver.r, q)
+    except PairError:
+        return None
+    solve = centre_distance is None
+    given = np.zeros(P) if solve else np.broadcast_to(
+        np.asarray(centre_distance, dtype=float), (P,)).astype(float)
+    _, kappa, c, _, _ = _KIND[kind]
+    a, g, dg, Fp, q_e, rf_min = pair_laws(
+        np.ascontiguousarray(driver.r, dtype=float), np.ascontiguousarray(driver.dr,
+                                                                         dtype=float),
+        float(kappa), float(c), np.ascontiguousarray(q, dtype=float), lo, hi, given, solve,
+        max(N // COARSE_SAMPLES, 1), COARSE_STEPS if N // COARSE_SAMPLES > 1 else 64,
+        CLOSURE_STEP)
+    if not np.all(rf_min > min_radius) or not np.all(np.isfinite(q_e)):
+        return None
+    return PairLaw(kind, driver, a, g, dg, Fp, q_e, turns, name)
+
+
+def _checked(law: PairLaw, kind: str, driver: Curve, q: np.ndarray, centre_distance,
+             tolerance: float, name: str, periodic_mate: bool) -> PairLaw:
+    """``law`` once its closure (a given centre distance) and, for a mate rolled all round,
+    the driver's repetition every 1 / q turn are checked (PairError naming the design)."""
+    P = driver.r.shape[0]
+    q_e = law.q_e
+    a = law.a
     err = np.abs(law.closure_error)
     if centre_distance is not None and np.any(err > tolerance):
         d = int(np.argmax(err))

@@ -25,6 +25,7 @@ export function linePlot(canvas, opt) {
   ctx.clearRect(0, 0, W, H);
   ctx.font = "11px system-ui, sans-serif";
   const series = (opt.series || []).filter((s) => s && s.y && s.y.length);
+  canvas.seriesY = series.map((s) => s.y); // what was drawn (the tests read it)
   if (!series.length) {
     ctx.fillStyle = "#888";
     ctx.fillText(opt.empty || "no data", m.l, H / 2);

@@ -1,0 +1,509 @@
+"""Fused population passes (numba) of the general train model: one loop per design where
+the NumPy path makes a dozen passes over (P, N) temporaries.
+
+- ``pair_extremes``: every quantity the pitch-curve manufacturability rules read of one
+  pair (``trains.gearing.pair_shapes`` + ``gears.manufacturability.assess_pair``), reduced
+  per design in one pass over the driver's grid: both gears' smallest convex and concave
+  radius of curvature, smallest pitch radius and perimeter, each with where it is; the
+  largest contact angle |mu|; a ring pair's smallest internal difference. The per-point
+  arithmetic is the NumPy path's, term by term (``geometry.curvature_kernels``); the
+  minima and their first places are therefore the same numbers, the perimeters a sum in
+  another order (1e-15 relative) (tests/test_trains_fused.py).
+- ``pair_laws``: a pair's closed law (closure solve, ratio, the spline's running
+  integral); ``mate_tables``: the follower's pitch curve rolled from it (an idler's, the
+  next pair's driver); ``chain_tips``: the tip motion walked once per design, arm and
+  sample along the chain of pairs (``trains.model.simulate_tips``).
+- ``crossings``: the proper self-crossings of closed polylines
+  (``objectives.planetary.self_crossings``): per design its segments sorted by their
+  smallest x and swept (a crossing pair overlaps in x), then the exact orientation test
+  of the NumPy version: the same counts.
+
+Imported lazily, for populations of at least ``curves.KERNEL_POINTS`` grid points only:
+numba stays out of the CLI's start-up and of single designs; compilation cached on disk.
+Radii mm, angles rad.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: columns of ``pair_extremes``' value table
+(CONVEX_D, CONCAVE_D, RADIUS_D, PERIMETER_D, CONVEX_F, CONCAVE_F, RADIUS_F, PERIMETER_F,
+ MU_RATIO, DIFFERENCE, PHI_CONVEX_F, PHI_CONCAVE_F, PHI_RADIUS_F) = range(13)
+#: columns of its index table (the first grid index of each extreme)
+(AT_CONVEX_D, AT_CONCAVE_D, AT_RADIUS_D, AT_CONVEX_F, AT_CONCAVE_F, AT_RADIUS_F, AT_MU,
+ AT_DIFFERENCE) = range(8)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _curvature(r, d, dd, f, ff, plain):
+    """``geometry.curvature_kernels.polar_curvature_rows`` at one point."""
+    num = r * r
+    if plain:
+        num = num + d * 2.0 * d
+        num = num - r * dd
+        speed2 = r * r + d * d
+    else:
+        num = num * (f * f * f)
+        num = num + d * 2.0 * d * f
+        num = num - r * dd * f
+        num = num + r * d * ff
+        speed2 = r * r * (f * f) + d * d
+    speed = np.sqrt(speed2)
+    cube = speed * speed * speed
+    return np.inf if num == 0 else cube / num
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def pair_extremes(r, r1, a, kappa, c, ring_d, ring_f, t0, h):
+    """(values (P, 13), indices (P, 8)) of P pairs from the driver's tables r, r' (P, N)
+    (r'' from the slopes' centred differences, ``curves.second_derivative``'s) on the grid
+    t_i = i h and the centre distances ``a`` (P,): the driver's and
+    the follower's (rho = kappa r + c a at body-angle rate phi' = r / rho, phi'' = c a r'
+    / rho^2) smallest convex and concave radius of curvature on the material side (signs
+    flipped for a ring: ``ring_d``, ``ring_f``), smallest pitch radius, perimeter sum
+    (times h: the perimeter), the largest |r'| / r (tan mu) and the smallest internal
+    difference 2 (-rho_ring - rho_planet) where the ring wraps the planet (inf: none);
+    the follower's body angle phi = t0 + h (sum of phi' up to i) - h phi'_i at its
+    extremes. Indices: the first grid index of each extreme (0 where none, as argmin of
+    an all-inf row)."""
+    P, N = r.shape
+    vals = np.empty((P, 13))
+    idx = np.zeros((P, 8), dtype=np.int64)
+    inf = np.inf
+    for p in range(P):
+        ca = c * a[p]
+        cvx_d = ccv_d = rad_d = cvx_f = ccv_f = rad_f = diff = inf
+        i_cvx_d = i_ccv_d = i_rad_d = i_cvx_f = i_ccv_f = i_rad_f = i_mu = i_diff = 0
+        per_d = per_f = 0.0
+        mu = -inf
+        cum = 0.0
+        phi_cvx = phi_ccv = phi_rad = 0.0
+        for i in range(N):
+            rr, d = r[p, i], r1[p, i]
+            dd = ((r1[p, i + 1] if i + 1 < N else r1[p, 0])
+                  - (r1[p, i - 1] if i > 0 else r1[p, N - 1])) / (2 * h)
+            rho = kappa * rr + ca
+            f = rr / rho
+            ff = ca * d / (rho * rho)
+            kd, kdd = kappa * d, kappa * dd
+            cd = _curvature(rr, d, dd, 1.0, 0.0, True)
+            cf = _curvature(rho, kd, kdd, f, ff, False)
+            if ring_d:
+                cd = -cd
+            if ring_f:
+                cf = -cf
+            cum += f
+            phi = t0 + cum * h - f * h
+            if i == 0:  # an extreme never found is at index 0, as argmin of an inf row
+                phi_cvx = phi_ccv = phi_rad = phi
+            if cd > 0 and cd < cvx_d:
+                cvx_d, i_cvx_d = cd, i
+            if cd < 0 and -cd < ccv_d:
+                ccv_d, i_ccv_d = -cd, i
+            if rr < rad_d:
+                rad_d, i_rad_d = rr, i
+            if cf > 0 and cf < cvx_f:
+                cvx_f, i_cvx_f, phi_cvx = cf, i, phi
+            if cf < 0 and -cf < ccv_f:
+                ccv_f, i_ccv_f, phi_ccv = -cf, i, phi
+            if rho < rad_f:
+                rad_f, i_rad_f, phi_rad = rho, i, phi
+            per_d += np.sqrt(d * d + rr * rr)
+            rf = rho * f
+            per_f += np.sqrt(kd * kd + rf * rf)
+            m = abs(d) / rr
+            if m > mu:
+                mu, i_mu = m, i
+            if ring_d or ring_f:
+                ring, planet = (cd, cf) if ring_d else (cf, cd)
+                gap = 2 * (-ring - planet) if ring < 0 else inf
+                if gap < diff:
+                    diff, i_diff = gap, i
+        vals[p, CONVEX_D], vals[p, CONCAVE_D], vals[p, RADIUS_D] = cvx_d, ccv_d, rad_d
+        vals[p, PERIMETER_D], vals[p, PERIMETER_F] = per_d * h, per_f * h
+        vals[p, CONVEX_F], vals[p, CONCAVE_F], vals[p, RADIUS_F] = cvx_f, ccv_f, rad_f
+        vals[p, MU_RATIO], vals[p, DIFFERENCE] = mu, diff
+        vals[p, PHI_CONVEX_F], vals[p, PHI_CONCAVE_F], vals[p, PHI_RADIUS_F] = (
+            phi_cvx, phi_ccv, phi_rad)
+        idx[p, AT_CONVEX_D], idx[p, AT_CONCAVE_D], idx[p, AT_RADIUS_D] = (
+            i_cvx_d, i_ccv_d, i_rad_d)
+        idx[p, AT_CONVEX_F], idx[p, AT_CONCAVE_F], idx[p, AT_RADIUS_F] = (
+            i_cvx_f, i_ccv_f, i_rad_f)
+        idx[p, AT_MU], idx[p, AT_DIFFERENCE] = i_mu, i_diff
+    return vals, idx
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def crossings(ax, ay):
+    """Proper crossings (P,) of each closed polyline through the points (ax, ay) (P, n):
+    ``objectives.planetary.self_crossings``' count (its docstring), per design by a sweep
+    over the segments sorted by their smallest x."""
+    P, n = ax.shape
+    out = np.zeros(P, dtype=np.int64)
+    xlo = np.empty(n)
+    xhi = np.empty(n)
+    for p in range(P):
+        for i in range(n):
+            j = i + 1 if i + 1 < n else 0
+            xlo[i] = min(ax[p, i], ax[p, j])
+            xhi[i] = max(ax[p, i], ax[p, j])
+        order = np.argsort(xlo, kind="mergesort")
+        count = 0
+        for u in range(n):
+            i = order[u]
+            i1 = i + 1 if i + 1 < n else 0
+            yilo, yihi = min(ay[p, i], ay[p, i1]), max(ay[p, i], ay[p, i1])
+            dxi, dyi = ax[p, i1] - ax[p, i], ay[p, i1] - ay[p, i]
+            for v in range(u + 1, n):
+                j = order[v]
+                if xlo[j] > xhi[i]:
+                    break
+                gap = abs(i - j)
+                if gap <= 1 or gap >= n - 1:
+                    continue
+                j1 = j + 1 if j + 1 < n else 0
+                if yilo > max(ay[p, j], ay[p, j1]) or min(ay[p, j], ay[p, j1]) > yihi:
+                    continue
+                dxj, dyj = ax[p, j1] - ax[p, j], ay[p, j1] - ay[p, j]
+                s1 = dxj * (ay[p, i] - ay[p, j]) - dyj * (ax[p, i] - ax[p, j])
+                s2 = dxj * (ay[p, i1] - ay[p, j]) - dyj * (ax[p, i1] - ax[p, j])
+                s3 = dxi * (ay[p, j] - ay[p, i]) - dyi * (ax[p, j] - ax[p, i])
+                s4 = dxi * (ay[p, j1] - ay[p, i]) - dyi * (ax[p, j1] - ax[p, i])
+                if s1 * s2 < 0 and s3 * s4 < 0:
+                    count += 1
+        out[p] = count
+    return out
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _mean_ratio(r, p, kappa, c, a, stride):
+    """mean over the strided row p of r / (kappa r + c a)."""
+    N = r.shape[1]
+    total = 0.0
+    n = 0
+    for i in range(0, N, stride):
+        x = r[p, i]
+        total += x / (kappa * x + c * a)
+        n += 1
+    return total / n
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, step_tol):
+    """The closed laws of P pairs of one kind (``trains.pairs.pair_law``'s tables) in one
+    pass per design: the centre distance a (given, or solved as
+    ``solve_centre_distance``: ``coarse_steps`` bisections of every ``coarse``-th radius in
+    [lo, hi], Newton on the full table until the relative step is below ``step_tol``, the
+    full table's 64 bisections if 12 steps do not settle it), the ratio g = r / (kappa r +
+    c a) and its slope, the periodic cubic spline's running integral F of g (its moments
+    by the cyclic (1, 4, 1) system, Sherman-Morrison on a Thomas sweep, where the NumPy path
+    uses an FFT: the same spline, 1e-16 apart), q_e = F(2 pi) / 2 pi and the periodic part
+    Fp = F - q_e theta. Returns (a (P,), g, dg, Fp (P, N), q_e (P,), smallest follower
+    radius (P,)). ``kappa``, ``c``: the kind's r_f = kappa r_d + c a."""
+    P, N = r.shape
+    h = 2.0 * np.pi / N
+    rising = c < 0  # an internal pair: the mean ratio rises with a
+    a_out = np.empty(P)
+    g = np.empty((P, N))
+    dg = np.empty((P, N))
+    Fp = np.empty((P, N))
+    q_e = np.empty(P)
+    rf_min = np.empty(P)
+    # the Thomas factors of the cyclic (1, 4, 1) system's tridiagonal part (corners
+    # moved to the Sherman-Morrison vector u = (gamma, 0, ..., 0, 1), gamma = -4)
+    gamma = -4.0
+    diag = np.full(N, 4.0)
+    diag[0] = 4.0 - gamma
+    diag[N - 1] = 4.0 - 1.0 / gamma
+    cp = np.empty(N)
+    den = np.empty(N)
+    den[0] = diag[0]
+    cp[0] = 1.0 / den[0]
+    for i in range(1, N):
+        den[i] = diag[i] - cp[i - 1]
+        cp[i] = 1.0 / den[i]
+    z = np.empty(N)
+    w = np.empty(N)
+    m = np.empty(N)
+    u0 = gamma
+    # z = T^-1 u
+    w[0] = u0 / den[0]
+    for i in range(1, N):
+        ui = 1.0 if i == N - 1 else 0.0
+        w[i] = (ui - w[i - 1]) / den[i]
+    z[N - 1] = w[N - 1]
+    for i in range(N - 2, -1, -1):
+        z[i] = w[i] - cp[i] * z[i + 1]
+    zfact = 1.0 + z[0] + z[N - 1] / gamma
+    scale = 6.0 / (h * h)
+    for p in range(P):
+        qp = q[p]
+        if solve:
+            a0, a1 = lo[p], hi[p]
+            for _ in range(coarse_steps):
+                mid = 0.5 * (a0 + a1)
+                below = (_mean_ratio(r, p, kappa, c, mid, coarse) < qp) == rising
+                if below:
+                    a0 = mid
+                else:
+                    a1 = mid
+            a = 0.5 * (a0 + a1)
+            settled = False
+            for _ in range(12):
+                s1 = 0.0
+                s2 = 0.0
+                for i in range(N):
+                    x = r[p, i]
+                    inv = 1.0 / (kappa * x + c * a)
+                    gi = x * inv
+                    s1 += gi
+                    s2 += gi * inv
+                f = s1 / N - qp
+                df = -c * (s2 / N)
+                new = min(max(a - f / df, lo[p]), hi[p])
+                settled = abs(new - a) <= step_tol * abs(a)
+                a = new
+                if settled:
+                    break
+            if not settled:
+                a0, a1 = lo[p], hi[p]
+                for _ in range(64):
+                    mid = 0.5 * (a0 + a1)
+                    if (_mean_ratio(r, p, kappa, c, mid, 1) < qp) == rising:
+                        a0 = mid
+                    else:
+                        a1 = mid
+                a = 0.5 * (a0 + a1)
+        else:
+            a = given[p]
+        a_out[p] = a
+        ca = c * a
+        low = np.inf
+        for i in range(N):
+            rf = kappa * r[p, i] + ca
+            low = min(low, rf)
+            inv = 1.0 / rf
+            g[p, i] = r[p, i] * inv
+            dg[p, i] = dr[p, i] * ca * (inv * inv)
+        rf_min[p] = low
+        # moments: T x = rhs (Thomas), then the Sherman-Morrison correction
+        for i in range(N):
+            prev = g[p, i - 1] if i > 0 else g[p, N - 1]
+            nxt = g[p, i + 1] if i + 1 < N else g[p, 0]
+            rhs = scale * (prev - 2.0 * g[p, i] + nxt)
+            w[i] = (rhs - (w[i - 1] if i > 0 else 0.0)) * cp[i]
+        m[N - 1] = w[N - 1]
+        for i in range(N - 2, -1, -1):
+            m[i] = w[i] - cp[i] * m[i + 1]
+        fact = (m[0] + m[N - 1] / gamma) / zfact
+        for i in range(N):
+            m[i] -= fact * z[i]
+        total = 0.0
+        h3 = h * h * h / 24.0
+        for i in range(N):
+            j = i + 1 if i + 1 < N else 0
+            Fp[p, i] = total
+            total += 0.5 * h * (g[p, i] + g[p, j]) - h3 * (m[i] + m[j])
+        qe = total / (2.0 * np.pi)
+        q_e[p] = qe
+        for i in range(N):
+            Fp[p, i] -= qe * (h * i)
+    return a_out, g, dg, Fp, q_e, rf_min
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _read(y, dy, p, x, N, h, inv, sub):
+    """(value, slope) of row p's periodic Hermite table through values ``y`` and slopes
+    ``dy`` - ``sub`` at angle x (``kernels.hermite_rows`` at one angle)."""
+    u = x * inv
+    kf = np.floor(u)
+    s = u - kf
+    k = int(kf) % N
+    k1 = 0 if k == N - 1 else k + 1
+    s2 = s * s
+    s3 = s2 * s
+    y0, y1 = y[p, k], y[p, k1]
+    d0, d1 = (dy[p, k] - sub) * h, (dy[p, k1] - sub) * h
+    dyy = y0 - y1
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _invert(Fp, g, p, qp, F, N, h, inv, k_last, last, walk):
+    """(theta, its table interval, the target's remainder) with Fp(theta) + q theta = F
+    (``kernels.invert_rows`` at one target: the table's interval walked from the previous
+    target's (``k_last``, ``last``; up to 8 steps, when ``walk``) or bisected, its linear
+    inverse, then up to 4 Newton steps)."""
+    period = 2.0 * np.pi * qp
+    w = np.floor(F / period)
+    yv = F - w * period
+    lo, hi = 0, N
+    if walk and yv >= last:
+        lo = k_last
+        steps = 0
+        while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
+            lo += 1
+            steps += 1
+        if steps < 8:
+            hi = lo + 1
+    elif walk:
+        hi = k_last + 1
+        steps = 0
+        while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
+            hi -= 1
+            steps += 1
+        if steps < 8:
+            lo = hi - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Fp[p, mid] + qp * (mid * h) <= yv:
+            lo = mid
+        else:
+            hi = mid
+    k = lo
+    f0 = Fp[p, k] + qp * (k * h)
+    f1 = (Fp[p, k + 1] if k + 1 < N else Fp[p, 0]) + qp * ((k + 1) * h)
+    theta = k * h + h * (yv - f0) / (f1 - f0 if f1 > f0 else 1.0)
+    for _ in range(4):
+        fp, dfp = _read(Fp, g, p, theta, N, h, inv, qp)
+        step = theta - (fp + qp * theta - yv) / (dfp + qp)
+        if step == theta:
+            break
+        theta = step
+    return theta + 2.0 * np.pi * w, k, yv
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived,
+               lock, width, tsense, dwell, sun0, sun_rate, carrier0, cs, arms, samples,
+               shaft, arm_length, arm_angle, same_arms):
+    """The tip motion of P trains from their K pairs' laws (tuples of K (P, N) tables
+    ``Fp``, ``g``, ``dg``; ``q_e``, ``delta`` (K, P)): per design, arm and carrier
+    sample the chain of ``trains.model.simulate`` (its module docstring) walked once, pair
+    by pair: the sun's body angle sun0 + sun_rate psi - cs 2 pi j / J (rate ``sun_rate``),
+    a compound driver turned by ``shift`` (K, P), a derived one (``derived`` (K,) True)
+    phased so it starts at ``shift`` at arm 0's first sample; pair 0's toothless dwell
+    (``dwell``: lock, width (P,), ``tsense``) squeezes its toothless arcs out; a pair whose
+    follower is ``given`` inverts its law, else reads it forward. ``same_arms`` (a fixed
+    sun, samples a multiple of the arms): arm j at psi is arm 1 at psi + 2 pi j / J, so
+    arm 1 is walked (one sample more: its arm angle a turn on) and the others copied, the
+    arm angle a turn on past 2 pi. Returns (tip, tip rate
+    d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S), the planet's
+    centre (complex (P, J, S)))."""
+    K = len(Fp)
+    P, N = Fp[0].shape
+    h = 2.0 * np.pi / N
+    inv = 1.0 / h
+    two_pi = 2.0 * np.pi
+    tip = np.empty((P, arms, samples), dtype=np.complex128)
+    tip_rate = np.empty((P, arms, samples), dtype=np.complex128)
+    centre_out = np.empty((P, arms, samples), dtype=np.complex128)
+    beta_out = np.empty((P, arms, samples))
+    rate_out = np.empty((P, arms, samples))
+    start = np.empty(K)
+    k_last = np.zeros(K, dtype=np.int64)
+    y_last = np.zeros(K)
+    for p in range(P):
+        planet0 = 0.0
+        beta_end = 0.0
+        for j in range(1 if same_arms else arms):
+            off = two_pi * j / arms
+            for si in range(samples + (1 if same_arms else 0)):
+                psi = two_pi * si / samples
+                alpha = sun0[p] + sun_rate * psi - cs * off
+                rate = sun_rate
+                for k in range(K):
+                    if k > 0 and derived[k]:
+                        if j == 0 and si == 0:
+                            start[k] = alpha
+                        alpha = alpha + (shift[k, p] - start[k])
+                    elif k > 0:
+                        alpha = alpha + shift[k, p]
+                    am = alpha
+                    if k == 0 and dwell:
+                        t = tsense * (alpha - lock[p])
+                        turns = np.floor(t / two_pi)
+                        v = t - two_pi * turns
+                        meshes = v >= width[p]
+                        rolled = turns * (two_pi - width[p]) + (v - width[p] if meshes else 0.0)
+                        am = lock[p] + tsense * rolled
+                        if not meshes:
+                            rate = 0.0
+                    theta_d = delta[k, p] + eps_d[k] - am
+                    qk = q_e[k, p]
+                    if given[k]:
+                        theta_f, k_last[k], y_last[k] = _invert(
+                            Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, inv, k_last[k],
+                            y_last[k], si > 0)
+                        gv, _ = _read(g[k], dg[k], p, theta_f, N, h, inv, 0.0)
+                        rate = sense[k] * rate / gv
+                    else:
+                        fp, _ = _read(Fp[k], g[k], p, theta_d, N, h, inv, qk)
+                        gv, _ = _read(g[k], dg[k], p, theta_d, N, h, inv, 0.0)
+                        theta_f = sense[k] * (fp + qk * theta_d)
+                        rate = sense[k] * gv * rate
+                    alpha = delta[k, p] + eps_f[k] - theta_f
+                carrier = carrier0[p] + cs * (psi + off)
+                centre = shaft[p] * complex(np.cos(carrier), np.sin(carrier))
+                planet = carrier + alpha
+                if j == 0 and si == 0:
+                    planet0 = planet
+                beta = planet + (arm_angle[p] - planet0)
+                if si == samples:  # one turn on: the arm's whole turns per carrier turn
+                    beta_end = beta
+                    break
+                e = complex(np.cos(beta), np.sin(beta))
+                tip[p, j, si] = centre + arm_length[p] * e
+                centre_out[p, j, si] = centre
+                br = cs + rate
+                tip_rate[p, j, si] = 1j * cs * centre + 1j * arm_length[p] * br * e
+                beta_out[p, j, si] = beta
+                rate_out[p, j, si] = br
+        if same_arms:  # arm j at psi is arm 1 at psi + 2 pi j / J, a turn later past 2 pi
+            turn = beta_end - beta_out[p, 0, 0]
+            for j in range(1, arms):
+                lag = samples * j // arms
+                for si in range(samples):
+                    src = si + lag
+                    extra = 0.0
+                    if src >= samples:
+                        src -= samples
+                        extra = turn
+                    tip[p, j, si] = tip[p, 0, src]
+                    tip_rate[p, j, si] = tip_rate[p, 0, src]
+                    centre_out[p, j, si] = centre_out[p, 0, src]
+                    beta_out[p, j, si] = beta_out[p, 0, src] + extra
+                    rate_out[p, j, si] = rate_out[p, 0, src]
+    return tip, tip_rate, beta_out, rate_out, centre_out
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def mate_tables(Fp, g, q_e, r, dr, a, kappa, c, sense):
+    """The follower's pitch curve (r_f, dr_f / dphi) (P, N) on its own uniform grid phi_i
+    = 2 pi i / N of P closed laws (``pairs.PairLaw.mate``) in one pass per design: the
+    contact's driver angle theta = F^-1(sense phi) (``_invert``, walked along the grid),
+    the driver's radius and slope there (its Hermite table ``r``, ``dr``), r_f = kappa r +
+    c a and its slope kappa r' / (sense g), g = r / r_f: PairLaw.mate's numbers."""
+    P, N = Fp.shape
+    h = 2.0 * np.pi / N
+    inv = 1.0 / h
+    rf_out = np.empty((P, N))
+    slope_out = np.empty((P, N))
+    for p in range(P):
+        k_last, last = 0, 0.0
+        qp = q_e[p]
+        ca = c * a[p]
+        for i in range(N):
+            target = sense * (2.0 * np.pi * i / N)
+            theta, k_last, last = _invert(Fp, g, p, qp, target, N, h, inv, k_last, last,
+                                          i > 0)
+            rd, drd = _read(r, dr, p, theta, N, h, inv, 0.0)
+            rf = kappa * rd + ca
+            gg = rd / rf
+            rf_out[p, i] = rf
+            slope_out[p, i] = kappa * drd / (sense * gg)
+    return rf_out, slope_out
