@@ -125,9 +125,8 @@ def _body(args, design, run, spec) -> int:
     fp = _fingerprint(design, spec)
     try:
         if spec.kind == "multi-start":
-            from plantmech.studies.multistart import check_problem, run_multistart
+            from plantmech.studies.multistart import run_multistart
 
-            check_problem(design, spec, args.spec)  # before a start is sent
             outcome = run_multistart(design, spec, out, fp, str(args.design), args.scheduler,
                                      args.workers, not args.quiet, args.max_chunks)
         else:

@@ -128,6 +128,18 @@ def _collinear(t) -> bool:
     return abs(t.a1_mm + t.a2_mm - t.L1_mm) <= 1e-6 * t.L1_mm
 
 
+def check_parameters(design, names: list[str]) -> None:
+    """StudyInputError naming the first of ``names`` this design cannot vary: the checks
+    of the model's construction, without its evaluation (a study checks them before its
+    --out is made)."""
+    if design.mechanism == "planetary":
+        PlanetaryModel(design, names)  # reads the fields' values only
+    elif design.mechanism == "sugarcane_seeder":
+        SeederModel.check(design, names)
+    else:
+        TransplanterModel.check(design, names)
+
+
 class SeederModel:
     """Variants of a seeder's [train] (see the module docstring for the model)."""
 
