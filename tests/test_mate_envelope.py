@@ -254,20 +254,35 @@ def _example_mates(name, with_pairs: bool = False):
     return out
 
 
-def _swept_by_a(tool, motion, point, positions: int = 200_001, tol: float = 1e-3,
-                reach=None) -> bool:
-    """Brute force, independent of the envelope: whether B-frame ``point`` lies inside
-    the generating A, or within ``tol`` mm of it (the envelope's chord tolerance), at
-    some position of the motion (``positions`` over the cycle); with ``reach``
-    (MateReach), only inside a piece of A within its reach at that position (the
-    simulated cut's pieces, ``teeth._pieces``: the point's piece by its polar angle)."""
+def _swept_by_a(tool, motion, points, positions: int = 200_001, tol: float = 1e-3,
+                reach=None) -> np.ndarray:
+    """Brute force, independent of the envelope: whether each B-frame point of
+    ``points`` lies inside the generating A, or within ``tol`` mm of it (the envelope's
+    chord tolerance), at some position of the motion (``positions`` over the cycle);
+    with ``reach`` (MateReach), only inside a piece of A within its reach at that position
+    (the simulated cut's pieces, ``teeth._pieces``: the point's piece by its polar angle).
+    Every position is tried until one hits, every 64th first (a point swept by A is
+    usually found there): the answer is that of trying them all."""
     th = np.linspace(motion.theta_a[0], motion.theta_a[-1], positions)
-    xa = motion.to_a(np.broadcast_to(np.asarray(point, float), (positions, 2)), th)
-    hit = shapely.contains_xy(tool.buffer(tol), xa[:, 0], xa[:, 1])
-    if reach is not None:
-        mid = reach.middle(motion.arc(np.arctan2(xa[:, 1], xa[:, 0])))
-        hit &= reach.within(mid, motion.arc(th))
-    return bool(hit.any())
+    order = np.r_[np.arange(0, positions, 64),
+                  np.delete(np.arange(positions), np.arange(0, positions, 64))]
+    body = tool.buffer(tol)
+    shapely.prepare(body)
+    swept = []
+    for point in np.atleast_2d(np.asarray(points, float)):
+        hit = False
+        for chunk in np.array_split(order, [len(range(0, positions, 64))]):
+            t = th[chunk]
+            xa = motion.to_a(np.broadcast_to(point, (len(t), 2)), t)
+            if reach is not None:
+                mid = reach.middle(motion.arc(np.arctan2(xa[:, 1], xa[:, 0])))
+                ok = reach.within(mid, motion.arc(t))
+                xa = xa[ok]
+            if shapely.contains_xy(body, xa[:, 0], xa[:, 1]).any():
+                hit = True
+                break
+        swept.append(hit)
+    return np.asarray(swept)
 
 
 def _judge_against_simulated(gear, sim, tool, motion, blank, reach=None):
@@ -287,9 +302,10 @@ def _judge_against_simulated(gear, sim, tool, motion, blank, reach=None):
     kept = [g for g in shapely.get_parts(sim.difference(gear))
             if g.length and 2 * g.area / g.length > 1e-3
             and blank.contains(g.representative_point())]
-    for g in kept:
-        assert _swept_by_a(tool, motion, g.representative_point().coords[0],
-                           reach=reach), g.centroid
+    if kept:
+        swept = _swept_by_a(tool, motion, [g.representative_point().coords[0] for g in kept],
+                            reach=reach)
+        assert swept.all(), [g.centroid for g, s in zip(kept, swept, strict=True) if not s]
     return hausdorff_distance(gear.boundary, sim.boundary, densify=0.05), len(kept)
 
 
