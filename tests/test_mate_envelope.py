@@ -34,7 +34,13 @@ def _circle_pair():
 
 
 @pytest.fixture(scope="module")
-def cut():
+def cut(shared):
+    """The circle pair's mate by the envelope and by the simulated cut at 24 and 96
+    positions per pitch, built once per test run (conftest.Shared)."""
+    return shared.get("mate_envelope-circle-cuts", _fine_cut)
+
+
+def _fine_cut():
     from plantmech.gears import envelope
 
     # the driver's rack-cut flanks sampled finely (its own chord error, 1.7 um at the
