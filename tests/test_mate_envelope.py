@@ -361,24 +361,29 @@ INTERNAL_MATES = {
 }
 
 
+def _internal_rows(shared, name):
+    """The internal mates of ``_example_mates(name, with_pairs=True)``, cut once per test
+    run (conftest.Shared: the two tests below read them)."""
+    rows = shared.get(f"mate_envelope-internal-{name.replace('/', '-')}", lambda: [
+        row for row in _example_mates(name, with_pairs=True) if row[-1] is not None])
+    assert rows
+    return rows
+
+
 @pytest.mark.parametrize("name", sorted(INTERNAL_MATES))
-def test_internal_mates_by_the_envelope_within_the_simulated_cuts_reach(name):
+def test_internal_mates_by_the_envelope_within_the_simulated_cuts_reach(name, shared):
     """Each internal mate of a bundled example is made by the envelope by default, within
     the simulated cut's reach (its pieces of the ring, each whole while its middle is
     within 3 pitches and half a piece of the contact): within the stated distance of
     the simulated cut (measured in docs/manufacturing.md), less material (its scallops),
     every difference accounted for by brute force (what the envelope removes and the
     simulated cut keeps is inside a piece of the ring within its reach at some position
-    of the motion), no fold-back, the same teeth, and the mesh check's interference and
-    least free play within 0.005 / 0.01 mm of the simulated cut's."""
-    import copy
-
+    of the motion), no fold-back, the same teeth (and, in the test below, the mesh
+    check's figures as the simulated cut's)."""
     from plantmech.gears.outline import fold_backs, teeth_on_outline
-    from plantmech.gears.teeth import mesh_check
 
-    rows = [row for row in _example_mates(name, with_pairs=True) if row[-1] is not None]
-    assert rows
-    for pname, gear, made, sim, tool, motion, pitch_b, blank, pair, reach in rows:
+    for pname, gear, made, sim, tool, motion, pitch_b, blank, pair, reach in _internal_rows(
+            shared, name):
         if INTERNAL_MATES[name] is None:  # the fallback, recorded with its reason
             assert made["method"] == "simulated" and made["why"].startswith("self-check")
             assert gear.equals(sim)
@@ -391,6 +396,20 @@ def test_internal_mates_by_the_envelope_within_the_simulated_cuts_reach(name):
         t_env = teeth_on_outline(gear, pitch_b, pair.module, pair.spec.addendum)
         t_sim = teeth_on_outline(sim, pitch_b, pair.module, pair.spec.addendum)
         assert len(t_env["angle_deg"]) == len(t_sim["angle_deg"]) > 0, pname
+
+
+@pytest.mark.parametrize("name", sorted(INTERNAL_MATES))
+def test_internal_mates_by_the_envelope_mesh_as_the_simulated_cut(name, shared):
+    """The internal mates of the test above: the mesh check's interference and least free
+    play of the envelope mate within 0.005 / 0.01 mm of the simulated cut's."""
+    import copy
+
+    from plantmech.gears.teeth import mesh_check
+
+    for pname, gear, _made, sim, *_, pair, _reach in _internal_rows(shared, name):
+        if INTERNAL_MATES[name] is None:  # the fallback: the same gear (the test above)
+            continue
+        assert gear.equals(pair.gear_b), pname
         by_sim = copy.copy(pair)
         by_sim.gear_b = sim
         env_mesh, sim_mesh = mesh_check(pair), mesh_check(by_sim)
