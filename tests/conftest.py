@@ -164,6 +164,17 @@ def assert_file_refused(doc: dict, field: str, tmp_path, capsys) -> None:
     assert re.search(field, capsys.readouterr().err)
 
 
+def gears_cut(shared: Shared, key: str, design, *options) -> tuple[Path, int]:
+    """``plantmech gears design --out <folder> *options`` once per test run (its folder is
+    read, never written, by the tests that share it; a test that alters gear files copies
+    them first): (the output folder, the exit status)."""
+    from plantmech.interfaces.cli import main
+
+    path, code = shared.dir(f"gears-{key}", lambda p: main(
+        ["gears", str(design), "--out", str(p / "gears"), *options]))
+    return path / "gears", code
+
+
 def _lines(g) -> list:
     """The coordinate sequences of a linear or polygonal geometry, as GEOS walks them."""
     kind = g.geom_type

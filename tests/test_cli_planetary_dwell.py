@@ -15,7 +15,7 @@ import pytest
 
 from plantmech.design import load_design
 from plantmech.interfaces.cli import main
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, gears_cut
 
 PLANETARY = EXAMPLES / "planetary" / "sugarcane_table4.toml"
 DEDICATED = EXAMPLES / "sugarcane_table4.toml"
@@ -69,16 +69,14 @@ def test_gear_one_is_cut_from_the_seeders_lock_point():
 
 
 @pytest.fixture(scope="module")
-def gears_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("g") / "gears"
-    code = main(["gears", str(PLANETARY), "--out", str(out)])
-    return out, code
+def gears_dir(shared):
+    return gears_cut(shared, "planetary-sugarcane_table4", PLANETARY)
 
 
 @pytest.fixture(scope="module")
-def dedicated_gears_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("d") / "gears"
-    assert main(["gears", str(DEDICATED), "--out", str(out)]) == 4
+def dedicated_gears_dir(shared):
+    out, code = gears_cut(shared, "sugarcane_table4", DEDICATED)
+    assert code == 4
     return out
 
 

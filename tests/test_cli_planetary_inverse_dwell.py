@@ -22,26 +22,28 @@ import numpy as np
 import pytest
 
 from plantmech.interfaces.cli import main
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, gears_cut
 
 INVERSE = EXAMPLES / "planetary" / "sugarcane_seeder_dwell_inverse.toml"
 DEDICATED = EXAMPLES / "sugarcane_seeder_dwell.toml"
 
 
 @pytest.fixture(scope="module")
-def written(tmp_path_factory):
-    out = tmp_path_factory.mktemp("inv") / "o"
+def written(shared):
+    """``plantmech inverse`` on the planetary dwell file, once per test run (conftest.Shared):
+    the design file it writes."""
+    out, code = shared.dir("inverse-sugarcane_seeder_dwell_inverse", lambda p: main(
+        ["inverse", str(INVERSE), "--out", str(p / "o"), "--no-plots"]))
     # exit 4: gear 2 cannot lock in this dwell (dwell_lock_radius_jump_mm, 18.9 mm)
-    assert main(["inverse", str(INVERSE), "--out", str(out), "--no-plots"]) == 4
-    return out / "design.toml"
+    assert code == 4
+    return out / "o" / "design.toml"
 
 
 @pytest.fixture(scope="module")
-def gears_dirs(tmp_path_factory, written):
-    ours = tmp_path_factory.mktemp("g") / "gears"
-    theirs = tmp_path_factory.mktemp("d") / "gears"
-    code = main(["gears", str(written), "--out", str(ours)])
-    assert main(["gears", str(DEDICATED), "--out", str(theirs)]) == 4
+def gears_dirs(shared, written):
+    ours, code = gears_cut(shared, "written-sugarcane_seeder_dwell_inverse", written)
+    theirs, their_code = gears_cut(shared, "sugarcane_seeder_dwell", DEDICATED)
+    assert their_code == 4
     return ours, theirs, code
 
 

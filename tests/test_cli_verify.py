@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from plantmech.interfaces.cli import main
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, gears_cut
 
 SEEDER = EXAMPLES / "sugarcane_table4.toml"
 TRANSPLANTER = EXAMPLES / "rice_transplanter_manufacturable.toml"
@@ -17,10 +17,8 @@ KHV = EXAMPLES / "rice_transplanter_khv.toml"
 
 
 @pytest.fixture(scope="module")
-def gear_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gears")
-    main(["gears", str(SEEDER), "--out", str(out)])
-    return out
+def gear_dir(shared):
+    return gears_cut(shared, "sugarcane_table4", SEEDER)[0]
 
 
 def test_input_errors(tmp_path, capsys):
@@ -167,9 +165,9 @@ def test_loads_not_computed_without_the_extra(gear_dir, tmp_path, capsys, monkey
 
 
 @pytest.fixture(scope="module")
-def transplanter_gear_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gears_t")
-    assert main(["gears", str(TRANSPLANTER), "--out", str(out)]) == 0
+def transplanter_gear_dir(shared):
+    out, code = gears_cut(shared, "rice_transplanter_manufacturable", TRANSPLANTER)
+    assert code == 0
     return out
 
 
@@ -250,11 +248,11 @@ def _turn_dxf(path, turn: float) -> None:
 
 
 @pytest.fixture(scope="module")
-def khv_gear_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gears_khv")
+def khv_gear_dir(shared):
+    out, code = gears_cut(shared, "rice_transplanter_khv", KHV)
     # the illustrative K-H-V example is not manufacturable (undercut teeth: exit 4), its
     # gear files are written all the same
-    assert main(["gears", str(KHV), "--out", str(out)]) == 4
+    assert code == 4
     return out
 
 

@@ -42,3 +42,12 @@ def test_shared_builds_once(tmp_path):
     path, value = second.dir("d", lambda p: (p / "f").write_text("x"))
     assert (path / "f").read_text() == "x" and value == 1
     assert first.dir("d", lambda p: 1 / 0) == (path, 1)
+
+
+def test_every_slow_entry_names_a_test():
+    """A renamed or removed test leaves tests/slow.txt naming nothing: caught here."""
+    from tests.conftest import ROOT, _slow_list
+
+    for entry in _slow_list():
+        path, name = entry.split("[", 1)[0].split("::")
+        assert f"def {name}(" in (ROOT / path).read_text(), entry

@@ -14,7 +14,7 @@ from plantmech.contact.outlines import read_gear_dxf
 from plantmech.contact.planetary import analyse_planetary, gear_file_names, planetary_record
 from plantmech.design import load_design
 from plantmech.interfaces.cli import main
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, gears_cut
 
 ELLIPTIC = EXAMPLES / "rotary_transplanter_elliptic.toml"
 LIMITS = {"transmission_error_deg": 0.5, "attitude_error_deg": 1.0, "tip_band_mm": 5.0}
@@ -22,9 +22,10 @@ STEPS = 120
 
 
 @pytest.fixture(scope="module")
-def gear_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gears")
-    assert main(["gears", str(ELLIPTIC), "--out", str(out), "--backlash", "0.1"]) == 0
+def gear_dir(shared):
+    out, code = gears_cut(shared, "rotary_transplanter_elliptic-backlash-0.1", ELLIPTIC,
+                          "--backlash", "0.1")
+    assert code == 0
     return out
 
 

@@ -26,9 +26,16 @@ def _run(cmd, cwd, timeout=600):
 
 
 @pytest.fixture(scope="module")
-def installed(tmp_path_factory):
-    """(plantmech executable, its python, a work directory outside the repository)."""
-    base = tmp_path_factory.mktemp("first_hour")
+def installed(shared, tmp_path_factory):
+    """(plantmech executable, its python, a work directory outside the repository): the
+    wheel and its virtualenv built once per test run (conftest.Shared), each test in a
+    work directory of its own."""
+    base, _ = shared.dir("first_hour", _build_and_install)
+    work = tmp_path_factory.mktemp("work")
+    return base / "venv" / "bin" / "plantmech", base / "venv" / "bin" / "python", work
+
+
+def _build_and_install(base):
     wheels = base / "wheels"
     r = subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w",
                         str(wheels), str(ROOT)], capture_output=True, text=True, timeout=600)
@@ -41,12 +48,12 @@ def installed(tmp_path_factory):
     r = subprocess.run([sys.executable, "-m", "venv", str(venv)], capture_output=True,
                        text=True, timeout=600)
     assert r.returncode == 0, r.stderr
+    # --no-compile: the packages' bytecode is written as the commands first import them
+    # (compiling all of NumPy, SciPy and matplotlib up front was most of the install)
     r = subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "-q",
-                        str(wheel)], capture_output=True, text=True, timeout=900)
+                        "--no-compile", str(wheel)], capture_output=True, text=True,
+                       timeout=900)
     assert r.returncode == 0, r.stderr
-    work = base / "work"
-    work.mkdir()
-    return venv / "bin" / "plantmech", venv / "bin" / "python", work
 
 
 def test_installed_package_is_not_the_repository(installed):
