@@ -42,6 +42,8 @@ def test_a_local_study_cluster_listens_on_loopback_only():
 
     me = psutil.Process()
     before = {(ip, port) for _, ip, port in _listeners([me])}
+    # processes this worker had already (another test's server fixture) are not the study's
+    earlier = {p.pid for p in me.children(recursive=True)}
     with dask_client(workers=2) as client:
         procs = [me, *me.children(recursive=True)]
         found = [x for x in _listeners(procs) if (x[1], x[2]) not in before]
@@ -60,7 +62,8 @@ def test_a_local_study_cluster_listens_on_loopback_only():
 
     t0 = time.time()
     while time.time() - t0 < 10:
-        left = [p for p in me.children(recursive=True) if not _resource_tracker(p)]
+        left = [p for p in me.children(recursive=True)
+                if p.pid not in earlier and not _resource_tracker(p)]
         if not left:
             break
         time.sleep(0.2)
