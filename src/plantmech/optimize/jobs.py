@@ -435,7 +435,8 @@ def transplanter_choices(design):
 def tooth_system_name(m) -> str:
     alpha = 20.0 if m.pressure_angle_deg is None else m.pressure_angle_deg
     kind = "full depth" if m.addendum == 1.0 else "stub"
-    return f"{kind} {alpha:g} deg (addendum {m.addendum:g} m, dedendum {m.dedendum:g} m)"
+    return (f"{kind} {alpha:g} deg (addendum {m.addendum:g} x module, dedendum "
+            f"{m.dedendum:g} x module)")
 
 
 def prefer_standard_teeth(problem, result, choices: dict) -> None:
