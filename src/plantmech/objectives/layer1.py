@@ -61,7 +61,7 @@ def _span_deg(diagnostic) -> float:
     """Carrier angle (deg) a diagnostic covers: the backward turn of a carrier that would
     have to turn back, else the clockwise span from its first to its last sample (the
     samples' angles where the reported ones are refined between samples)."""
-    angles = getattr(diagnostic, "sample_angle_deg", None) or diagnostic.carrier_angle_deg
+    angles = diagnostic.sample_angle_deg or diagnostic.carrier_angle_deg
     if not angles:
         return 0.0
     a, b = angles
