@@ -49,7 +49,7 @@ def _run(args) -> int:
     from plantmech.app.server import MAX_BODY_BYTES
 
     # the drag stream's answers are ~10^5 bytes on loopback: compressing them costs more
-    # than sending them (measured in chromium, docs/app.md)
+    # than sending them (measured in chromium, docs/app-performance.md)
     uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
                 ws_per_message_deflate=False, ws_max_size=MAX_BODY_BYTES + 1024)
     return 0

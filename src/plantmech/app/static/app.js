@@ -80,7 +80,7 @@ function redo() {
 
 // ---------------------------------------------------------------- edit stream
 // Edits travel over one WebSocket (/api/ws): no HTTP request per pointer move (Chromium's
-// fetch costs several ms per request on loopback, docs/app.md). If the socket cannot be
+// fetch costs several ms per request on loopback, docs/app-performance.md). If the socket cannot be
 // opened the page sends them by fetch to /api/evaluate (same answers).
 const stream = { ws: null, opening: null, next: 1, waiting: new Map(), useFetch: false };
 
@@ -158,7 +158,7 @@ async function postFetch(body) {
 // One request in flight; during a drag the newest design waits and replaces older ones
 // (coalescing: the pointer moves faster than answers come, only the latest is computed).
 // When an answer arrives the waiting edit is sent first and the answer drawn after, so the
-// server computes the next edit while the page draws (docs/app.md, "How an edit travels").
+// server computes the next edit while the page draws (docs/app-performance.md, "How an edit travels").
 function sendPending() {
   if (!state.pending || state.inflight) return false;
   const p = state.pending; state.pending = null;
