@@ -25,8 +25,8 @@ def script():
     sys.modules.pop(spec.name, None)
 
 
-SECTIONS = ["table2", "inverse", "dwell", "round_trip", "estimate", "table4", "table4_record",
-            "table4_reading", "transplanter", "convexity", "optimized"]
+SECTIONS = ["paper", "table2", "inverse", "dwell", "round_trip", "estimate", "table4",
+            "table4_record", "table4_reading", "transplanter", "convexity", "optimized"]
 
 
 @pytest.fixture(scope="module")
@@ -94,3 +94,18 @@ def test_the_coverage_can_fail(script, rows):
     assert tmpl.search("ends at 305.30 deg and 10.23 deg (305.301 / 10.225), RMS 13.4532 mm, "
                        "largest 36.85 mm")
     assert not tmpl.search("ends at 305.30 deg and 10.23 deg, RMS 13.4532 mm")
+
+
+def test_a_misquoted_paper_value_is_found(script, monkeypatch):
+    """The papers' values the page quotes are compared with the papers' text (shared/seeds
+    beside the repository): a quote with a number the paper does not have fails."""
+    if script._papers() is None:
+        pytest.skip("the papers' text (shared/seeds) is not beside the repository")
+    good = [f for f in script.paper()]
+    assert good and all(not f.text.startswith("NOT IN PAPER") for f in good)
+    monkeypatch.setattr(script, "QUOTES", [
+        ("001", "| picking angle (iii) | 343 deg |",
+         "arms in the transplanting mechanism was 342°"),
+        ("000", "| L1 (carrier) | 254 |", "$L_1=255$")])
+    bad = script.paper()
+    assert [f.text.startswith("NOT IN PAPER") for f in bad] == [True, True]
