@@ -473,7 +473,37 @@ def _table4(closure: str, phases=None) -> dict:
 
 
 def table4() -> list[Figure]:
-    out = []
+    d = load_design(EX / "sugarcane_table4.toml")
+    t = d.train
+    ang = t.gear2.angles_deg
+    c = _table4("radial_offset", (t.gear2.contact_angle_deg, t.gear3.contact_angle_deg))
+    cd = c["deviation_from_trajectory_mm"]
+    out = [Figure("the file's inputs", t.L1_mm,
+                  f"The file holds Table 4's radii, L1 = {t.L1_mm:.0f}, L2 = {t.L2_mm:.0f}, a1 = "
+                  f"a2 = {t.a1_mm:.0f} mm, a {t.dwell.sector_deg:.0f} deg toothless sector"),
+           Figure("its carrier speed (deg/s)", d.operation.carrier_speed_deg_s,
+                  f"the paper's carrier speed {d.operation.carrier_speed_deg_s:.0f} deg/s"),
+           Figure("interpolation angles", float(len(ang)),
+                  f"| interpolation angles | uniform {ang[0]:.0f}, {ang[1]:.0f}, ..., "
+                  f"{ang[-1]:.0f} deg | {len(ang)} points per gear"),
+           Figure("the file's phases", t.gear2.contact_angle_deg,
+                  f"| gear 2: {t.gear2.contact_angle_deg:.2f} deg, gear 3: "
+                  f"{t.gear3.contact_angle_deg:.2f} deg | the pair whose motion lies closest to "
+                  "the planned trajectory (grid of 10 deg"),
+           Figure("the radial-offset column's phases", RADIAL_OFFSET_PHASES[0],
+                  f"| gear 2: {RADIAL_OFFSET_PHASES[0]:.2f} deg, gear 3: "
+                  f"{RADIAL_OFFSET_PHASES[1]:.2f} deg |"),
+           Figure("the radial offset at the centre-distance phases", c["max_speed_seeding_m_s"],
+                  f"with the centre-distance phases that column would read "
+                  f"{c['max_speed_seeding_m_s']:.2f} / {c['min_speed_return_static_m_s']:.2f} / "
+                  f"{c['min_speed_return_dynamic_m_s']:.2f} / "
+                  f"{abs(c['zero_speed_travel_m_s']):.2f} m/s and "
+                  f"{cd['max_tip_to_plan']:.1f} mm"),
+           Figure("start of the dwell (deg)", t.dwell.start_deg,
+                  f"| start of the dwell | carrier angle {t.dwell.start_deg:.2f} deg |"),
+           Figure("initial state (deg)", t.initial_carrier_angle_deg,
+                  f"| initial state | phi_10 = {t.initial_carrier_angle_deg:.3f} deg, arm "
+                  "collinear |")]
     s = _table4("centre_distance")
     fix = {f["pair"]: f for f in s["closure_restoration"]}
     g2, g3 = fix["sun - gear 2"], fix["gear 3 - planet"]
@@ -552,6 +582,19 @@ def table4_reading() -> list[Figure]:
            Figure("ln ratio per row, all but the fourth", float(ratio[0]),
                   "(" + ", ".join(f"{v:.4f}" for k, v in enumerate(ratio) if k != 3) + ";"),
            fig("ln ratio, the fourth row", ratio[3], "gives {:.4f})")]
+    rest = np.delete(ratio, 3)
+    la, lb = np.log((a - r2[2]) / r2[2]), np.log((a - r3[2]) / r3[2])
+    out += [Figure("the sector reading", 360 - turn["turn_as_given_deg"],
+                   f"if the sun's toothless sector is {360 - turn['turn_as_given_deg']:.1f} deg "
+                   f"instead of the {t.dwell.sector_deg:.0f} deg cd central angle: at {a:.0f} mm "
+                   f"gear 2 turns the sun through {turn['turn_as_given_deg']:.2f}"),
+            Figure("ln ratio: its range over the other rows", float(rest.max()),
+                   f"ln((a - r2)/r2) / ln((a - r3)/r3) at a = {a:.0f} mm is {rest.max():.3f} to "
+                   f"{rest.min():.3f} in {rest.size} of the {ratio.size} rows"),
+            Figure("ln ratio: the fourth row's radii", float(r2[3]),
+                   f"row 4, r2 = {r2[3]:.1f} / r3 = {r3[3]:.1f}, gives {ratio[3]:.4f})"),
+            Figure("row 3's logarithms", float(la),
+                   f"including row 3 where both logarithms are small ({la:.3f} and {lb:.3f})")]
     q0 = np.array(d.trajectory.points[d.trajectory.sections.d])
     rho = float(np.hypot(*q0))
     out.append(fig("rho at d (mm)", rho, "rho = {:.1f} mm) has"))
@@ -595,7 +638,12 @@ def table4_record() -> list[Figure]:
               f"{abs(s['zero_speed_travel_m_s']):.2f} m/s, {o['picking_swing']:.1f} / "
               f"{o['seeding_swing']:.1f} / -{o['sowing_angle']:.1f} deg and "
               f"{d['max_tip_to_plan']:.1f} ({d['rms_tip_to_plan']:.1f}) mm")
-    return [Figure("largest distance at 3600, 7200, 14400 samples (mm)", by_n[0],
+    return [Figure("largest distance at the printed phases (mm)", by_n[0],
+                   f"36.7 mm was recorded, {by_n[0]:.1f} mm ({by_n[0]:.2f}) is measured at the "
+                   "printed phases"),
+            Figure("10.20 deg from the fitted optimum (deg)", 10.225 - 10.20,
+                   f"At {g2:.2f} / 10.20 deg, {10.225 - 10.20:.2f} deg from the fitted optimum"),
+            Figure("largest distance at 3600, 7200, 14400 samples (mm)", by_n[0],
                    " / ".join(f"{v:.4f}" for v in by_n) + " mm at 3600, 7200 and 14400"),
             fig("slope of the largest distance in gear 3's phase (mm/deg)", slope,
                 "moves {:.1f} mm per degree of gear 3's phase"),
