@@ -369,6 +369,8 @@ def dwell() -> list[Figure]:
             np.degrees(w["planned_rel_rotation"]), "the arm turns {:.2f} deg"),
         fig("carrier turn c -> d = theta_1 (deg)", np.degrees(w["theta1"]),
             "theta_1 = {:.1f}"),
+        fig("the same, in the prose (deg)", np.degrees(w["theta1"]),
+            "while the carrier turns {:.1f} deg from c to d"),
         fig("largest tip deviation from the plan (mm)", w["max_tip_deviation"],
             "**{:.1f} mm** near c"),
         fig("sun radius where meshing stops (mm)", e["meshing_end"]["r1"],
@@ -412,18 +414,24 @@ def estimate() -> list[Figure]:
     """A first-order train known in closed form (elliptic sun A = 30 mm, e = 0.35 about a
     focus, its twin planet, carrier arm 60 mm, arm 150 mm), 36 and 288 points of its tip
     path: the every-other-point estimate against the true error of the sun."""
+    from plantmech.design import Trajectory
     from plantmech.geometry.trajectory import ClosedTrajectory
     from plantmech.objectives.inverse_estimate import first_order_estimate
     from plantmech.objectives.planetary_inverse import first_order_inverse
     from plantmech.trains.curves import ellipse
     from plantmech.trains.model import PairSpec, Train, forward
 
-    A, e, phase = 30.0, 0.35, np.radians(90.0)
+    A, e, phase, arm = 30.0, 0.35, np.radians(90.0), 150.0
     tr = Train([PairSpec("external", ellipse(A, e, 8192), phase=phase, follower_turns=1.0)],
-               carrier0=np.radians(90.0), carrier_sense=-1, arm_length=150.0,
+               carrier0=np.radians(90.0), carrier_sense=-1, arm_length=arm,
                arm_angle=np.radians(-90.0))
     tip = forward(tr, 14400).tip[0, 0]
-    out = []
+    limit = Trajectory.model_fields["error_estimate_limit_mm"].default
+    out = [Figure("the known train", A,
+                  f"A = {A:.0f} mm, e = {e:g}, its twin planet, carrier arm {2 * A:.0f} mm, "
+                  f"arm {arm:.0f} mm"),
+           Figure("the default limit (mm)", limit,
+                  f"`trajectory.error_estimate_limit_mm` (default {limit:g} mm)")]
     for n in (36, 288):
         p = tip[:: 14400 // n]
         pts = np.c_[p.real, p.imag]
