@@ -777,9 +777,54 @@ def transplanter() -> list[Figure]:
            Figure("arms / box clearance (i, ii) (mm)", float(o["arms_clearance"]),
                   f"| {o['arms_clearance']:.1f} mm / {o['arm_box_clearance']:.1f} mm "
                   "clearance |")]
-    o, _ = objectives(EX / "rice_transplanter.toml", interpolation="spline")
+    limit_v = 45.0
+    d = load_design(EX / "rice_transplanter.toml")
+    job = run_transplanter(d)
+    ev = job.evaluation
+    s = job.summary
+    met_h, n_obj = int(ev.ok[0].sum()), int(ev.ok.shape[1])
+    conv = s["stages_deg"]["arm_III"]["conveying"]
+    out += [Figure("planting depth (mm), and where arm I enters the ground (deg)",
+                   d.field.planting_depth_mm,
+                   f"the **planting depth** {d.field.planting_depth_mm:g} mm, at which arm I "
+                   f"enters the ground at the published {arm1_plant[0]:.0f} deg"),
+            Figure("arm I conveying (deg)", conv[0], f"| {conv[0]:.1f}-{conv[1]:.1f} deg |"),
+            Figure("(v) missed by (deg)", limit_v - o["angle_difference"],
+                   f"Hermite misses (v)'s \"> {limit_v:.0f} deg\" by "
+                   f"{limit_v - o['angle_difference']:.3f} deg"),
+            Figure("module, teeth, perimeter", s["module_mm"],
+                   f"| {s['module_mm']:.2f} mm with {s['teeth']['internal']} teeth "
+                   f"({s['teeth']['internal'] // d.internal_gear.lobes} per lobe) | perimeter "
+                   f"{s['perimeter_mm']:.1f} mm |"),
+            Figure("the planet's smallest pitch radius, the ring's (mm)",
+                   s["planet_pitch_radius_mm"]["min"],
+                   f"the planet's pitch radius falls to **{s['planet_pitch_radius_mm']['min']:.1f}"
+                   f" mm** (where the internal gear's radius is "
+                   f"{s['internal_pitch_radius_mm']['min']:.0f} mm)")]
+    o_h = o
+    o, m = objectives(EX / "rice_transplanter.toml", interpolation="spline")
+    plant_s = m["stages_deg"]["planting"][0, 2]
+    d_s = load_design(EX / "rice_transplanter.toml")
+    d_s.internal_gear.interpolation = "spline"
+    job_s = run_transplanter(d_s)
+    met_s = int(job_s.evaluation.ok[0].sum())
     out.append(fig("angle difference (v) with spline (deg)", o["angle_difference"],
                    "({:.2f} with `spline`)"))
+    out += [Figure("the spline's reading", o["angle_difference"],
+                   f"a periodic spline instead of Hermite gives angle difference "
+                   f"{o['angle_difference']:.2f} deg, planting {plant_s[0]:.1f}-{plant_s[1]:.1f}, "
+                   f"height {o['trajectory_height']:.1f} mm, module {o['module']:.2f} mm"),
+            Figure("which interpolation", o_h["angle_difference"],
+                   f"the example's angle difference (v) is {o_h['angle_difference']:.3f} deg "
+                   f"against the limit \"> {limit_v:.0f} deg\": `plantmech forward` reports "
+                   f"objective (v) as FAIL, by {limit_v - o_h['angle_difference']:.3f} deg. With "
+                   f"`interpolation = \"spline\"` it is {o['angle_difference']:.2f} deg, met and "
+                   f"{o['angle_difference'] - 46:.1f} deg from the paper's 46, but arm I's "
+                   f"planting window moves to {plant_s[0]:.1f}-{plant_s[1]:.1f} deg (paper "
+                   f"226-243)"),
+            Figure("objectives met, Hermite and spline", float(met_h),
+                   f"Hermite meets {met_h} of the {n_obj} reported objectives, spline "
+                   f"{met_s})")]
     job = run_transplanter(load_design(EX / "rice_transplanter.toml"))
     s = job.summary
     arms = st["picking"][0], st["planting"][0]
