@@ -889,6 +889,63 @@ def seed001() -> list[Figure]:
                    f"cuttable-module margin {o['cuttable_module_margin']:.2f} mm")]
 
 
+def _gears(example: str, *options: str) -> dict:
+    """``plantmech gears EXAMPLE OPTIONS`` into a temporary directory: its
+    verification.json."""
+    import contextlib
+    import io
+    import json
+    import tempfile
+
+    from plantmech.interfaces.cli import main as cli
+
+    with tempfile.TemporaryDirectory() as tmp:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            cli(["gears", str(EX / example), "--out", f"{tmp}/g", *options])
+        return json.loads(Path(f"{tmp}/g/verification.json").read_text(encoding="utf-8"))
+
+
+def teeth() -> list[Figure]:
+    """Two rows of the teeth record re-cut (``plantmech gears``, about a minute): Table 4's
+    train at the default module, and the transplanter re-optimized with the tooth fit."""
+    v = _gears("sugarcane_table4.toml")
+    g = {x["name"]: x for x in v["gears"]}
+    mesh = {x["pair"]: x for x in v["mesh"]}
+    out = [Figure("Table 4 train: teeth, modules, interference", float(g["gear2"]["teeth"]),
+                  f"default module (z = {g['gear2']['teeth']} / {g['gear3']['teeth']}, m "
+                  f"{g['gear2']['module_mm']:.2f} / {g['gear3']['module_mm']:.2f} mm): gear2-sun "
+                  f"{mesh['gear2_sun']['max_interference_mm']:.1f} mm, gear3-planet "
+                  f"{mesh['gear3_planet']['max_interference_mm']:.1f} mm with the mates by the "
+                  "envelope"),
+           Figure("Table 4 train: the free play", mesh["gear3_planet"]["max_normal_gap_mm"],
+                  f"(largest normal gap {max(m['max_normal_gap_mm'] for m in v['mesh']):.2f} mm; "
+                  f"the circumferential free play reaches "
+                  f"{mesh['gear3_planet']['max_backlash_mm']:.1f} mm where gear 3's flanks part")]
+    v = _gears("rice_transplanter_toothed.toml")
+    g = {x["name"]: x for x in v["gears"]}
+    m = v["mesh"][0]
+    f = {x["check"] + ":" + x["gear"]: x for x in v["findings"]}
+    out += [Figure("toothed transplanter: teeth, module, mesh", float(g["internal"]["teeth"]),
+                   f"{g['internal']['teeth']} / {g['planet']['teeth']} teeth, m "
+                   f"{g['internal']['module_mm']:.3f} mm; "
+                   + ("no interference" if m["max_interference_mm"] == 0 else
+                      f"interference {m['max_interference_mm']:.3f} mm")
+                   + f", backlash <= {m['max_normal_gap_mm']:.3f} mm (ring shaper-cut, "
+                   f"{g['internal']['cutter_pitch_radius_mm']:.1f} mm shaper; planet its "
+                   "envelope)"),
+            Figure("toothed transplanter: the verdict of plantmech gears",
+                   float(len(v["findings"])),
+                   f"`plantmech gears` on it says not manufacturable ({len(v['findings'])} "
+                   f"findings): both gears undercut ("
+                   f"{f['undercut:internal']['value']:.1f} and "
+                   f"{f['undercut:planet']['value']:.1f} equivalent teeth against "
+                   f"{f['undercut:internal']['limit']:.1f}), module "
+                   f"{f['standard_module:internal_planet']['value']:.3f} mm not a standard one, "
+                   f"cuttable-module margin "
+                   f"{f['cuttable_module_margin:pitch curves']['value']:.2f} mm")]
+    return out
+
+
 def optimized() -> list[Figure]:
     """examples/sugarcane_seeder_optimized.toml re-simulated from its pitch curves by the
     forward model (the seed 000 optimization table's shipped column)."""
@@ -957,7 +1014,8 @@ CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": rou
          "estimate": estimate, "table4": table4, "table4_reading": table4_reading,
          "transplanter": transplanter, "convexity": convexity, "optimized": optimized,
          "table4_record": table4_record, "paper": paper}
-EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001}
+EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001,
+             "teeth": teeth}
 
 
 def run(names) -> list[tuple[str, Figure, bool]]:
@@ -990,6 +1048,15 @@ EXPENSIVE_TEXTS = {
                     "static ef minimum #-# m/s; among the # within # mm RMS, #-# and #-# m/s.",
                     "the lowest, # m/s (phases #/# deg), belongs to a path # mm RMS from the "
                     "plan"],
+    "teeth": ["default module (z = # / #, m # / # mm): gear2-sun # mm, gear3-planet # mm with "
+              "the mates by the envelope",
+              "(largest normal gap # mm; the circumferential free play reaches # mm where gear "
+              "3's flanks part",
+              "# / # teeth, m # mm; no interference, backlash <= # mm (ring shaper-cut, # mm "
+              "shaper; planet its envelope)",
+              "`plantmech gears` on it says not manufacturable (# findings): both gears undercut "
+              "(# and # equivalent teeth against #), module # mm not a standard one, "
+              "cuttable-module margin # mm"],
     "seed001": ["every objective (i)-(xv) and the cuttable-module margin met and re-checked "
                 "at full resolution",
                 "after # evaluations in four CMA-ES stages (#, #, # and #)",
