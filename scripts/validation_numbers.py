@@ -302,6 +302,12 @@ def inverse() -> list[Figure]:
     hi = float(lim["small_ring_width"].split("-")[1])
     obj = {o["name"]: (o["value"], o["limit"], o["ok"]) for o in s["objectives"]
            if o["name"] in ("picking_swing", "seeding_swing", "sowing_angle")}
+    pts = np.asarray(load_design(EX / "sugarcane_seeder.toml").trajectory.points, dtype=float)
+    q20 = float(np.degrees(np.arctan2(pts[20, 1], pts[20, 0])))
+    closer = float(np.hypot(*ini["tip_mm"]) - np.hypot(*pts[19]))
+    ours = [att["picking_ab"]["change"], att["transport_bc"]["change"],
+            att["transport_cd"]["end"], att["seeding_de"]["change"], att["sowing_angle"]]
+    worst = max(abs(a - b) for a, b in zip(ours, (37, -7.5, -15.5, -20, -35.5), strict=True))
     return [
         fig("L1 (mm)", s["L1_mm"], "| 254 | {:.2f} |"),
         fig("L2 (mm)", s["L2_mm"], "| 498 | {:.2f} |"),
@@ -344,6 +350,17 @@ def inverse() -> list[Figure]:
                ", ".join(
                    f"{n.replace('_', ' ')} {v:.2f} (limit {lm.split()[1]}: "
                    f"{'ok' if ok else 'fails'})" for n, (v, lm, ok) in obj.items())),
+        Figure("the paper's B, and B from its phi_10 and L1", float(np.hypot(264.0, 89.0)),
+               f"the paper's B has |OB| = {np.hypot(264.0, 89.0):.1f}, not L1 = 254; with phi_10 "
+               f"= 20.5 and L1 = 254, B = ({254 * np.cos(np.radians(20.5)):.1f}, "
+               f"{254 * np.sin(np.radians(20.5)):.1f}): y agrees, **264 is a misprint of "
+               f"~{254 * np.cos(np.radians(20.5)):.0f}**"),
+        Figure("q20's polar angle, q19 closer to O than the initial tip", q20,
+               f"q20 itself is at {q20:.2f}"),
+        Figure("q19 closer to O than the initial tip (mm)", closer,
+               f"q19 is {closer:.0f} mm closer to O"),
+        Figure("the five attitude figures against the paper's (deg)", worst,
+               f"The five attitude figures agree to within {worst:.1f} deg"),
         Figure("attitude at a and the peak relative to the initial attitude",
                -att["picking_ab"]["start"],
                f"(a lies {-att['picking_ab']['start']:.2f} below the initial attitude; relative "
