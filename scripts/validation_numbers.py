@@ -835,6 +835,12 @@ def transplanter() -> list[Figure]:
                    f"the planet's pitch radius falls to **{s['planet_pitch_radius_mm']['min']:.1f}"
                    f" mm** (where the internal gear's radius is "
                    f"{s['internal_pitch_radius_mm']['min']:.0f} mm)")]
+    out += [Figure("the inclination's chord and the spacing (mm)", d.field.check_height_mm,
+                   f"chord ground -> {d.field.check_height_mm:.0f} mm, spacing "
+                   f"{d.field.plant_spacing_mm:.0f} mm"),
+            Figure("the gearbox rim (mm)", d.internal_gear.rim_mm,
+                   f"| {o['gearbox_clearance']:.1f} mm | rim {d.internal_gear.rim_mm:g} mm "
+                   "assumed |")]
     o_h = o
     o, m = objectives(EX / "rice_transplanter.toml", interpolation="spline")
     plant_s = m["stages_deg"]["planting"][0, 2]
@@ -873,7 +879,12 @@ def transplanter() -> list[Figure]:
                    f"| {arms[1][0, 0]:.1f}-{arms[1][0, 1]:.1f} / {arms[1][1, 0]:.1f}-"
                    f"{arms[1][1, 1]:.1f} deg |")]
     # K-H-V for comparison (illustrative)
-    job = run_transplanter(load_design(EX / "rice_transplanter_khv.toml"))
+    k = load_design(EX / "rice_transplanter_khv.toml")
+    r = np.asarray(k.sun_gear.radii_mm)
+    out.append(Figure("K-H-V: the eccentric sun", float((r.max() + r.min()) / 2),
+                      f"an eccentric sun ({(r.max() + r.min()) / 2:.0f} (1 + "
+                      f"{(r.max() - r.min()) / (r.max() + r.min()):.1f} cos theta) mm)"))
+    job = run_transplanter(k)
     s, ev = job.summary, job.evaluation
     out += [fig("K-H-V: two arms repeat each other (mm)", max(s["arm_phase_deviation_mm"]),
                 "two arms repeat each other ({:.1e} mm)"),
@@ -1003,6 +1014,9 @@ def optimized() -> list[Figure]:
                f"| {abs(v):.3f} m/s (towards {'-' if v < 0 else '+'}x: v_c = {v:.3f};"),
         fig("path vs layer 1's plan, largest (mm)", s["deviation_from_trajectory_mm"][
             "max_tip_to_plan"], "| {:.2f} mm (bound 20) |"),
+        Figure("the paper's margins against ours (m/s)", s["max_speed_seeding_m_s"],
+               f"it reports 1.33 / 1.26 m/s, we reach {s['max_speed_seeding_m_s']:.3f} / "
+               f"{s['min_speed_return_dynamic_m_s']:.3f} m/s"),
         Figure("working pressure angles (deg)", o["working_pressure_angle_sun_gear2"],
                f"pressure angle {o['working_pressure_angle_sun_gear2']:.0f} / "
                f"{o['working_pressure_angle_gear3_planet']:.0f} deg")]
