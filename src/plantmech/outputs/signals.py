@@ -13,7 +13,8 @@ with its result and says so with its own exit status.
 
 Worker processes of a pool call :func:`worker_init`: they ignore SIGINT and SIGHUP (the
 terminal sends them to the whole process group; the parent decides and stops its pool) and
-end on SIGTERM as by default (how a pool is stopped).
+end on SIGTERM as by default (how a pool is stopped). A pool that starts its workers itself (a
+local Dask cluster) is started in :func:`kept_from_children`, to the same effect.
 """
 
 from __future__ import annotations
@@ -95,9 +96,9 @@ def blocked():
 @contextlib.contextmanager
 def handled(restore: bool = True):
     """Install the handler of the three signals for one command (main thread only; in
-    another thread this does nothing). ``restore=False`` leaves it installed after the block
-    (a program that ends right after: a signal between the block's end and the exit is then
-    recorded, not a kill with the results already in place)."""
+    another thread this does nothing). ``restore=False``: the three signals are ignored after
+    the block (a program that ends right after: a signal between the block's end and the
+    exit is then ignored, not a kill with the results already in place)."""
     global _received, _finished
     import threading
 
@@ -114,7 +115,48 @@ def handled(restore: bool = True):
                 signal.signal(s, h)
             _received, _finished = None, False
         else:
-            _finished = True  # the command has ended: a signal now is recorded only
+            # the program has ended: a signal now changes nothing. Ignored, not only recorded:
+            # the interpreter puts the default actions back while it shuts down, and a
+            # signal then killed it (exit -2 after the results were in place: both a signal
+            # exit and a changed --out)
+            _finished = True
+            for s in SIGNALS:
+                signal.signal(s, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def kept_from_children():
+    """SIGINT and SIGHUP kept from the processes started in the block, and later by the
+    threads started in it: for a pool whose worker processes are not started through
+    :func:`worker_init` (a local Dask cluster: its nanny starts and restarts the workers from
+    threads of its own). The block holds the two signals back in this thread (its signal
+    mask); a thread inherits the mask of the thread that starts it and a process the mask of
+    the thread that forks it, through ``exec``, so those workers never see a Ctrl-C or a
+    closed terminal sent to the whole process group (before: each printed a
+    KeyboardInterrupt traceback and the cluster lost its data): the parent decides and stops
+    them (SIGTERM reaches them as before). The parent still gets both signals in the block
+    (through another thread, or held until its end), and its handler runs as usual."""
+    import threading
+
+    if (not hasattr(signal, "pthread_sigmask")
+            or threading.current_thread() is not threading.main_thread()):
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    kept = {signal.SIGINT, signal.SIGHUP}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, kept)
+    try:
+        # multiprocessing's resource tracker started here (if it is not running) with the two
+        # held back as well: it ignores SIGINT and SIGTERM but died of a SIGHUP to the group
+        # (then "process died unexpectedly" and KeyError tracebacks); starting it unblocks
+        # SIGINT and SIGTERM in the thread that starts it (CPython's ensure_running), which
+        # then started the next worker with SIGINT: held back again
+        resource_tracker.ensure_running()
+        signal.pthread_sigmask(signal.SIG_BLOCK, kept)
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def worker_init() -> None:
