@@ -175,8 +175,8 @@ def study_text(kind: str, file_name: str = "study.toml") -> str:
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
     """Write the starting design of ``kind`` into ``directory`` (created if needed) as
     ``file_name`` (default ``<kind>.toml``; a plain file name, never empty nor a path out of
-    ``directory``; ``directory`` never a symbolic link); a study spec for ``studies/<name>`` (:func:`study_kinds`). Never
-    overwrites nor writes through a link: raises
+    ``directory``; ``directory`` never a symbolic link); a study spec for ``studies/<name>``
+    (:func:`study_kinds`). Never overwrites nor writes through a link: raises
     :class:`~plantmech.outputs.files.OutputError` (ValueError for a ``file_name`` that is a
     path). The file appears whole or not at all (``OutputFile``); a directory created for it
     is removed again if it is not written."""

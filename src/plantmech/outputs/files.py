@@ -307,7 +307,10 @@ class OutputFile:
 
     ``with OutputFile(path, what="--out", force=...) as tmp:`` write ``tmp`` (a fresh file
     beside ``path``); on leaving without an exception or a signal it replaces ``path`` in one
-    rename (with the signals held back), else it is deleted and ``path`` is untouched. The
+    rename (with the signals held back), else it is deleted and ``path`` is untouched. Two
+    files of one command (``plantmech report``'s page and its record) are nested blocks: the
+    inner one is put in place first, and the outer one follows it even if a signal came in
+    between (the command then ends with its result). The
     rules of :class:`OutputRun` for one file: an existing ``path`` only with ``force`` (and
     without ``force`` a file appearing during the run is not replaced either), never a
     directory, a device, FIFO or socket, never a link (nothing is written through one, and
@@ -356,7 +359,10 @@ class OutputFile:
         from plantmech.outputs import signals
 
         with signals.blocked():
-            if exc_type is not None or signals.received() is not None:
+            # a signal after another output of the command was put in place (signals.finish:
+            # the command ends with its result) does not keep this one from joining it
+            if exc_type is not None or (signals.received() is not None
+                                        and not signals.finished()):
                 self.tmp.unlink(missing_ok=True)
             else:
                 os.chmod(self.tmp, 0o666 & ~_umask())
