@@ -145,8 +145,11 @@ def design_run(tmp_path_factory):
     workflows.run_gears = cutting
     try:
         out = tmp_path_factory.mktemp("design") / "d"
+        argv = ["design", ELLIPTIC, "--out", str(out), "--generations", "1", "--quiet"]
+        assert main(argv) == 0  # the first run of the process loads and compiles: not timed
+        span.clear()
         t0 = time.perf_counter()
-        rc = main(["design", ELLIPTIC, "--out", str(out), "--generations", "1", "--quiet"])
+        rc = main(argv + ["--force"])
         full = time.perf_counter() - t0
         yield out, rc, full, (span[0] - t0, span[1] - t0)
     finally:
@@ -180,7 +183,7 @@ def test_signals_at_20_random_moments_of_design(part, design_run, tmp_path, caps
                   probe=lambda: _CUTTING[0], first=part)
     print(f"design part {part}: job {full:.2f} s, gears cut {cut0:.2f}-{cut1:.2f} s; "
           f"(moment, signal, exit, while cutting): {res}")
-    assert sum(seen for *_, seen in res) >= 1, res
+    assert sum(bool(seen) for *_, seen in res) >= 1, res
     assert sum(rc >= 128 for _, _, rc, _ in res) >= 2, res
 
 
