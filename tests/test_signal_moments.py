@@ -92,7 +92,7 @@ def _trials(argv: list[str], watched: Path, moments: list, capsys, complete,
     """Run ``main(argv)`` once per moment with a signal sent then (SIGTERM, SIGINT, SIGHUP in
     turn from ``first``; a moment is seconds, or with ``sender=_AtCall`` a count of calls);
     ``watched`` holds the output. A signal exit leaves ``watched`` byte-identical; any other
-    exit is a finished run, checked by ``complete(rc)``. Nothing left behind, no traceback.
+    exit is a finished run, checked by ``complete(rc, stdout)``. Nothing left behind, no traceback.
     Returns (moment, signal, exit status, probe at the signal)."""
     results = []
     for i, t in enumerate(moments):
@@ -100,13 +100,14 @@ def _trials(argv: list[str], watched: Path, moments: list, capsys, complete,
         before = snapshot(watched)
         with (sender(signum, t) if sender else _Sender(signum, t, probe)) as sender_:
             rc = main(argv)
-        err = capsys.readouterr().err
+        printed = capsys.readouterr()
+        err = printed.err
         assert "Traceback" not in err, err
         if rc == 128 + signum:
             assert snapshot(watched) == before, (t, signals.NAMES[signum])
             assert f"interrupted ({signals.NAMES[signum]})" in err
         else:
-            complete(rc)  # finished with its result (the signal came after it, or never)
+            complete(rc, printed.out)  # finished with its result (signal after it, or never)
         assert _leftovers(watched) == [], (t, signum, rc)
         results.append((round(t, 3), signals.NAMES[signum], rc, sender_.seen))
     return results
@@ -156,10 +157,18 @@ def design_run(tmp_path_factory):
         workflows.run_gears = real
 
 
+def _same_verdict(printed: str, v: dict) -> None:
+    """The command's last line is its verdict, the one its JSON record holds (``v``)."""
+    last = printed.strip().splitlines()[-1]
+    assert last.startswith("verdict: ok" if v["ok"] else "verdict: "), last
+    assert v["ok"] or not last.startswith("verdict: ok"), last
+
+
 def _design_complete(out: Path):
-    def check(rc):
+    def check(rc, printed):
         s = json.loads((out / "summary.json").read_text())
         assert rc == 0 == s["verdict"]["exit_code"], rc
+        _same_verdict(printed, s["verdict"])
         assert (out / "design.toml").is_file() and (out / "report.html").is_file()
         assert any((out / "gears").glob("*.dxf")) and not (out / "mine.txt").exists()
     return check
@@ -203,15 +212,17 @@ def _study_dir(shared) -> Path:
 
 
 def _record_check(path: Path, codes: tuple):
-    def check(rc):
+    def check(rc, printed):
         rec = json.loads(path.read_text())
         assert rc in codes and rec["verdict"]["exit_code"] == rc, (rc, rec.get("verdict"))
+        _same_verdict(printed, rec["verdict"])
     return check
 
 
 def _command(command: str, tmp: Path, shared) -> tuple[list[str], Path, object]:
     """(argv over an existing output, the directory that holds it, the check of a finished
-    run) of a cheap run of ``command``."""
+    run: ``check(exit status, stdout)``, its record's verdict the last line's) of a cheap
+    run of ``command``."""
     work = tmp / "w"
     work.mkdir()
     out = work / "o"
@@ -232,10 +243,11 @@ def _command(command: str, tmp: Path, shared) -> tuple[list[str], Path, object]:
         shutil.copytree(_study_dir(shared), study)
         argv = ["report", str(study)]
 
-        def check(rc):
+        def check(rc, printed):
             rec = json.loads((study / "report.json").read_text())
             summary = json.loads((study / "summary.json").read_text())
             assert rc == 0 and rec["verdict"] == summary["verdict"]
+            _same_verdict(printed, rec["verdict"])
             assert rec["plots_added_to_study"] == ["sweep.png"]
             assert (study / "report.html").read_text().startswith("<!doctype html>")
             (study / "sweep.png").unlink()  # so that each run draws its plot again
@@ -243,14 +255,14 @@ def _command(command: str, tmp: Path, shared) -> tuple[list[str], Path, object]:
     if command == "schema":
         target = work / "schema.json"
 
-        def check(rc):
+        def check(rc, printed):
             assert rc == 0
             assert json.loads(target.read_text())["$schema"].startswith("https://json-schema")
         return ["schema", "--out", str(target)], work, check
     if command == "init":  # never overwrites: each finished run's file is taken away again
         d = work / "d"
 
-        def check(rc):
+        def check(rc, printed):
             assert rc == 0 and (d / "seeder.toml").read_text().startswith("#")
             (d / "seeder.toml").unlink()
             d.rmdir()
@@ -264,9 +276,9 @@ def test_signals_at_random_moments_of_every_other_command(command, shared, tmp_p
     argv, work, complete = _command(command, tmp_path, shared)
     force = [] if command in ("report", "init") else ["--force"]
     rc, _ = _timed(argv)  # the existing output (warm-up included)
-    complete(rc)
+    complete(rc, capsys.readouterr().out)
     rc, full = _timed(argv + force)  # how long a run takes
-    complete(rc)
+    complete(rc, capsys.readouterr().out)
     if command != "init":
         (work / "mine.txt").write_text("the user's")
     rng = random.Random(f"29-{command}")
@@ -275,7 +287,7 @@ def test_signals_at_random_moments_of_every_other_command(command, shared, tmp_p
         res = _trials(argv + force, work, moments, capsys, complete)
     else:  # too short to hit from a thread: moments counted in function calls
         rc, calls = _calls(argv + force)
-        complete(rc)
+        complete(rc, capsys.readouterr().out)
         moments = sorted(rng.randint(1, int(1.05 * calls)) for _ in range(3))
         res = _trials(argv + force, work, moments, capsys, complete, sender=_AtCall)
     print(f"{command}: a run {full:.3f} s, {calls if full <= 0.5 else '-'} calls; "
@@ -328,13 +340,15 @@ def test_a_signal_to_the_process_group_of_a_study(signum, tmp_path):
            and not (_handler_installed(p.pid) and len(workers()) == 2)):
         time.sleep(0.02)
     assert p.poll() is None, "the study ended before its workers started"
-    time.sleep(random.Random(signum).uniform(0.0, 1.5))
+    time.sleep(random.Random(signum).uniform(0.0, 0.5))
     os.killpg(p.pid, signum)  # the command, its workers, the resource tracker
     _, err = p.communicate(timeout=60)
     assert "Traceback" not in err and "ERROR" not in err, err
     assert _leftovers(tmp_path) == []
     name = signals.NAMES[signum]
-    if p.returncode == 4:  # the signal while chunks were computed: the finished ones kept
+    if p.returncode == 0:  # finished before the signal (an idle machine): complete
+        assert json.loads((out / "study.json").read_text())["complete"] is True
+    elif p.returncode == 4:  # the signal while chunks were computed: the finished ones kept
         assert f"stopped by {name}: the finished chunks are kept" in err
         assert json.loads((out / "study.json").read_text())["complete"] is False
     else:
