@@ -258,10 +258,12 @@ def test_write_json_is_whole_or_not_at_all(tmp_path, monkeypatch):
 class _Sender:
     """Send ``signum`` to this process after ``delay`` s, from a thread (the handler runs in
     the main thread, wherever the command is). Around the trial a recording handler stands
-    in for pytest's, so a signal landing after the command returned is harmless."""
+    in for pytest's, so a signal landing after the command returned is harmless. ``probe()``
+    is asked when the signal is sent (``seen``: e.g. whether the gears were being cut)."""
 
-    def __init__(self, signum: int, delay: float):
+    def __init__(self, signum: int, delay: float, probe=None):
         self.signum, self.delay, self.late = signum, delay, []
+        self.probe, self.seen = probe, None
         self._stop = threading.Event()
 
     def __enter__(self):
@@ -273,6 +275,8 @@ class _Sender:
 
     def _run(self):
         if not self._stop.wait(self.delay):
+            if self.probe is not None:
+                self.seen = self.probe()
             os.kill(os.getpid(), self.signum)
 
     def __exit__(self, *exc):
@@ -543,3 +547,200 @@ def test_design_accepts_report():
 
     args = build_parser().parse_args(["design", TRANSPLANTER, "--out", "o", "--report"])
     assert args.report is True
+
+
+def _link_cases(tmp_path: Path, shared) -> dict:
+    """Every command that writes, with ``{out}`` where its output directory (or file) goes."""
+    from tests.conftest import gears_cut
+
+    spec = tmp_path / "sweep.toml"
+    spec.write_text(SWEEP, encoding="utf-8")
+    study = tmp_path / "study"
+    return {
+        "forward": lambda o: ["forward", TRANSPLANTER, "--out", o, "--no-plots"],
+        "gears": lambda o: ["gears", ELLIPTIC, "--out", o],
+        "inverse": lambda o: ["inverse", str(EXAMPLES / "sugarcane_seeder.toml"), "--out", o],
+        "optimize": lambda o: ["optimize", SEEDER, "--problem", "seeder-layer2",
+                               "--generations", "1", "--out", o],
+        "design": lambda o: ["design", TRANSPLANTER, "--out", o, "--generations", "1"],
+        "verify": lambda o: ["verify", ELLIPTIC, "--gears",
+                             str(gears_cut(shared, "rotary_transplanter_elliptic", ELLIPTIC)[0]),
+                             "--out", o],
+        "study": lambda o: ["study", SEEDER, "--spec", str(spec), "--out", o],
+        "report": lambda o: ["report", str(study), "--out", o],
+        "schema": lambda o: ["schema", "--out", o],
+        "init": lambda o: ["init", "seeder", o],
+    }, study
+
+
+@pytest.mark.parametrize("command", ["forward", "gears", "inverse", "optimize", "design",
+                                     "verify", "study", "report", "schema", "init"])
+def test_an_out_that_is_a_symbolic_link_is_refused(command, shared, tmp_path, capsys):
+    """A --out (or init's DIR) that is a link, to a directory of the user's, to a file or to
+    nothing, is refused by name (exit 2) before any work: nothing is written through it, the
+    link and what it points to stay as they were (before: a link to a directory was followed
+    and the run's results replaced the directory it pointed to)."""
+    cases, study = _link_cases(tmp_path, shared)
+    if command == "report":  # a study directory to report on (its summary is what is read)
+        shutil.copytree(_finished_study(shared), study)
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("the user's")
+    (tmp_path / "file.html").write_text("the user's page")
+    os.symlink(mine, tmp_path / "to-dir")
+    os.symlink(tmp_path / "file.html", tmp_path / "to-file")
+    os.symlink(tmp_path / "nowhere", tmp_path / "dangling")
+    before = snapshot(tmp_path)
+    for link in ("to-dir", "to-file", "dangling"):
+        out = str(tmp_path / link)
+        for force in ([], ["--force"]) if command != "init" else ([],):
+            assert main(cases[command](out) + force) == 2, (link, force)
+            err = capsys.readouterr().err
+            assert f"{out} is a symbolic link" in err and "nothing is written through a link" \
+                in err, err
+    assert snapshot(tmp_path) == before and leftovers(tmp_path) == []
+
+
+def _finished_study(shared) -> Path:
+    from tests.test_signal_moments import _study_dir
+
+    return _study_dir(shared)
+
+
+def test_a_link_below_out_is_still_followed_as_a_path(tmp_path, capsys):
+    """Only --out itself is never a link: a directory reached through a linked parent (the
+    user's own layout, e.g. a linked home) is a place like any other."""
+    real = tmp_path / "real"
+    real.mkdir()
+    os.symlink(real, tmp_path / "via")
+    assert main(["schema", "--out", str(tmp_path / "via" / "s.json")]) == 0
+    assert json.loads((real / "s.json").read_text())["$schema"]
+
+
+@pytest.mark.parametrize("name", ["", " ", "\t"])
+def test_init_refuses_an_empty_name(name, tmp_path, capsys):
+    """``--name ""`` fell back silently to the default name: now exit 2 naming the option."""
+    d = tmp_path / "d"
+    assert main(["init", "seeder", str(d), "--name", name]) == 2
+    err = capsys.readouterr().err
+    assert f"--name {name!r}: empty; give a file name" in err and "seeder.toml" in err
+    assert not d.exists()
+    assert main(["init", "seeder", str(d), "--name", "mine.toml"]) == 0
+    assert sorted(p.name for p in d.iterdir()) == ["mine.toml"]
+
+
+def test_report_writes_its_record_with_the_one_verdict(shared, tmp_path, capsys):
+    """``plantmech report`` records its run like every command: report.json beside the page,
+    holding the verdict ``plantmech study`` recorded (the same dict, built once by
+    ``study_report.study_verdict_record``), the one its last line prints; it appears with
+    the page, and a user's file of that name is never replaced without --force."""
+    from plantmech.outputs.study_report import study_verdict_line
+
+    study = tmp_path / "s"
+    shutil.copytree(_finished_study(shared), study)
+    summary = json.loads((study / "summary.json").read_text())
+    capsys.readouterr()
+    assert main(["report", str(study)]) == summary["verdict"]["exit_code"] == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    rec = json.loads((study / "report.json").read_text())
+    assert rec["verdict"] == summary["verdict"]
+    assert lines[-1] == study_verdict_line(rec["verdict"]) == "verdict: ok - " + \
+        summary["verdict"]["text"]
+    assert lines[:2] == [f"report: {study / 'report.html'}",
+                         f"record: {study / 'report.json'}"]
+    assert rec["record_of"] == "plantmech report" and rec["study"] == str(study)
+    assert rec["report"] == str(study / "report.html")
+    assert rec["command"].startswith("plantmech ")  # sys.argv: pytest's here
+    assert rec["plots_added_to_study"] == ["sweep.png"] and (study / "sweep.png").is_file()
+    # rerun: its own record replaced without --force (nothing left to add to the study)
+    assert main(["report", str(study)]) == 0
+    assert json.loads((study / "report.json").read_text())["plots_added_to_study"] == []
+    # --out elsewhere: the record is that file's name with .json
+    page = tmp_path / "page.html"
+    assert main(["report", str(study), "--out", str(page)]) == 0
+    assert json.loads((tmp_path / "page.json").read_text())["verdict"] == summary["verdict"]
+    # a user's file where the record goes: refused whole (no page either) without --force
+    other = tmp_path / "other.html"
+    (tmp_path / "other.json").write_text('{"mine": 1}')
+    capsys.readouterr()
+    assert main(["report", str(study), "--out", str(other)]) == 2
+    assert "record" in capsys.readouterr().err and not other.exists()
+    assert (tmp_path / "other.json").read_text() == '{"mine": 1}'
+    assert main(["report", str(study), "--out", str(tmp_path / "r.json")]) == 2
+    assert "an .html name" in capsys.readouterr().err
+    # a study whose requirement is not met: the record says so, exit 4, as the summary
+    summary["verdict"] = None
+    summary["complete"] = False
+    (study / "summary.json").write_text(json.dumps(summary))
+    assert main(["report", str(study)]) == 4
+    rec = json.loads((study / "report.json").read_text())
+    assert rec["verdict"]["status"] == "not met" and rec["verdict"]["exit_code"] == 4
+    assert rec["verdict"]["text"].startswith("INCOMPLETE")
+    assert capsys.readouterr().out.strip().splitlines()[-1] == "verdict: " + \
+        rec["verdict"]["text"]
+    assert leftovers(tmp_path) == [] and leftovers(study) == []
+
+
+def test_a_signal_after_the_page_is_in_place_still_brings_its_record(tmp_path, monkeypatch):
+    """Two files of one command (the page and its record, nested OutputFile blocks): once the
+    first is in place the command ends with its result, so a signal between the two commits
+    does not leave a page without its record."""
+    from plantmech.outputs.files import OutputFile
+
+    page, record = tmp_path / "p.html", tmp_path / "p.json"
+    real, sent = signals.finish, []
+
+    def finish_then_signal():  # the inner (page's) commit done: a signal now
+        real()
+        if not sent:
+            sent.append(os.kill(os.getpid(), signal.SIGTERM))
+            time.sleep(0.05)
+
+    with signals.handled():
+        with OutputFile(record) as tmp_record, OutputFile(page) as tmp_page:
+            tmp_page.write_text("page")
+            tmp_record.write_text("record")
+            monkeypatch.setattr(signals, "finish", finish_then_signal)
+        assert signals.received() == signal.SIGTERM and sent
+    assert page.read_text() == "page" and record.read_text() == "record"
+    assert leftovers(tmp_path) == []
+
+
+class _Finalized:
+    """Its finalizer is where a signal lands (a weakref or gc callback alike): Python prints
+    what is raised there as "Exception ignored in ..." with a traceback and goes on."""
+
+    def __del__(self):
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(0.5)  # the handler runs here, inside the finalizer
+
+
+def test_a_signal_in_a_finalizer_prints_no_traceback_and_still_stops(capfd):
+    """Seen in the 20 moments of design: "Exception ignored in: <function WeakKeyDictionary
+    ... remove> ... Interrupted: SIGTERM" (the issue's "Exception ignored ...
+    KeyboardInterrupt"). Now nothing is printed and the signal is raised again: the
+    command stops at its next step instead of running on to a refused commit."""
+    t0 = time.perf_counter()
+    with signals.handled():
+        with pytest.raises(signals.Interrupted) as stopped:
+            x = _Finalized()
+            del x  # the signal raised in __del__: ignored by Python, raised again by us
+            time.sleep(5)  # stopped here at once
+        assert stopped.value.signum == signal.SIGTERM == signals.received()
+    assert time.perf_counter() - t0 < 3
+    err = capfd.readouterr().err
+    assert "Exception ignored" not in err and "Traceback" not in err, err
+    # anything else raised in a finalizer still reaches the previous hook
+    seen = []
+    old = sys.unraisablehook
+    sys.unraisablehook = seen.append
+    try:
+        with signals.handled():
+            class Bad:
+                def __del__(self):
+                    raise ValueError("mine")
+            b = Bad()
+            del b
+    finally:
+        sys.unraisablehook = old
+    assert [type(u.exc_value) for u in seen] == [ValueError]

@@ -174,19 +174,24 @@ def study_text(kind: str, file_name: str = "study.toml") -> str:
 
 def write_starter(kind: str, directory: str | Path, file_name: str | None = None) -> Path:
     """Write the starting design of ``kind`` into ``directory`` (created if needed) as
-    ``file_name`` (default ``<kind>.toml``; a plain file name, never a path out of
-    ``directory``); a study spec for ``studies/<name>`` (:func:`study_kinds`). Never
-    overwrites nor writes through a link: raises
+    ``file_name`` (default ``<kind>.toml``; a plain file name, never empty nor a path out of
+    ``directory``; ``directory`` never a symbolic link); a study spec for ``studies/<name>``
+    (:func:`study_kinds`). Never overwrites nor writes through a link: raises
     :class:`~plantmech.outputs.files.OutputError` (ValueError for a ``file_name`` that is a
     path). The file appears whole or not at all (``OutputFile``); a directory created for it
     is removed again if it is not written."""
-    from plantmech.outputs.files import OutputFile
+    from plantmech.outputs.files import OutputFile, refuse_link
 
     directory = Path(directory)
-    name = file_name or f"{kind.split('/')[-1].replace('-', '_')}.toml"
+    default = f"{kind.split('/')[-1].replace('-', '_')}.toml"
+    if file_name is not None and file_name.strip() == "":
+        raise ValueError(f"--name {file_name!r}: empty; give a file name (or leave --name out "
+                         f"for {default})")
+    name = default if file_name is None else file_name
     if name in (".", "..") or Path(name).name != name or "/" in name or "\\" in name:
         raise ValueError(f"--name {file_name!r}: give a file name, not a path (it is written "
                          f"into {directory})")
+    refuse_link(directory, "DIR")
     target = directory / name
     missing = [d for d in [directory, *directory.parents] if not d.exists()]
     directory.mkdir(parents=True, exist_ok=True)

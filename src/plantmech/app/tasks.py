@@ -114,6 +114,16 @@ def _end(task) -> None:
         task.reaped = True
 
 
+def failure(exc: Exception) -> str:
+    """What the page says of a task that failed: the reason a design cannot be optimized or
+    cut (a ValueError, DesignError included, says it in words: "the trajectory's inverse
+    design is infeasible: run layer 1 first") as it is; anything else with its kind, as an
+    error of the program. Never a traceback."""
+    if isinstance(exc, ValueError):
+        return str(exc)
+    return f"internal error ({type(exc).__name__}: {exc})"
+
+
 def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) -> None:
     import tqdm
 
@@ -177,7 +187,7 @@ def _optimize_child(design_json: dict, problem: str, out: str, opts: dict, q) ->
                         or rec.get("objectives") or [],
                         "summary": summary_lines(rec)}))
     except Exception as exc:  # noqa: BLE001 - reported to the page, never a traceback
-        q.put(("error", f"{type(exc).__name__}: {exc}"))
+        q.put(("error", failure(exc)))
 
 
 def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
@@ -208,8 +218,8 @@ def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
                         "verdict": rec["verdict"], "headline": headline(rec),
                         "findings": [{"gear": f["gear"], "check": f["check"],
                                       "text": describe(f)} for f in rec["findings"]]}))
-    except Exception as exc:  # noqa: BLE001
-        q.put(("error", f"{type(exc).__name__}: {exc}"))
+    except Exception as exc:  # noqa: BLE001 - reported to the page, never a traceback
+        q.put(("error", failure(exc)))
 
 
 class Task:

@@ -50,8 +50,17 @@ def _run(args) -> int:
 
     # the drag stream's answers are ~10^5 bytes on loopback: compressing them costs more
     # than sending them (measured in chromium, docs/app-performance.md)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
-                ws_per_message_deflate=False, ws_max_size=MAX_BODY_BYTES + 1024)
+    from plantmech.outputs import signals
+
+    try:
+        uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
+                    ws_per_message_deflate=False, ws_max_size=MAX_BODY_BYTES + 1024)
+    except KeyboardInterrupt:  # uvicorn stops on the signal, then raises it again
+        pass
+    # a signal is how the app is stopped (the server has shut down and ended its tasks):
+    # exit 0, not "interrupted ... nothing written" and 130 as for a command that writes
+    got = signals.consume()
+    print("plantmech app stopped" + (f" ({signals.NAMES.get(got, got)})" if got else ""))
     return 0
 
 

@@ -762,22 +762,24 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout = _ReaderMayLeave(sys.stdout)
         except (OSError, ValueError):  # no file behind it (captured by a test): nothing to do
             pass
-    parser = build_parser()
-    for a in sys.argv[1:] if argv is None else argv:
-        # argparse takes "--option=--" as the option left out (its default), silently
-        if a.startswith("--") and a.endswith("=--"):
-            parser.error(f"argument {a[:-3]}: '--' is not a value")
-    args = parser.parse_args(argv)
-    if args.command != "init":
-        import matplotlib
-
-        matplotlib.use("Agg")  # files only: the CLI never opens a window
     from plantmech.outputs import signals
 
-    # as a program (argv None) the handler stays to the exit: a signal after the results
-    # are in place is then recorded, never a kill that contradicts the exit status
+    # as a program (argv None) the signals are ignored after the command: a signal after the
+    # results are in place is never a kill that contradicts the exit status. Installed before
+    # the parser is built (it imports the design model: a second and more), so that a signal
+    # then is an exit status too, not a KeyboardInterrupt traceback
     with signals.handled(restore=argv is not None):
         try:
+            parser = build_parser()
+            for a in sys.argv[1:] if argv is None else argv:
+                # argparse takes "--option=--" as the option left out (its default), silently
+                if a.startswith("--") and a.endswith("=--"):
+                    parser.error(f"argument {a[:-3]}: '--' is not a value")
+            args = parser.parse_args(argv)
+            if args.command != "init":
+                import matplotlib
+
+                matplotlib.use("Agg")  # files only: the CLI never opens a window
             code = args.func(args)
         except (KeyboardInterrupt, OSError) as exc:
             code = ended_by(exc)

@@ -173,8 +173,10 @@ def register(subparsers) -> None:
 
 def _study_report(args) -> int:
     """Draw the missing plots and the page into temporary files beside the target; the page
-    replaces the target in one rename, then the plots join the study directory (never
-    replacing a file there)."""
+    replaces the target in one rename and its JSON record (the study's verdict, what was read
+    and written: ``study_report.report_record``) appears beside it (``report.json`` for
+    ``report.html``), then the plots join the study directory (never replacing a file
+    there)."""
     from plantmech.extras import refused
 
     if refused("studies", "'plantmech report' (a study's results are Parquet files)"):
@@ -184,34 +186,51 @@ def _study_report(args) -> int:
     import tempfile
 
     from plantmech.outputs import signals
-    from plantmech.outputs.files import OutputError, OutputFile, is_no_space
+    from plantmech.outputs.files import OutputError, OutputFile, is_no_space, write_json
     from plantmech.outputs.study_report import (
         StudyReportError,
+        is_previous_record,
         is_previous_report,
         load_study,
+        record_path,
         recorded_verdict,
+        report_record,
         study_verdict_line,
         write_study_report,
     )
 
     study = Path(args.study_dir)
     target = Path(args.out) if args.out else study / REPORT_NAME
+    record = record_path(target)
+    inputs = [study / "study.json", study / "summary.json"]
     try:
+        if record == target:
+            raise OutputError(f"--out {target}: give the page an .html name (its JSON record "
+                              f"is written beside it as {record.name})")
         _, summary = load_study(study)
         output = OutputFile(target, force=args.force or is_previous_report(target),
-                            inputs=[study / "study.json", study / "summary.json"],
-                            hint="it is not a report this command wrote: add --force to "
-                            "replace it, or choose another file")
+                            inputs=inputs, hint="it is not a report this command wrote: add "
+                            "--force to replace it, or choose another file")
+        # the record of this run beside the page, with the study's one verdict
+        record_output = OutputFile(record, what="record",
+                                   force=args.force or is_previous_record(record),
+                                   inputs=inputs, hint="it is not a record of 'plantmech "
+                                   "report': add --force to replace it, or choose another "
+                                   "--out")
     except (StudyReportError, OutputError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    v = recorded_verdict(summary)
     plots = None
     try:
         with signals.blocked():
             plots = Path(tempfile.mkdtemp(prefix=".plantmech-", dir=target.parent))
         signals.check()
-        with output as tmp:
+        # page and record appear together (the page first, then its record) or neither
+        with record_output as tmp_record, output as tmp:
             write_study_report(study, tmp, command=_command(args), plots_into=plots)
+            added = sorted(f.name for f in plots.iterdir() if not (study / f.name).exists())
+            write_json(tmp_record, report_record(study, target, _command(args), v, added))
         with signals.blocked():
             for f in plots.iterdir():  # the plots the study skipped join it
                 try:
@@ -231,7 +250,7 @@ def _study_report(args) -> int:
         with signals.blocked():
             if plots is not None:
                 shutil.rmtree(plots, ignore_errors=True)
-    v = recorded_verdict(summary)
     print(f"report: {target}")
+    print(f"record: {record}")
     print(study_verdict_line(v))
     return v["exit_code"]

@@ -58,22 +58,34 @@ def _probe(path: Path, what: str) -> os.stat_result | None:
         raise OutputError(f"{what} {path}: cannot be used ({exc.strerror})") from None
 
 
+def refuse_link(path: Path, what: str) -> os.stat_result | None:
+    """``path``'s lstat (None if it does not exist); OutputError naming it if it is a symbolic
+    link: an output is never written through a link (nor does it replace one), whatever it
+    points to. The one rule of every command's ``--out`` (directory or file) and ``init``'s
+    DIR."""
+    st = _probe(Path(path), what)
+    if st is not None and stat.S_ISLNK(st.st_mode):
+        try:
+            target = f" (to {os.readlink(path)})"
+        except OSError:
+            target = ""
+        raise OutputError(f"{what} {path} is a symbolic link{target}: nothing is written "
+                          "through a link nor replaces it; give the directory or file itself")
+    return st
+
+
 def _check_out(out: Path, inputs: list[Path], force: bool,
                resume=None) -> tuple[Path, bool]:
-    """Validate ``--out``; return the directory the results will be moved to (symlinks of
-    ``out`` itself resolved, so a link to a directory keeps pointing at the results) and
-    whether the run resumes what it holds (``resume(out)`` true: no --force needed)."""
+    """Validate ``--out``; return the directory the results will be moved to and whether the
+    run resumes what it holds (``resume(out)`` true: no --force needed). A ``--out`` that is
+    a symbolic link (to a directory or anything else) is refused (:func:`refuse_link`)."""
     if str(out).strip() in ("", "."):
         raise OutputError(f"--out {str(out)!r}: give the name of a new directory (a run "
                           "needs a directory of its own)")
     for part in out.parts:
         if len(part.encode("utf-8", "surrogateescape")) > 255:
             raise OutputError(f"--out {out}: a name is longer than 255 bytes")
-    st = _probe(out, "--out")
-    if st is not None and stat.S_ISLNK(st.st_mode):
-        target = Path(os.path.realpath(out))
-        st = _probe(target, "--out")
-        out = target
+    st = refuse_link(out, "--out")
     out = Path(os.path.abspath(out))
     if out == Path(out.anchor) or out == Path(os.path.abspath(".")):
         raise OutputError(f"--out {out}: a run needs a directory of its own (not the current "
@@ -152,8 +164,9 @@ class OutputRun:
     to continue: its files are then copied into the temporary directory first, the chunk
     files of a study hard-linked); with ``force`` its old contents are replaced as a whole
     (renamed away, the new directory renamed in, the old one deleted), so old and new files
-    never mix. ``--out`` is never the current directory, one of its parents or the root, and
-    never holds a device, FIFO or socket. Inputs are compared by file identity (st_dev,
+    never mix. ``--out`` is never the current directory, one of its parents or the root,
+    never a symbolic link (not even to a directory: :func:`refuse_link`), and never holds a
+    device, FIFO or socket. Inputs are compared by file identity (st_dev,
     st_ino, following symlinks and hard links): a ``--out`` that holds an input or a link to
     one is refused, and files are only ever created in the fresh temporary directory, so
     nothing is written through a link. ``final(p)`` maps a path in ``run.path`` to its place
@@ -294,7 +307,10 @@ class OutputFile:
 
     ``with OutputFile(path, what="--out", force=...) as tmp:`` write ``tmp`` (a fresh file
     beside ``path``); on leaving without an exception or a signal it replaces ``path`` in one
-    rename (with the signals held back), else it is deleted and ``path`` is untouched. The
+    rename (with the signals held back), else it is deleted and ``path`` is untouched. Two
+    files of one command (``plantmech report``'s page and its record) are nested blocks: the
+    inner one is put in place first, and the outer one follows it even if a signal came in
+    between (the command then ends with its result). The
     rules of :class:`OutputRun` for one file: an existing ``path`` only with ``force`` (and
     without ``force`` a file appearing during the run is not replaced either), never a
     directory, a device, FIFO or socket, never a link (nothing is written through one, and
@@ -307,11 +323,8 @@ class OutputFile:
         self.path = Path(path)
         self.what = what
         self.force = force
-        st = _probe(self.path, what)
+        st = refuse_link(self.path, what)
         if st is not None:
-            if stat.S_ISLNK(st.st_mode):
-                raise OutputError(f"{what} {path} is a link: nothing is written through a "
-                                  "link nor replaces it; give the file itself")
             if stat.S_ISDIR(st.st_mode):
                 raise OutputError(f"{what} {path} is a directory: give a file name")
             if not stat.S_ISREG(st.st_mode):
@@ -346,7 +359,10 @@ class OutputFile:
         from plantmech.outputs import signals
 
         with signals.blocked():
-            if exc_type is not None or signals.received() is not None:
+            # a signal after another output of the command was put in place (signals.finish:
+            # the command ends with its result) does not keep this one from joining it
+            if exc_type is not None or (signals.received() is not None
+                                        and not signals.finished()):
                 self.tmp.unlink(missing_ok=True)
             else:
                 os.chmod(self.tmp, 0o666 & ~_umask())

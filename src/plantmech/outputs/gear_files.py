@@ -53,14 +53,18 @@ def write_svg(path: Path, poly, name: str = "gear") -> None:
 def solid_check(mesh) -> dict:
     """What an extruded mesh is: {"bodies", "watertight", "volume_mm3"}: bodies are the
     connected components of the faces over shared edges (what trimesh's ``split`` finds,
-    zero-volume fragments included), counted without building them: ``split`` repairs
+    zero-volume fragments included), counted with scipy without building them: ``split`` repairs
     every open fragment, which needs networkx (not a dependency: a gear at module 10 that
     fell apart ended in a ModuleNotFoundError instead of its refusal)."""
     import numpy as np
     from trimesh import graph
 
+    # engine named: without it trimesh tries each engine under ``except BaseException`` and
+    # a Ctrl-C or SIGTERM there became "ImportError: no graph engines available!" (a
+    # traceback; found by tests/test_signal_moments.py)
     bodies = graph.connected_components(mesh.face_adjacency,
-                                        nodes=np.arange(len(mesh.faces)), min_len=1)
+                                        nodes=np.arange(len(mesh.faces)), min_len=1,
+                                        engine="scipy")
     return {"bodies": int(len(bodies)), "watertight": bool(mesh.is_watertight),
             "volume_mm3": float(mesh.volume)}
 

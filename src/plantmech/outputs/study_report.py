@@ -488,3 +488,37 @@ def is_previous_report(path: Path) -> bool:
     except OSError:
         return False
     return head.lower().startswith("<!doctype html>") and GENERATOR in head
+
+
+#: ``plantmech report``'s JSON record (beside the page, :func:`record_path`) says so here
+RECORD_OF = "plantmech report"
+
+
+def record_path(page: Path) -> Path:
+    """Where ``plantmech report`` records its run: the page's name with ``.json``
+    (``report.html`` -> ``report.json``)."""
+    return Path(page).with_suffix(".json")
+
+
+def report_record(study: Path, page: Path, command: str, verdict: dict,
+                  plots: list[str]) -> dict:
+    """``plantmech report``'s JSON record: what it read and wrote, and the study's one verdict
+    (:func:`recorded_verdict`, the dict ``plantmech study`` recorded in summary.json and
+    both commands print last)."""
+    from plantmech import __version__
+
+    return {"record_of": RECORD_OF, "plantmech_version": __version__, "command": command,
+            "study": str(study), "report": str(page), "plots_added_to_study": plots,
+            "verdict": verdict}
+
+
+def is_previous_record(path: Path) -> bool:
+    """``path`` is a regular file holding a record :func:`report_record` wrote (replaced
+    without --force); anything else is never replaced without it. Read bounded."""
+    from plantmech.inputs import read_input_bytes
+
+    try:
+        data = json.loads(read_input_bytes(path, "report record", 1 << 20))
+    except (InputFileError, ValueError):
+        return False
+    return isinstance(data, dict) and data.get("record_of") == RECORD_OF

@@ -207,12 +207,39 @@ def dask_client(scheduler: str | None = None, workers: int = 2):
         finally:
             client.close()
         return
-    # loopback only, the dashboard included (":0" listened on every interface)
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0",
-                      silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as client:
+    from plantmech.outputs import signals
+
+    # loopback only, the dashboard included (":0" listened on every interface); the worker
+    # processes never get a Ctrl-C or SIGHUP sent to the process group (each printed a
+    # KeyboardInterrupt traceback): the parent stops them. A signal while the cluster starts
+    # or stops is held until it has (cut in half, its atexit hook failed on the remains with
+    # a traceback), then ends the run as usual. Its own logs are silenced to CRITICAL: a
+    # cluster stopped soon after its start had a worker log its heartbeat to the closed
+    # scheduler as an ERROR traceback (dask/distributed issue 7105); a chunk that fails is
+    # reported by the study with its exception (``RunStats.failed``). A cluster that failed
+    # to start because a SIGTERM to the process group ended its workers is that signal's
+    # stop (before: a "Nanny failed to start" traceback)
+    with signals.kept_from_children(), signals.blocked():
+        try:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0",
+                                   silence_logs=logging.CRITICAL)
+        except Exception:  # it has closed what it started (SpecCluster)
+            signals.check()
+            raise
+        try:
+            client = Client(cluster)
+        except BaseException:
+            cluster.close()
+            signals.check()
+            raise
+    try:
+        signals.check()
         yield client
+    finally:
+        with signals.blocked():
+            client.close()
+            cluster.close()
 
 
 def _run_task(work, shared, payload):
@@ -241,9 +268,13 @@ def run_chunks(out: Path, work, shared, chunks: list[tuple[int, object, int]],
         # the same scheduler right after a stopped one scattered the key the stopped
         # client was releasing, and its tasks were cancelled (FutureCancelledError; CI of
         # this round; dask/distributed issues 4612 and 8576, whose workaround this is)
-        shared_f = client.scatter(shared, broadcast=True, hash=False)
-        futures = {client.submit(_run_task, work, shared_f, payload, pure=False): (i, n)
-                   for i, payload, n in pending}
+        from plantmech.outputs import signals
+
+        with signals.blocked():  # a signal cutting the scatter in half: scheduler tracebacks
+            shared_f = client.scatter(shared, broadcast=True, hash=False)
+            futures = {client.submit(_run_task, work, shared_f, payload, pure=False): (i, n)
+                       for i, payload, n in pending}
+        signals.check()
         done_n = sum(c[2] for c in chunks if c[0] in done)
         bar = tqdm(total=sum(c[2] for c in chunks), initial=done_n, unit=label,
                    disable=not progress, smoothing=0.1)
