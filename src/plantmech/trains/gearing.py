@@ -50,12 +50,13 @@ def gear_names(design) -> list[tuple[str, str]]:
     for k, p in enumerate(pairs):
         if k == 0:
             driver = "sun"
-        elif p.driver is None and p.follower is None:
+        elif p.driver is None and p.follower is None and p.law is None:
             driver = previous
         else:
             driver = f"gear{k}b"
         last = k == len(pairs) - 1
-        idler_next = not last and pairs[k + 1].driver is None and pairs[k + 1].follower is None
+        idler_next = not last and pairs[k + 1].driver is None and pairs[k + 1].follower is None \
+            and pairs[k + 1].law is None
         follower = "planet" if last else (f"idler{k + 1}" if idler_next else f"gear{k + 1}")
         names.append((driver, follower))
         previous = follower
@@ -66,7 +67,7 @@ def _groups(design) -> list[int]:
     """For every pair, the index of the pair that starts its module group."""
     out = []
     for k, p in enumerate(design.train.pairs):
-        idler = k > 0 and p.driver is None and p.follower is None
+        idler = k > 0 and p.driver is None and p.follower is None and p.law is None
         out.append(out[-1] if idler else k)
     return out
 
@@ -194,9 +195,9 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
     out = []
     for k, p in enumerate(pairs):
         field = f"train.pairs.{k}"
-        idler = k > 0 and p.driver is None and p.follower is None
+        idler = k > 0 and p.driver is None and p.follower is None and p.law is None
         feeds_idler = k + 1 < len(pairs) and pairs[k + 1].driver is None \
-            and pairs[k + 1].follower is None
+            and pairs[k + 1].follower is None and pairs[k + 1].law is None
         spec = ToothSpec(module=modules[k]["module_mm"], backlash_mm=backlash, method=method,
                          **(tooth or {}))
         a = float(built.laws[k].a[0])
