@@ -38,13 +38,32 @@ def curve_from_spec(spec, grid: int, name: str) -> Curve:
                         spec.lobes, name, open_turn=getattr(spec, "open", False))
 
 
-def law_curve(pair, grid: int, name: str) -> tuple[Curve, float]:
+def _law_senses(design) -> list[int]:
+    """Per pair, +1 where its driver turns counter-clockwise relative to the carrier
+    (the contact then runs backwards over its body angles), else -1: the sun's sense
+    (held carrier: the carrier's direction; else (k - 1) s), flipped by every external
+    pair before it."""
+    s = -1 if design.carrier.direction == "clockwise" else 1
+    k = design.train.sun_speed_ratio
+    sense = s if design.carrier.held else (1 if (k - 1) * s > 0 else -1)
+    out = []
+    for p in design.train.pairs:
+        out.append(sense)
+        if p.kind == "external":
+            sense = -sense
+    return out
+
+
+def law_curve(pair, grid: int, name: str, turning: int = -1) -> tuple[Curve, float]:
     """(the driver's pitch curve, the centre distance a mm) of a design file's pair given by
     its transmission law (``design_law``): the ratio g(t) on the grid and, at centre
     distance a, r_d = a g / (1 + g) (external; the follower's radius a / (1 + g)), a g /
     (g - 1) (internal: the ring drives, g > 1), a g / (1 - g) (a ring follower, g < 1);
     a from centre_distance_mm, or from law.module_mm and teeth (the driver's pitch
-    perimeter pi m z). TrainSpecError naming the field and the driver angle."""
+    perimeter pi m z). The law's t is the driver's turn from the start: ``turning`` +1
+    (the driver turns counter-clockwise relative to the carrier, so the contact runs over
+    its body angles -t) mirrors the table. TrainSpecError naming the field and the driver
+    angle."""
     from plantmech.design_law import ExpressionError, LawError, sample_law
 
     law = pair.law
@@ -74,6 +93,9 @@ def law_curve(pair, grid: int, name: str) -> tuple[Curve, float]:
     else:  # the driver's pitch perimeter at a = 1 mm, scaled to pi m z
         per = float(np.mean(np.hypot(r, dr))) * TWO_PI
         a = np.pi * law.module_mm * pair.teeth / per
+    if turning > 0:  # body angle theta = -t
+        back = (-np.arange(grid)) % grid
+        r, dr = r[back], -dr[back]
     return Curve((a * r)[None, :], (a * dr)[None, :], f"{name}.law"), a
 
 
@@ -112,7 +134,7 @@ def train_from_design(design) -> Train:
             phase = np.radians(spec.phase_deg)
         centre = p.centre_distance_mm
         if p.law is not None:
-            curves["driver"], centre = law_curve(p, grid, field)
+            curves["driver"], centre = law_curve(p, grid, field, _law_senses(design)[k])
             phase = np.radians(p.law.phase_deg)
         dwell = None if p.dwell is None else (np.radians(p.dwell.start_deg),
                                                np.radians(p.dwell.sector_deg))
@@ -210,7 +232,8 @@ def train_from_designs(designs: list) -> Train:
             phase = np.radians([s.phase_deg for s in specs])
         given = [d.train.pairs[k].centre_distance_mm for d in designs]
         if p.law is not None:
-            made = [law_curve(d.train.pairs[k], t.grid, field) for d in designs]
+            made = [law_curve(d.train.pairs[k], t.grid, field, _law_senses(d)[k])
+                    for d in designs]
             curves["driver"] = Curve(np.concatenate([c.r for c, _ in made]),
                                      np.concatenate([c.dr for c, _ in made]),
                                      f"{field}.law")
