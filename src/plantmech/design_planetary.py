@@ -183,7 +183,8 @@ class TransmissionLaw(_Strict):
 
     follower_angle: Text | None = Field(
         None, description="phi(t): the follower's angle (rad) as an expression of the "
-        "driver's angle t (rad): numbers, t, pi, e, the constants below, + - * / **, sin "
+        "driver's turn t from the start (rad, in its sense of turning): numbers, t, pi, "
+        "e, the constants below, + - * / **, sin "
         "cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt abs hypot; over a lobe "
         "(t from 0 to 360 / n2 deg) it must turn 360 / n1 deg")
     ratio: Text | None = Field(
@@ -649,7 +650,17 @@ class PlanetaryOptimize(_Strict):
 
 class PlanetaryDesign(_Strict):
     """A general non-circular planetary train (issue 16): any chain of pairs, forward
-    simulated."""
+    simulated. A gear pair on fixed centres is such a train with its carrier held
+    (``carrier.held = true``: the sun is the driver, the planet the follower; `plantmech
+    init pair`, examples/planetary/elliptic_pair.toml), and any pair may be given by its
+    transmission law instead of a pitch curve (``train.pairs[].law``: the follower's angle
+    or the ratio as a function of the driver's turn, an expression or a table, periodic or
+    an open segment; ``turns = [n1, n2]`` for lobed gears). A law is refused, naming the
+    driver angle, where its ratio reaches zero or changes sign, where it does not repeat as
+    the turns ask, or where no centre distance closes the pair; the driver's tooth count
+    must be a multiple of n2, and two identical mates (two ellipses about their foci) are
+    interchangeable only with an odd count: `plantmech gears` chooses one when ``teeth``
+    is left out and says so when an even one is given."""
 
     mechanism: Literal["planetary"] = Field(description="which mechanism the file "
                                             "describes")
