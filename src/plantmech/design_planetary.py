@@ -599,6 +599,11 @@ def _step(node, part: str, where: str):
         if not part.isdigit() or int(part) >= len(node):
             raise ValueError(f"'{where}': no item {part} (the list has {len(node)})")
         return node[int(part)]
+    if isinstance(node, dict):  # a table of named numbers (a law's constants)
+        if part not in node:
+            raise ValueError(f"'{where}': no such entry (the table has "
+                             f"{', '.join(node) or 'none'})")
+        return node[part]
     if node is None or part not in getattr(type(node), "model_fields", {}):
         raise ValueError(f"'{where}': no such field")
     return getattr(node, part)
@@ -606,6 +611,8 @@ def _step(node, part: str, where: str):
 
 def get_path(root, path: str):
     node, key = resolve_path(root, path)
+    if isinstance(node, dict):
+        return node[key]
     return node[int(key)] if isinstance(node, list) else getattr(node, key)
 
 
