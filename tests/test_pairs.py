@@ -264,3 +264,41 @@ def test_example_pair_file_loads():
     built = build_from_design(d)
     assert float(built.laws[0].a[0]) == pytest.approx(33 * np.pi / (2 * ellipe(E**2)),
                                                       rel=1e-9)
+
+
+def _transplanter_with_law(law: dict, **pair):
+    """The rotary transplanter example (fixed elliptic sun, idler, planet; the carrier
+    turning clockwise) with its first pair given by ``law`` instead of the sun's curve."""
+    from plantmech.design import load_design
+
+    d = load_design(EXAMPLES / "rotary_transplanter_elliptic.toml")
+    data = d.model_dump()
+    first = data["train"]["pairs"][0]
+    first["driver"] = None
+    first.update({"law": law, "centre_distance_mm": 50.0, **pair})
+    return d, PlanetaryDesign.model_validate(data)
+
+
+def test_a_pair_of_a_train_given_by_its_law():
+    """Inside a turning train (the sun fixed): the first pair given by the ellipse law
+    (k from e = 0.18, a = 50 mm = 2A, the sun's phase 270 deg) moves the tips as the
+    ellipse curve does, to 1e-8 mm."""
+    k = (1 + 0.18) / (1 - 0.18)
+    d, law = _transplanter_with_law({"follower_angle": ELLIPSE_LAW, "constants": {"k": k},
+                                     "phase_deg": 270.0})
+    a = simulate(build_from_design(d), 720)
+    b = simulate(build_from_design(law), 720)
+    assert np.abs(a.tip - b.tip).max() < 1e-8
+
+
+def test_law_angle_is_the_drivers_turn_in_a_turning_train():
+    """An asymmetric law phi(t) = t + 0.3 (1 - cos t) on the first pair of the turning
+    train: the sun turns +psi relative to the (clockwise) carrier, and the idler's turn
+    relative to the carrier is -phi(psi)."""
+    _, d = _transplanter_with_law({"ratio": "1 + 0.3*sin(t)"})
+    m = simulate(build_from_design(d), 720)
+    sun = m.gear_angles[0][0, 0] - m.gear_angles[0][0, 0, 0]
+    psi = m.carrier_angle
+    np.testing.assert_allclose(sun, psi, atol=1e-12)
+    idler = m.gear_angles[1][0, 0] - m.gear_angles[1][0, 0, 0]
+    np.testing.assert_allclose(idler, -(psi + 0.3 * (1 - np.cos(psi))), atol=1e-9)
