@@ -393,7 +393,7 @@ def bench_pair(runs: int = 3) -> None:
     from plantmech.trains.gearing import gear_pairs
 
     e, teeth, module, alpha, backlash = 0.35, 32, 1.0, 20.0, 0.1
-    clearance = backlash * np.cos(np.radians(alpha)) / 2 / 2 / module
+    clearance = float(backlash * np.cos(np.radians(alpha)) / 2 / 2 / module)
     d = load_design(ROOT / "examples" / "planetary" / "elliptic_pair.toml")
     data = d.model_dump()
     data["train"]["pairs"][0]["teeth"] = teeth

@@ -75,3 +75,19 @@ def test_refused_grammar_and_teeth_exit_2(pair_file, tmp_path, capsys):
     bad = write_toml(tmp_path, doc, "bad2.toml")
     assert main(["forward", str(bad), "--out", str(tmp_path / "o")]) == 2
     assert "does not divide by the follower's turns 2" in capsys.readouterr().err
+
+
+def test_app_evaluates_and_edits_a_pair_file(pair_file):
+    """The app's scene of a pair file (the general train's path) and its editable numbers,
+    the law's named constants among them."""
+    from plantmech.app.server import editable_parameters, evaluate
+    from plantmech.design import load_design
+
+    d = load_design(pair_file)
+    out = evaluate(d)
+    A = 33 * np.pi / (4 * ellipe(E**2))
+    assert out["centre_distance_mm"] == [pytest.approx(2 * A, rel=1e-9)]
+    assert all(c["ok"] for c in out["checks"])
+    fields = {p["field"]: p for p in editable_parameters(d)}
+    k = fields["train.pairs.0.law.constants.k"]
+    assert k["value"] == pytest.approx((1 + E) / (1 - E)) and k["min"] < k["value"] < k["max"]
