@@ -40,6 +40,12 @@ class TeethError(ValueError):
     """A train whose gears cannot be given teeth as asked (message names the field)."""
 
 
+def _idler(p) -> bool:
+    """Whether a pair (of a design file, or a ``PairSpec``) has no gear of its own to drive
+    it: no driver, follower or law (the previous follower drives)."""
+    return p.driver is None and p.follower is None and getattr(p, "law", None) is None
+
+
 def gear_names(design) -> list[tuple[str, str]]:
     """(driver, follower) gear names of every pair (no underscores: ``run_gears`` splits
     a pair's name on them): ``sun``; a follower ``planet`` (the last), ``idler<k>`` (it
@@ -50,13 +56,12 @@ def gear_names(design) -> list[tuple[str, str]]:
     for k, p in enumerate(pairs):
         if k == 0:
             driver = "sun"
-        elif p.driver is None and p.follower is None and p.law is None:
+        elif _idler(p):
             driver = previous
         else:
             driver = f"gear{k}b"
         last = k == len(pairs) - 1
-        idler_next = not last and pairs[k + 1].driver is None and pairs[k + 1].follower is None \
-            and pairs[k + 1].law is None
+        idler_next = not last and _idler(pairs[k + 1])
         follower = "planet" if last else (f"idler{k + 1}" if idler_next else f"gear{k + 1}")
         names.append((driver, follower))
         previous = follower
@@ -67,7 +72,7 @@ def _groups(design) -> list[int]:
     """For every pair, the index of the pair that starts its module group."""
     out = []
     for k, p in enumerate(design.train.pairs):
-        idler = k > 0 and p.driver is None and p.follower is None and p.law is None
+        idler = k > 0 and _idler(p)
         out.append(out[-1] if idler else k)
     return out
 
@@ -230,9 +235,8 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
     out = []
     for k, p in enumerate(pairs):
         field = f"train.pairs.{k}"
-        idler = k > 0 and p.driver is None and p.follower is None and p.law is None
-        feeds_idler = k + 1 < len(pairs) and pairs[k + 1].driver is None \
-            and pairs[k + 1].follower is None and pairs[k + 1].law is None
+        idler = k > 0 and _idler(p)
+        feeds_idler = k + 1 < len(pairs) and _idler(pairs[k + 1])
         spec = ToothSpec(module=modules[k]["module_mm"], backlash_mm=backlash, method=method,
                          **(tooth or {}))
         a = float(built.laws[k].a[0])
