@@ -75,6 +75,16 @@ def test_ellipse_law_motion_is_the_closed_form():
     assert abs(motion.centre[0, 0] - 40.0).max() < 1e-12  # the follower's axis is fixed
 
 
+def test_law_written_with_a_branch_is_read_continuously():
+    """tan(phi / 2) = k tan(t / 2) as written, 2 atan(k tan(t / 2)) (it jumps by 2 pi at
+    t = 180 deg): the same ratio extremes as the continuous form."""
+    d = pair_design({"law": {"follower_angle": "2*atan(k*tan(t/2))", "constants": {"k": K}},
+                     "centre_distance_mm": 40.0})
+    g = build_from_design(d).laws[0].g[0]
+    assert g.max() == pytest.approx(K, rel=1e-11) and g.min() == pytest.approx(1 / K,
+                                                                              rel=1e-11)
+
+
 def test_odd_tooth_count_chosen_and_even_said():
     d = ellipse_pair(centre_distance_mm=40.0)
     m = pair_modules(d, build_from_design(d))[0]

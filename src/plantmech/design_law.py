@@ -182,11 +182,15 @@ def sample_law(law, grid: int, n1: int, n2: int, where: str) -> tuple[np.ndarray
     names = law.constants or {}
     if law.follower_angle is not None:
         phi = compile_expression(law.follower_angle, names)
-        ends = phi(np.array([0.0, lobe]))
+        # over a lobe, densely, unwrapped: an expression written with a branch (2 atan(k
+        # tan(t / 2)) jumps by 2 pi at t = 180 deg) is read as the continuous law
+        lobe_t = np.linspace(0.0, lobe, max(grid // n2, 16) + 1)
+        ends = np.unwrap(phi(lobe_t))
+        _finite(ends, lobe_t, where, "follower_angle")
         values = phi(theta)
         _finite(values, theta, where, "follower_angle")
         values = np.unwrap(values)
-        span = float(ends[1] - ends[0])
+        span = float(ends[-1] - ends[0])
         if not np.isfinite(span) or abs(span - TWO_PI / n1) > 1e-9 * max(1.0, abs(span)):
             raise LawError(f"{where}: the law turns the follower {np.degrees(span):.6g} deg "
                            f"while the driver turns {360 / n2:g} deg (from 0 to "
@@ -296,7 +300,7 @@ def _segment(law, grid: int, q: float, where: str):
         phi = compile_expression(law.follower_angle, names)
         h = 1e-4
         probe = t0 + np.linspace(0.0, span, 4097)
-        vals = phi(probe)
+        vals = np.unwrap(phi(probe))
         _finite(vals, probe, where, "follower_angle")
         d = lambda x: (phi(x - 2 * h) - 8 * phi(x - h) + 8 * phi(x + h)  # noqa: E731
                        - phi(x + 2 * h)) / (12 * h)
