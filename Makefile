@@ -2,7 +2,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test test-quick bench bench-study bench-layered bench-design lint clean fuzz docs
+.PHONY: run test test-quick bench bench-study bench-layered bench-design bench-pair lint clean fuzz docs
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -42,6 +42,9 @@ bench-layered: $(STAMP)
 
 bench-design: $(STAMP)
 	$(PY) benchmarks/bench.py --design
+
+bench-pair: $(STAMP)
+	$(PY) benchmarks/bench.py --pair --pair-runs 5
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks

@@ -24,6 +24,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # on first use (importlib), never by an import statement
     ("package", ("plantmech",)),
     ("design", ("plantmech.design", "plantmech.design_planetary", "plantmech.design_reference",
+                "plantmech.design_law",
                 "plantmech.units")),
     # the process's signal record (SIGINT/SIGTERM/SIGHUP received, pool workers' initializer):
     # it imports nothing of the package, and the optimizer's pools and every writer read it

@@ -175,6 +175,88 @@ PitchCurve = Annotated[EllipseCurve | EccentricCurve | FourierCurve | RadiiCurve
                        Field(discriminator="family")]
 
 
+class TransmissionLaw(_Strict):
+    """A pair given by its transmission law (``design_law``): the follower's angle phi as
+    a function of the driver's t, or the ratio d phi / dt, as an expression of t (rad) in
+    a restricted grammar or as a table over one lobe (360 / n2 deg of driver angle, n2 the
+    follower's turns); the driver's pitch curve follows at the pair's centre distance."""
+
+    follower_angle: Text | None = Field(
+        None, description="phi(t): the follower's angle (rad) as an expression of the "
+        "driver's turn t from the start (rad, in its sense of turning): numbers, t, pi, "
+        "e, the constants below, + - * / **, sin "
+        "cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt abs hypot; over a lobe "
+        "(t from 0 to 360 / n2 deg) it must turn 360 / n1 deg")
+    ratio: Text | None = Field(
+        None, description="instead: g(t) = d phi / dt, the follower's speed over the "
+        "driver's, as an expression of t (rad); its mean over a driver turn must be n2 / n1")
+    driver_deg: list[AngleDeg] | None = Field(
+        None, description="a table instead: driver angles (deg, increasing) over one lobe, "
+        "first to last spanning 360 / n2 deg", max_length=MAX_OPEN_POINTS)
+    follower_deg: list[Annotated[float, Strict(), Field(ge=-1e5, le=1e5,
+                                                        allow_inf_nan=False)]] | None = Field(
+        None, description="with driver_deg: the follower's angle there (deg), joined by a "
+        "periodic cubic spline of its periodic part", max_length=MAX_OPEN_POINTS)
+    ratio_table: list[Annotated[float, Strict(), Field(gt=0, le=1e3,
+                                                       allow_inf_nan=False)]] | None = Field(
+        None, description="with driver_deg, instead of follower_deg: the ratio there "
+        "(periodic cubic spline; first = last)", max_length=MAX_OPEN_POINTS)
+    constants: dict[Text, Annotated[float, Strict(), Field(allow_inf_nan=False)]] | None = (
+        Field(None, description="named numbers the expressions may use, e.g. { k = 2.08 }",
+              max_length=32))
+    segment_deg: list[AngleDeg] | None = Field(
+        None, description="[t0, t1]: an open segment: the law is wanted for driver angles t0 "
+        "to t1 only (deg, t1 - t0 below 360); the pair is closed by a return arc over the "
+        "rest of the turn (a cubic of the ratio joining the segment's ends)", min_length=2,
+        max_length=2)
+    module_mm: Annotated[float, Strict(), Field(gt=0, le=100, allow_inf_nan=False)] | None = (
+        Field(None, description="with the pair's teeth, instead of centre_distance_mm: the "
+              "size from the tooth count (the driver's pitch perimeter is pi m z)"))
+    phase_deg: AngleDeg = Field(0.0, description="as for a driver curve: the sun's absolute "
+                                "angle of its body angle t = 0 at the start (deg)")
+
+    @model_validator(mode="after")
+    def _one_form(self):
+        from plantmech.design_law import ExpressionError, compile_expression
+
+        forms = [n for n in ("follower_angle", "ratio", "follower_deg", "ratio_table")
+                 if getattr(self, n) is not None]
+        if len(forms) != 1:
+            raise ValueError("give one of follower_angle, ratio (expressions) or "
+                             "driver_deg with follower_deg or ratio_table (a table); got "
+                             + (", ".join(forms) or "none"))
+        for n in ("follower_angle", "ratio"):
+            text = getattr(self, n)
+            if text is not None:
+                try:
+                    compile_expression(text, self.constants)
+                except ExpressionError as exc:
+                    raise ValueError(f"{n}: {exc}") from None
+        table = self.follower_deg if self.follower_deg is not None else self.ratio_table
+        if table is not None:
+            if self.driver_deg is None or len(self.driver_deg) != len(table):
+                raise ValueError("a tabulated law needs driver_deg with as many values as "
+                                 + ("follower_deg" if self.follower_deg is not None
+                                    else "ratio_table"))
+            if len(table) < 4:
+                raise ValueError(f"a tabulated law needs at least 4 rows, got {len(table)}")
+            for k in range(1, len(self.driver_deg)):
+                if self.driver_deg[k] <= self.driver_deg[k - 1]:
+                    raise ValueError(f"driver_deg must increase: row {k} at "
+                                     f"{self.driver_deg[k]:g} deg follows "
+                                     f"{self.driver_deg[k - 1]:g} deg")
+            if self.segment_deg is not None:
+                raise ValueError("segment_deg takes an expression (follower_angle or ratio)")
+        elif self.driver_deg is not None:
+            raise ValueError("driver_deg goes with follower_deg or ratio_table")
+        if self.segment_deg is not None:
+            t0, t1 = self.segment_deg
+            if not 0 < t1 - t0 < 360:
+                raise ValueError(f"segment_deg = [{t0:g}, {t1:g}]: the segment's end follows "
+                                 "its start by less than a turn (0 < t1 - t0 < 360)")
+        return self
+
+
 class PairDwell(TrainDwell):
     """A toothless dwell of the pair (seed 000's sector over cd, Eq. 5), in carrier angles:
     while the carrier turns ``sector_deg`` from ``start_deg`` the follower (and every gear
@@ -205,8 +287,18 @@ class GearPair(_Strict):
         "gear 2 given, the sun derived); the driver is then its mate (the sun, or a new "
         "gear on the previous follower's shaft) and the follower's phase_deg is its body "
         "angle at the contact at the start (deg)")
+    law: TransmissionLaw | None = Field(
+        None, description="instead of the driver: the pair's transmission law (the "
+        "follower's angle or the ratio as a function of the driver's angle); the driver's "
+        "pitch curve follows at centre_distance_mm (or from law.module_mm and teeth)")
     centre_distance_mm: PositiveMM | None = Field(
-        None, description="a: centre distance (mm); default: solved so the pair closes")
+        None, description="a: centre distance (mm); default: solved so the pair closes "
+        "(a law: required unless law.module_mm and teeth size it)")
+    turns: list[Annotated[int, Strict(), Field(ge=1, le=12)]] | None = Field(
+        None, description="[n1, n2]: the driver makes n1 turns while the follower makes n2 "
+        "(lobed gears: [1, 2], [2, 3]); sets follower_turns = n2 / n1. The driver's teeth "
+        "must then be a multiple of n2 (the follower carries z n1 / n2)", min_length=2,
+        max_length=2)
     direction_deg: AngleDeg = Field(0.0, description="delta: direction of the line of "
                                     "centres driver -> follower, from the carrier line "
                                     "(deg, CCW)")
@@ -225,12 +317,60 @@ class GearPair(_Strict):
         "driver's lobes. A pair with a dwell: the given follower's (the sun is then a "
         "partial gear, toothless over its toothless arc)")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _turns_set_follower_turns(cls, data):
+        if isinstance(data, dict) and isinstance(data.get("turns"), list) \
+                and len(data["turns"]) == 2 and all(
+                    isinstance(v, int) and not isinstance(v, bool) and v > 0
+                    for v in data["turns"]):
+            n1, n2 = data["turns"]
+            given = data.get("follower_turns")
+            if given is not None and given != n2 / n1:
+                raise ValueError(f"turns = [{n1}, {n2}] (follower_turns {n2 / n1:g}) and "
+                                 f"follower_turns = {given!r} disagree: give one")
+            data = {**data, "follower_turns": n2 / n1}
+        return data
+
+    @model_validator(mode="after")
+    def _law_fits(self):
+        if self.law is None:
+            return self
+        if self.driver is not None or self.follower is not None:
+            raise ValueError("give driver, follower or law, not two (the others follow from "
+                             "rolling)")
+        if self.centre_distance_mm is None and (self.law.module_mm is None
+                                                or self.teeth is None):
+            raise ValueError("law: a transmission law fixes the gears' shape, not their "
+                             "size: give centre_distance_mm, or law.module_mm with teeth")
+        if self.centre_distance_mm is not None and self.law.module_mm is not None:
+            raise ValueError("law.module_mm: the size is given twice (centre_distance_mm "
+                             "too): give one")
+        if self.dwell is not None:
+            raise ValueError("dwell: a pair given by its law has no toothless dwell")
+        return self
+
+    def turns_pair(self) -> tuple[int, int]:
+        """(n1, n2): the driver's and the follower's turns (from ``turns``, else the
+        follower_turns as the nearest fraction with denominator up to 12)."""
+        if self.turns is not None:
+            return int(self.turns[0]), int(self.turns[1])
+        from fractions import Fraction
+
+        f = Fraction(self.follower_turns).limit_denominator(12)
+        return f.denominator, f.numerator
+
     @model_validator(mode="after")
     def _teeth_fit(self):
         lobes = getattr(self.driver, "lobes", 1)
         if self.teeth is not None and self.teeth % lobes:
             raise ValueError(f"teeth = {self.teeth} is not a multiple of driver.lobes = "
                              f"{lobes}: every lobe must carry whole teeth")
+        if self.teeth is not None and self.turns is not None and self.teeth % self.turns[1]:
+            n1, n2 = self.turns
+            raise ValueError(f"teeth = {self.teeth} does not divide by the follower's turns "
+                             f"{n2} (turns = [{n1}, {n2}]): the follower would carry "
+                             f"{self.teeth * n1 / n2:g} teeth; use a multiple of {n2}")
         return self
 
     @model_validator(mode="after")
@@ -297,7 +437,8 @@ class PlanetaryTrain(_Strict):
                     raise ValueError(f"pairs.{k}.{role}.open: a curve with a break needs "
                                      f"follower_turns = 1 (got {p.follower_turns:g}): the break "
                                      "would meet its mate at another body angle every turn")
-            if k and p.driver is None and p.follower is None and p.teeth is not None:
+            if k and p.driver is None and p.follower is None and p.law is None \
+                    and p.teeth is not None:
                 raise ValueError(f"pairs.{k}.teeth: this pair's driver is the previous "
                                  "follower (an idler), whose teeth follow from the pair "
                                  "before; give teeth on the pair with the driver table")
@@ -317,6 +458,11 @@ class PlanetaryCarrier(_Strict):
         "clockwise", description="sense of the carrier's turn")
     arms: Annotated[int, Strict()] = Field(1, ge=1, le=6, description="arms (each with its "
                                            "own chain), evenly spaced round the carrier")
+    held: StrictBool = Field(False, description="true: the carrier is the frame (gears on "
+                             "fixed centres: a gear pair, or any chain); the sun (the first "
+                             "driver) then turns at speed_deg_s in `direction`, and the "
+                             "samples are over one sun turn; one arm, a sun_speed_ratio of 0 "
+                             "(unused), no toothless dwell")
 
 
 class PlanetaryArm(_Strict):
@@ -453,6 +599,11 @@ def _step(node, part: str, where: str):
         if not part.isdigit() or int(part) >= len(node):
             raise ValueError(f"'{where}': no item {part} (the list has {len(node)})")
         return node[int(part)]
+    if isinstance(node, dict):  # a table of named numbers (a law's constants)
+        if part not in node:
+            raise ValueError(f"'{where}': no such entry (the table has "
+                             f"{', '.join(node) or 'none'})")
+        return node[part]
     if node is None or part not in getattr(type(node), "model_fields", {}):
         raise ValueError(f"'{where}': no such field")
     return getattr(node, part)
@@ -460,6 +611,8 @@ def _step(node, part: str, where: str):
 
 def get_path(root, path: str):
     node, key = resolve_path(root, path)
+    if isinstance(node, dict):
+        return node[key]
     return node[int(key)] if isinstance(node, list) else getattr(node, key)
 
 
@@ -504,7 +657,17 @@ class PlanetaryOptimize(_Strict):
 
 class PlanetaryDesign(_Strict):
     """A general non-circular planetary train (issue 16): any chain of pairs, forward
-    simulated."""
+    simulated. A gear pair on fixed centres is such a train with its carrier held
+    (``carrier.held = true``: the sun is the driver, the planet the follower; `plantmech
+    init pair`, examples/planetary/elliptic_pair.toml), and any pair may be given by its
+    transmission law instead of a pitch curve (``train.pairs[].law``: the follower's angle
+    or the ratio as a function of the driver's turn, an expression or a table, periodic or
+    an open segment; ``turns = [n1, n2]`` for lobed gears). A law is refused, naming the
+    driver angle, where its ratio reaches zero or changes sign, where it does not repeat as
+    the turns ask, or where no centre distance closes the pair; the driver's tooth count
+    must be a multiple of n2, and two identical mates (two ellipses about their foci) are
+    interchangeable only with an odd count: `plantmech gears` chooses one when ``teeth``
+    is left out and says so when an even one is given."""
 
     mechanism: Literal["planetary"] = Field(description="which mechanism the file "
                                             "describes")
@@ -528,12 +691,31 @@ class PlanetaryDesign(_Strict):
     @classmethod
     def _sun_curve_or_trajectory(cls, train, info):
         first = train.pairs[0]
-        if first.driver is None and first.follower is None and \
+        if first.driver is None and first.follower is None and first.law is None and \
                 info.data.get("trajectory") is None:
             raise ValueError("pairs.0.driver is missing: the first pair's driver is the sun; "
                              "give its pitch curve (or the follower's), or a [trajectory] for "
                              "`plantmech inverse` to compute it")
         return train
+
+    @model_validator(mode="after")
+    def _held_carrier(self):
+        if not self.carrier.held:
+            return self
+        if self.carrier.arms != 1:
+            raise ValueError(f"carrier.arms = {self.carrier.arms}: a held carrier (gears on "
+                             "fixed centres) carries one chain")
+        if self.train.sun_speed_ratio != 0:
+            raise ValueError("train.sun_speed_ratio: with the carrier held the sun is the "
+                             "driver (carrier.speed_deg_s); leave the ratio out")
+        for k, p in enumerate(self.train.pairs):
+            if p.dwell is not None:
+                raise ValueError(f"train.pairs.{k}.dwell: a toothless dwell is the carrier's "
+                                 "sector; this carrier is held")
+        if self.trajectory is not None:
+            raise ValueError("trajectory: inverse design moves the carrier; this carrier is "
+                             "held")
+        return self
 
     @field_validator("arm")
     @classmethod

@@ -86,6 +86,22 @@ STARTERS: dict[str, Starter] = {
          "plantmech gears {file} --out out/gears",
          "plantmech verify {file} --gears out/gears --out out/verify"),
     ),
+    "pair": Starter(
+        "planetary/elliptic_pair",
+        "a non-circular gear pair on fixed centres (the carrier held) given by its "
+        "transmission law: two identical elliptic gears about their foci, module 1, 33 teeth",
+        ("[train.pairs.law]: the law, follower_angle phi(t) (rad, of the driver's turn t, "
+         "rad) or ratio g(t), an expression or a table (driver_deg with follower_deg or "
+         "ratio_table); segment_deg = [t0, t1] for a law wanted over part of the turn",
+         "[[train.pairs]] turns = [n1, n2] (the driver's and the follower's turns: lobed "
+         "gears) and teeth; the size: law.module_mm with teeth, or centre_distance_mm",
+         "or give the driver's pitch curve instead of the law ([train.pairs.driver], "
+         "as in `plantmech init planetary`)"),
+        ("plantmech design {file} --out out/design",
+         "plantmech forward {file} --out out/forward --report",
+         "plantmech gears {file} --out out/gears --backlash 0.1",
+         "plantmech verify {file} --gears out/gears --out out/verify"),
+    ),
 }
 
 

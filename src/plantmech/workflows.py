@@ -260,6 +260,8 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     findings = record["findings"]
     for pair, spec in gear_pairs(design, module, backlash, tooth=tooth, method=method):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
+        if getattr(pair, "teeth_note", None):  # a pair's tooth count, said (issue 35)
+            record.setdefault("notes", []).append(pair.teeth_note)
         names = pair.name.split("_")
         done = {g["name"] for g in record["gears"]}
         for gname, poly, pitch, z, internal, cut_by, made in (

@@ -332,6 +332,10 @@ def _planetary_parameters(design) -> list[dict]:
             if isinstance(pair.get(part), dict):
                 candidates.append((f"train.pairs.{k}.{part}", f"pair {k + 1} {part}",
                                    pair[part]))
+        law = pair.get("law")
+        if isinstance(law, dict) and isinstance(law.get("constants"), dict):
+            candidates.append((f"train.pairs.{k}.law.constants", f"pair {k + 1} law",
+                               law["constants"]))
     return _general_parameters(candidates)
 
 

@@ -283,7 +283,7 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     motion = simulate(built, samples=samples)
     tr = built.train
     names = gear_names(design)
-    s = float(tr.carrier_sense)
+    s = tr.carrier_rate  # 0: a held carrier (a pair on fixed centres, the sun drives)
     omega = np.radians(spec.carrier_speed_deg_s)
     thick = spec.face_width_mm * 1e-3
     props = {n: polygon_mass_properties(g.rings, thick, spec.density_kg_m3)
@@ -295,13 +295,13 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     c0 = float(motion.carrier[0, 0, 0])
     bodies = [Body("carrier", 1.0, 0.1, c0, s * omega, np.zeros(2), np.zeros(2), False)]
     drives, drive_names = [0], ["carrier"]
-    k_sun = float(tr.sun_speed_ratio)
+    sun_speed = s + tr.sun_rate  # the sun's absolute turn per unit psi (k s)
     sun_abs = c0 + float(motion.gear_angles[0][0, 0, 0])  # the sun's absolute angle at 0
     sun_body = None
-    if k_sun != 0.0:  # a driven sun: a body on the ground turning k times the carrier
+    if sun_speed != 0.0:  # a driven sun: a body on the ground turning k times the carrier
         m, c, jz = props["sun"]
         sun_body = len(bodies)
-        bodies.append(Body("sun", m, jz, sun_abs, k_sun * s * omega, c, np.zeros(2), False))
+        bodies.append(Body("sun", m, jz, sun_abs, sun_speed * omega, c, np.zeros(2), False))
         drives.append(sun_body)
         drive_names.append("sun")
     laws = []

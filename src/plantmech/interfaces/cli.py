@@ -456,6 +456,8 @@ def _gears_body(args, design, run) -> int:
                 f"{mm['max_normal_gap_mm']:.3f} mm")
         print(f"  {'FAIL' if mm['pair'] in failed else 'ok  '} mesh {mm['pair']}: interference "
               f"{mm['max_interference_mm']:.4f} mm, circumferential backlash {play}")
+    for note in rec.get("notes", []):
+        print(f"  note: {note}")
     if "step" in rec:
         print(f"  STEP not written: {rec['step']}")
     print(f"wrote {len(rec['files'])} files and verification.json to {run.final(out)}")

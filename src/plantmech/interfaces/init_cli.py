@@ -39,7 +39,7 @@ def register(subparsers) -> None:
     studies = study_kinds()
     p = subparsers.add_parser(
         "init", help="write a commented starting design (seeder, seeder-train, transplanter, "
-        "planetary)",
+        "planetary, pair)",
         description="Write a commented starting design into DIR, copied from a shipped "
         f"example, with what to edit first and the commands to run. Kinds: {kinds}. "
         f"Study specs for 'plantmech study': {', '.join(studies)}. "

@@ -333,9 +333,9 @@ def check_first_order_input(design) -> None:
                                 f"second-order train (two pairs); this file has "
                                 f"{len(t.pairs)} pairs")
     for k, p in enumerate(t.pairs):
-        if p.driver is not None or p.follower is not None:
+        if p.driver is not None or p.follower is not None or p.law is not None:
             raise InverseInputError(f"train.pairs.{k}: the inverse design computes the pitch "
-                                    "curves; leave out the driver and follower tables")
+                                    "curves; leave out the driver, follower and law tables")
         if len(t.pairs) == 2 and (p.kind != "external" or p.follower_turns != 1):
             raise InverseInputError(f"train.pairs.{k}.kind: seed 000's second-order train has "
                                     "two external pairs closing once per turn (kind = "

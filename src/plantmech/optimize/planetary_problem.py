@@ -58,6 +58,8 @@ def default_variables(design, span: float = DEFAULT_SPAN) -> dict[str, list[floa
                     paths += [f"{base}.{i}" for i in range(len(value))]
                 elif value is not None:
                     paths.append(base)
+        if pair.law is not None and pair.law.constants:  # a law's named numbers
+            paths += [f"train.pairs.{k}.law.constants.{n}" for n in pair.law.constants]
     if design.arm.length_mm is not None:
         paths.append("arm.length_mm")
     data = design.model_dump(exclude={"optimize"})

@@ -55,6 +55,16 @@ def forward_figures(design, motion) -> list[tuple[str, Figure]]:
             ("ratios.png", plot_ratios(motion))]
 
 
+def _what_turns(motion) -> str:
+    """What psi turns: the carrier, or the driver (the sun) when the carrier is held."""
+    held = motion.built is not None and motion.built.train.carrier_held
+    return "driver" if held else "carrier"
+
+
+def _angle_label(motion) -> str:
+    return f"{_what_turns(motion)} angle (deg)"
+
+
 def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
     """Arm angle (deg) and tip speed (m/s) of arm 1 over the carrier angle (deg)."""
     fig = Figure(figsize=(7.0, 5.0), layout="constrained")
@@ -65,9 +75,9 @@ def plot_attitude_speed(motion, carrier_speed_deg_s: float) -> Figure:
     a1.grid(alpha=0.3)
     a2.plot(psi, np.abs(motion.velocity(carrier_speed_deg_s)[0, 0]))
     a2.set_ylabel("tip speed (m/s)")
-    a2.set_xlabel("carrier angle (deg)")
+    a2.set_xlabel(_angle_label(motion))
     a2.grid(alpha=0.3)
-    fig.suptitle(f"arm 1 at carrier speed {carrier_speed_deg_s:g} deg/s")
+    fig.suptitle(f"arm 1 at {_what_turns(motion)} speed {carrier_speed_deg_s:g} deg/s")
     return fig
 
 
@@ -91,7 +101,7 @@ def plot_ratios(motion) -> Figure:
                            label=None if shaded else "toothless dwell: follower held")
                 shaded = True
         ax.plot(psi, ratio, label=f"pair {k + 1}")
-    ax.set_xlabel("carrier angle (deg)")
+    ax.set_xlabel(_angle_label(motion))
     ax.set_ylabel("ratio r_driver / r_follower (-)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)

@@ -40,6 +40,12 @@ class TeethError(ValueError):
     """A train whose gears cannot be given teeth as asked (message names the field)."""
 
 
+def _idler(p) -> bool:
+    """Whether a pair (of a design file, or a ``PairSpec``) has no gear of its own to drive
+    it: no driver, follower or law (the previous follower drives)."""
+    return p.driver is None and p.follower is None and getattr(p, "law", None) is None
+
+
 def gear_names(design) -> list[tuple[str, str]]:
     """(driver, follower) gear names of every pair (no underscores: ``run_gears`` splits
     a pair's name on them): ``sun``; a follower ``planet`` (the last), ``idler<k>`` (it
@@ -50,12 +56,12 @@ def gear_names(design) -> list[tuple[str, str]]:
     for k, p in enumerate(pairs):
         if k == 0:
             driver = "sun"
-        elif p.driver is None and p.follower is None:
+        elif _idler(p):
             driver = previous
         else:
             driver = f"gear{k}b"
         last = k == len(pairs) - 1
-        idler_next = not last and pairs[k + 1].driver is None and pairs[k + 1].follower is None
+        idler_next = not last and _idler(pairs[k + 1])
         follower = "planet" if last else (f"idler{k + 1}" if idler_next else f"gear{k + 1}")
         names.append((driver, follower))
         previous = follower
@@ -66,7 +72,7 @@ def _groups(design) -> list[int]:
     """For every pair, the index of the pair that starts its module group."""
     out = []
     for k, p in enumerate(design.train.pairs):
-        idler = k > 0 and p.driver is None and p.follower is None
+        idler = k > 0 and _idler(p)
         out.append(out[-1] if idler else k)
     return out
 
@@ -138,6 +144,7 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
     # the given follower (seed 000's gear 2; the sun is a partial gear)
     whole = [perims[k][1] if p.dwell is not None else perims[k][0] for k, p in enumerate(pairs)]
     chosen: dict[int, tuple[float, str]] = {}
+    notes: dict[int, str] = {}
     out = []
     for k, p in enumerate(pairs):
         g = groups[k]
@@ -145,8 +152,10 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
             spec = p.driver if p.driver is not None else p.follower
             q = p.follower_turns
             multiple = _lobes(spec)
-            if abs(q - round(q)) < 1e-9:
-                multiple = multiple * round(q) // math.gcd(multiple, round(q))
+            n1, n2 = p.turns_pair()
+            if abs(n2 / n1 - q) < 1e-9:  # z_f = z_d n1 / n2: z_d a multiple of n2
+                multiple = multiple * n2 // math.gcd(multiple, n2)
+            twins = p.dwell is None and _identical_mates(built, k)
             driver_perimeter = whole[k]
             if p.teeth is not None and module is None:
                 source = f"train.pairs.{k}.teeth"
@@ -155,13 +164,25 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
                                      f"follower (turning {q:g} times per driver turn) or a "
                                      f"lobe without whole teeth: use a multiple of {multiple}")
                 m = driver_perimeter / (np.pi * p.teeth)
+                if twins and p.teeth % 2 == 0:
+                    notes[k] = (f"{source}: the two gears of pair {k + 1} have the same pitch "
+                                f"curve, but {p.teeth} teeth (even) make them different gears "
+                                "(a tooth meets a space): an odd count makes them identical "
+                                "and interchangeable")
             else:
                 source = "--module" if module is not None else (
                     f"the default module of train.pairs.{k}")
                 smallest = min(min(perims[j]) for j in range(len(pairs)) if groups[j] == g)
                 m0 = module or standard_module(smallest, min_teeth)
                 check_tooth_counts(m0, {names[k][0]: driver_perimeter}, source)
-                _, m = teeth_count(driver_perimeter, m0, multiple)
+                z, m = teeth_count(driver_perimeter, m0, multiple)
+                if twins and z % 2 == 0 and multiple % 2:  # the nearest odd count
+                    exact = driver_perimeter / (np.pi * m0)
+                    z = z + multiple if exact > z else max(z - multiple, multiple)
+                    m = driver_perimeter / (np.pi * z)
+                    notes[k] = (f"pair {k + 1}: {z} teeth (odd) chosen: the two gears have "
+                                "the same pitch curve, and an odd count makes them identical "
+                                "and interchangeable (a tooth meets a space)")
             chosen[g] = (m, source)
         m, source = chosen[g]
         check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
@@ -169,8 +190,28 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
             else perims[k][0]
         out.append({"module_mm": float(m), "teeth_a": int(round(a_perimeter / (np.pi * m))),
                     "teeth_driver": int(round(perims[k][0] / (np.pi * m))), "source": source,
-                    "perimeter_a_mm": float(a_perimeter)})
+                    "perimeter_a_mm": float(a_perimeter), "note": notes.get(k)})
     return out
+
+
+def _identical_mates(built, k: int) -> bool:
+    """Whether pair k's two gears have the same pitch curve (turned, or turned over): an
+    external pair turning 1:1 whose follower's radius table is the driver's shifted round
+    the grid, or reversed (two ellipses about their foci)."""
+    law = built.laws[k]
+    if law.kind != "external" or abs(float(np.ravel(law.follower_turns)[0]) - 1) > 1e-12 \
+            or law.driver.open:
+        return False
+    a, b = built.drivers[k].r[0], built.followers[k].r[0]
+    if a.shape != b.shape:
+        return False
+    tol = 1e-6 * float(a.max())
+    for c in (b, b[::-1]):
+        corr = np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(c)), a.size)
+        shift = int(np.argmax(corr))
+        if np.abs(np.roll(c, shift) - a).max() <= tol:
+            return True
+    return False
 
 
 def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
@@ -194,9 +235,8 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
     out = []
     for k, p in enumerate(pairs):
         field = f"train.pairs.{k}"
-        idler = k > 0 and p.driver is None and p.follower is None
-        feeds_idler = k + 1 < len(pairs) and pairs[k + 1].driver is None \
-            and pairs[k + 1].follower is None
+        idler = k > 0 and _idler(p)
+        feeds_idler = k + 1 < len(pairs) and _idler(pairs[k + 1])
         spec = ToothSpec(module=modules[k]["module_mm"], backlash_mm=backlash, method=method,
                          **(tooth or {}))
         a = float(built.laws[k].a[0])
@@ -230,6 +270,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
                            bore_a=None if internal else _bore(float(r.min()), spec, rules),
                            bore_b=_bore(float(rf.min()), spec, rules))
         gp.module_source = modules[k]["source"]
+        gp.teeth_note = modules[k]["note"]
         out.append((gp, spec))
     return out
 

@@ -94,6 +94,21 @@ class Train:
     arms: int = 1
     min_radius: float = 0.0
     closure_tolerance: float = np.radians(0.01)
+    #: the carrier is the frame (a pair, or any chain, on fixed centres): psi is then the
+    #: sun's (the first driver's) turn, in the sense ``carrier_sense``; one arm
+    carrier_held: bool = False
+
+    @property
+    def carrier_rate(self) -> float:
+        """d C / d psi: the carrier's absolute turn per unit psi (0 when held)."""
+        return 0.0 if self.carrier_held else float(self.carrier_sense)
+
+    @property
+    def sun_rate(self) -> float:
+        """d alpha_0 / d psi: the sun's turn relative to the carrier per unit psi ((k - 1) s;
+        s when the carrier is held and the sun drives)."""
+        s = float(self.carrier_sense)
+        return s if self.carrier_held else (float(self.sun_speed_ratio) - 1) * s
 
 
 @dataclass
@@ -296,6 +311,9 @@ def _dwell_of(train: Train, k: int, spec: PairSpec, P: int):
     if spec.dwell is None:
         return None
     where = f"{spec.name}.dwell"
+    if train.carrier_held:
+        raise PairError(f"{where}: a toothless dwell is the carrier's sector; this train's "
+                        "carrier is held (a pair on fixed centres)")
     if k > 0:
         raise PairError(f"{where}: a toothless dwell is supported on the first pair (the "
                         "sun's) only: a later driver does not turn uniformly relative to the "
@@ -418,17 +436,16 @@ def simulate(built: BuiltTrain, samples: int = 3600) -> TrainMotion:
     """Forward kinematics of P built trains over one carrier turn (``samples`` psi)."""
     tr = built.train
     P, J = built.designs, tr.arms
-    s = float(tr.carrier_sense)
+    s = tr.carrier_rate  # 0 when the carrier is held (psi is then the sun's turn)
     psi = TWO_PI * np.arange(samples) / samples
     offset = TWO_PI * np.arange(J) / J
     turn = (psi[None, :] + offset[:, None])[None]  # (1, J, S)
     C0 = _column(tr.carrier0, P)[:, :, None]  # (P|1, 1, 1)
     carrier = C0 + s * turn
-    k = float(tr.sun_speed_ratio)
     # sun relative to arm j's carrier line: alpha_0 = alpha_0(0) + (k - 1) s psi - s offset_j
-    alpha = np.broadcast_to(_sun_start(built) + (k - 1) * s * psi[None, None, :]
+    alpha = np.broadcast_to(_sun_start(built) + tr.sun_rate * psi[None, None, :]
                             - s * offset[None, :, None], (P, J, samples))
-    rate = np.full((P, J, samples), (k - 1) * s)
+    rate = np.full((P, J, samples), tr.sun_rate)
     angles, rates, contacts, driver_angles, meshes = [alpha], [rate], [], [], []
     for driver_alpha, m in _pair_chain(built, alpha, rate):
         driver_angles.append(driver_alpha)
@@ -486,7 +503,7 @@ def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
     gap = built.toothless[0] if built.toothless else None
     lock = np.zeros(P) if gap is None else np.broadcast_to(gap.lock.reshape(-1), (P,))
     width = np.zeros(P) if gap is None else np.broadcast_to(gap.width.reshape(-1), (P,))
-    s = float(tr.carrier_sense)
+    s = tr.carrier_rate
 
     def col(v):
         return np.ascontiguousarray(np.broadcast_to(_column(v, P)[:, 0], (P,)), dtype=float)
@@ -496,8 +513,8 @@ def simulate_tips(built: BuiltTrain, samples: int = 3600) -> TrainMotion | None:
         np.ascontiguousarray(offsets[:, 0]), np.ascontiguousarray(offsets[:, 1]), sense, shift,
         derived, np.ascontiguousarray(lock, dtype=float), np.ascontiguousarray(width,
                                                                              dtype=float),
-        -s if gap is None else float(gap.sense), gap is not None,
-        col(_sun_start(built)[:, 0, 0]), (float(tr.sun_speed_ratio) - 1) * s, col(tr.carrier0),
+        -float(tr.carrier_sense) if gap is None else float(gap.sense), gap is not None,
+        col(_sun_start(built)[:, 0, 0]), tr.sun_rate, col(tr.carrier0),
         s, J, samples, np.ascontiguousarray(built.shafts[:, -1]), col(tr.arm_length),
         col(tr.arm_angle), float(tr.sun_speed_ratio) == 0.0 and J > 1 and samples % J == 0)
     psi = TWO_PI * np.arange(samples) / samples
@@ -540,10 +557,9 @@ def contact_angles(built: BuiltTrain, psi) -> list[tuple[np.ndarray, np.ndarray]
     curve's break is held, never rolled across)."""
     tr = built.train
     P = built.designs
-    s = float(tr.carrier_sense)
     # psi = 0 first: the chain phases a derived gear at its first sample, as simulate's
     psi = np.r_[0.0, np.atleast_1d(np.asarray(psi, dtype=float))][None, None, :]
-    alpha = np.broadcast_to(_sun_start(built) + (float(tr.sun_speed_ratio) - 1) * s * psi,
+    alpha = np.broadcast_to(_sun_start(built) + tr.sun_rate * psi,
                             (P, 1, psi.shape[-1]))
     out = []
     for (driver_alpha, m), spec, gap in zip(

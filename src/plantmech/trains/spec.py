@@ -38,11 +38,72 @@ def curve_from_spec(spec, grid: int, name: str) -> Curve:
                         spec.lobes, name, open_turn=getattr(spec, "open", False))
 
 
+def _law_senses(design) -> list[int]:
+    """Per pair, +1 where its driver turns counter-clockwise relative to the carrier
+    (the contact then runs backwards over its body angles), else -1: the sun's sense
+    (held carrier: the carrier's direction; else (k - 1) s), flipped by every external
+    pair before it."""
+    s = -1 if design.carrier.direction == "clockwise" else 1
+    k = design.train.sun_speed_ratio
+    sense = s if design.carrier.held else (1 if (k - 1) * s > 0 else -1)
+    out = []
+    for p in design.train.pairs:
+        out.append(sense)
+        if p.kind == "external":
+            sense = -sense
+    return out
+
+
+def law_curve(pair, grid: int, name: str, turning: int = -1) -> tuple[Curve, float]:
+    """(the driver's pitch curve, the centre distance a mm) of a design file's pair given by
+    its transmission law (``design_law``): the ratio g(t) on the grid and, at centre
+    distance a, r_d = a g / (1 + g) (external; the follower's radius a / (1 + g)), a g /
+    (g - 1) (internal: the ring drives, g > 1), a g / (1 - g) (a ring follower, g < 1);
+    a from centre_distance_mm, or from law.module_mm and teeth (the driver's pitch
+    perimeter pi m z). The law's t is the driver's turn from the start: ``turning`` +1
+    (the driver turns counter-clockwise relative to the carrier, so the contact runs over
+    its body angles -t) mirrors the table. TrainSpecError naming the field and the driver
+    angle."""
+    from plantmech.design_law import ExpressionError, LawError, sample_law
+
+    law = pair.law
+    n1, n2 = pair.turns_pair()
+    try:
+        g, dg = sample_law(law, grid, n1, n2, f"{name}.law")
+    except (LawError, ExpressionError) as exc:
+        raise TrainSpecError(str(exc)) from None
+    theta = TWO_PI * np.arange(grid) / grid
+    if pair.kind == "external":
+        r, dr = g / (1 + g), dg / (1 + g) ** 2
+    else:
+        internal = pair.kind == "internal"
+        bad = g <= 1 if internal else g >= 1
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise TrainSpecError(
+                f"{name}.law: no centre distance can close this pair: "
+                + ("a ring driving a planet inside it turns it faster (ratio above 1)"
+                   if internal else "a ring follower turns slower than its driver (ratio "
+                   "below 1)") + f"; at driver angle {np.degrees(theta[i]):.3f} deg the "
+                f"law's ratio is {g[i]:.6g}")
+        r, dr = (g / (g - 1), -dg / (g - 1) ** 2) if internal else \
+            (g / (1 - g), dg / (1 - g) ** 2)
+    if pair.centre_distance_mm is not None:
+        a = float(pair.centre_distance_mm)
+    else:  # the driver's pitch perimeter at a = 1 mm, scaled to pi m z
+        per = float(np.mean(np.hypot(r, dr))) * TWO_PI
+        a = np.pi * law.module_mm * pair.teeth / per
+    if turning > 0:  # body angle theta = -t
+        back = (-np.arange(grid)) % grid
+        r, dr = r[back], -dr[back]
+    return Curve((a * r)[None, :], (a * dr)[None, :], f"{name}.law"), a
+
+
 def require_curves(design) -> None:
     """TrainSpecError naming the field when a planetary file gives a [trajectory] instead of
     the sun's pitch curve or the arm's start (an input of `plantmech inverse`)."""
     first = design.train.pairs[0]
-    if first.driver is None and first.follower is None:
+    if first.driver is None and first.follower is None and first.law is None:
         raise TrainSpecError("train.pairs.0.driver': no pitch curve: this file gives a "
                              "[trajectory]; run 'plantmech inverse' on it, which writes the "
                              "train's pitch curves (design.toml)")
@@ -71,11 +132,15 @@ def train_from_design(design) -> Train:
             except CurveError as exc:
                 raise TrainSpecError(str(exc)) from None
             phase = np.radians(spec.phase_deg)
+        centre = p.centre_distance_mm
+        if p.law is not None:
+            curves["driver"], centre = law_curve(p, grid, field, _law_senses(design)[k])
+            phase = np.radians(p.law.phase_deg)
         dwell = None if p.dwell is None else (np.radians(p.dwell.start_deg),
                                                np.radians(p.dwell.sector_deg))
         pairs.append(PairSpec(kind=p.kind, driver=curves.get("driver"), phase=phase,
                               follower=curves.get("follower"),
-                              centre_distance=p.centre_distance_mm,
+                              centre_distance=centre,
                               direction=np.radians(p.direction_deg),
                               follower_turns=p.follower_turns, name=field, dwell=dwell))
     c = design.carrier
@@ -84,7 +149,7 @@ def train_from_design(design) -> Train:
                  sun_speed_ratio=t.sun_speed_ratio, arm_length=design.arm.length_mm,
                  arm_angle=np.radians(design.arm.initial_angle_deg), arms=c.arms,
                  min_radius=t.min_pitch_radius_mm,
-                 closure_tolerance=np.radians(t.closure_tolerance_deg))
+                 closure_tolerance=np.radians(t.closure_tolerance_deg), carrier_held=c.held)
 
 
 def _curve_structure(spec):
@@ -110,10 +175,12 @@ def structure_key(design) -> tuple:
     angles, arm, carrier start) share it."""
     t = design.train
     pairs = tuple((p.kind, _curve_structure(p.driver), _curve_structure(p.follower),
-                   p.follower_turns, p.centre_distance_mm is None, p.dwell is None)
+                   p.follower_turns, p.centre_distance_mm is None, p.dwell is None,
+                   p.law is None)
                   for p in t.pairs)
     return (pairs, t.sun_speed_ratio, t.grid, t.min_pitch_radius_mm, t.closure_tolerance_deg,
             design.carrier.direction, design.carrier.arms, design.carrier.speed_deg_s,
+            design.carrier.held,
             design.limits.model_dump_json(), design.manufacturing.model_dump_json())
 
 
@@ -164,6 +231,14 @@ def train_from_designs(designs: list) -> Train:
                 raise TrainSpecError(str(exc)) from None
             phase = np.radians([s.phase_deg for s in specs])
         given = [d.train.pairs[k].centre_distance_mm for d in designs]
+        if p.law is not None:
+            made = [law_curve(d.train.pairs[k], t.grid, field, _law_senses(d)[k])
+                    for d in designs]
+            curves["driver"] = Curve(np.concatenate([c.r for c, _ in made]),
+                                     np.concatenate([c.dr for c, _ in made]),
+                                     f"{field}.law")
+            given = [a for _, a in made]
+            phase = np.radians([d.train.pairs[k].law.phase_deg for d in designs])
         dwell = None if p.dwell is None else (
             np.radians([d.train.pairs[k].dwell.start_deg for d in designs]),
             np.radians([d.train.pairs[k].dwell.sector_deg for d in designs]))
@@ -180,7 +255,7 @@ def train_from_designs(designs: list) -> Train:
                  arm_length=np.array([d.arm.length_mm for d in designs]),
                  arm_angle=np.radians([d.arm.initial_angle_deg for d in designs]), arms=c.arms,
                  min_radius=t.min_pitch_radius_mm,
-                 closure_tolerance=np.radians(t.closure_tolerance_deg))
+                 closure_tolerance=np.radians(t.closure_tolerance_deg), carrier_held=c.held)
 
 
 #: how far (rad) an open curve's break may lie from its contact where the dwell starts
