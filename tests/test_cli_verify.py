@@ -214,7 +214,7 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     from plantmech.contact.strength import MATERIALS, shaft_rating
 
     row, checks, found = shaft_rating("planet", 3.0, shaft["torque_N_m"],
-                                      shaft["normal_force_N"], st["face_width_mm"],
+                                      shaft["normal_force_N"], st["shaft_overhang"],
                                       MATERIALS["steel"], None)
     assert row["safety"] < 1 and found[0]["check"] == "shaft_strength"
     assert not checks[0]["ok"]

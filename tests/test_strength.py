@@ -112,10 +112,36 @@ def test_shaft_check_closed_forms():
     assert sh["von_mises_MPa"] == pytest.approx(vm, abs=0.02)
     assert sh["safety"] == pytest.approx(490 / vm, rel=1e-3) and sh["wall_mm"] == 15.0
     # the same loads in a 3 mm bore: a finding naming the gear
-    row, checks, found = st.shaft_rating("planet", 3.0, 10.0, 100.0, 12.0, steel, 20.0)
+    arm = {"mm": 12.0, "source": st.OVERHANG_DEFAULT, "text": ""}
+    row, checks, found = st.shaft_rating("planet", 3.0, 10.0, 100.0, arm, steel, 20.0)
     assert row["safety"] < 1 and not checks[0]["ok"]
     assert found[0]["gear"] == "planet" and found[0]["check"] == "shaft_strength"
-    assert st.shaft_rating("planet", None, 10.0, 100.0, 12.0, steel, 20.0)[0]["skipped"]
+    assert "the default: an assumption" in found[0]["why"]
+    assert row["overhang_mm"] == 12.0 and row["overhang_source"] == "default"
+    assert st.shaft_rating("planet", None, 10.0, 100.0, arm, steel, 20.0)[0]["skipped"]
+    # the bending stress is proportional to the overhang: half the arm, half the bending
+    half = st.shaft_check(10.0, 10.0, 100.0, 6.0, steel)
+    assert half["bending_MPa"] == pytest.approx(sh["bending_MPa"] / 2, abs=0.01)
+
+
+def test_shaft_overhang_source():
+    """The overhang: the option over the file over the default (one face width), each
+    saying where it came from."""
+    from plantmech.design import DesignError, load_design
+
+    doc = tomllib.loads((EXAMPLES / "rice_transplanter.toml").read_text())
+    design = load_design(doc, name="d.toml")
+    d = st.overhang(design, 12.0)
+    assert (d["mm"], d["source"]) == (12.0, "default") and "assumption" in d["text"]
+    doc.setdefault("manufacturing", {})["shaft_overhang_mm"] = 6.0
+    filed = load_design(doc, name="d.toml")
+    f = st.overhang(filed, 12.0)
+    assert (f["mm"], f["source"]) == (6.0, "file") and "from the file" in f["text"]
+    o = st.overhang(filed, 12.0, 9.0)
+    assert (o["mm"], o["source"]) == (9.0, "option")
+    doc["manufacturing"]["shaft_overhang_mm"] = -1.0
+    with pytest.raises(DesignError, match="shaft_overhang_mm"):
+        load_design(doc, name="d.toml")
 
 
 def test_material_is_read_from_the_design_file():
