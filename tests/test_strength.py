@@ -256,3 +256,31 @@ def test_tangential_force_grows_with_the_working_pressure_angle():
     # a locking mesh (alpha + mu >= 89 deg): finite, at the 89 deg force, never negative
     lock = st.tangential_force(10.0, 50.0, np.radians(80.0), a25)
     assert lock == pytest.approx(200 * np.cos(a25) / np.cos(np.radians(89.0)))
+
+
+def test_seeder_contacts_of_a_circular_train():
+    """The dedicated seeder file with circular gears 2 and 3 (radius 63.5 mm at a1 = a2 =
+    127 mm, no dwell): at every carrier step both meshes' replacement gears are two 63.5 mm
+    circles, the driven radius 63.5 mm and mu = 0; every step is rated; gear 2 is driven by
+    the sun, the planet by gear 3."""
+    from plantmech.design import load_design
+
+    doc = tomllib.loads((EXAMPLES / "sugarcane_table4.toml").read_text())
+    for g in ("gear2", "gear3"):
+        doc["train"][g]["radii_mm"] = [63.5] * 8
+    del doc["train"]["dwell"]
+    design = load_design(doc, name="circular_seeder.toml")
+    psi = np.linspace(0, 2 * np.pi, 73)[:-1]
+    geo = st.seeder_contacts(design, psi)
+    assert set(geo) == {"sun_gear2", "gear3_planet"}
+    assert geo["sun_gear2"]["gears"] == ("gear2", "sun")
+    assert geo["gear3_planet"]["gears"] == ("planet", "gear3")
+    for g in geo.values():
+        assert np.allclose(g["rho"][0], 63.5, rtol=1e-4)
+        assert np.allclose(g["rho"][1], 63.5, rtol=1e-4)
+        assert np.allclose(g["radius_driven"], 63.5, rtol=1e-6)
+        assert np.allclose(g["mu"], 0, atol=1e-9) and g["rated"].all()
+    # the fixed sun turns back by the carrier angle relative to the carrier: its contact's
+    # body angle runs back with psi
+    sun = geo["sun_gear2"]["body_angle"][1]
+    assert np.allclose(np.exp(1j * (sun - sun[0])), np.exp(-1j * psi), atol=1e-6)
