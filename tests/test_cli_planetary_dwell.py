@@ -82,9 +82,11 @@ def dedicated_gears_dir(shared):
 
 def test_gears_cut_the_seeders_teeth(gears_dir, dedicated_gears_dir):
     """The teeth of the dedicated file (``plantmech gears examples/sugarcane_table4.toml``,
-    run here): gear 2 z = 20 at m = 6.0659 mm, the sun its partial mate with 20 teeth on its
-    rolling arc; gear 3 and the planet z = 21 at m = 8.0265 mm; each mesh's interference and
-    free play as the dedicated file's. The general file names gear 2 "gear1" (shaft 1),
+    run here) at the default modules (``gears.modules.choose_teeth``): gear 2 at the largest
+    standard module its curves allow (1.84 mm: 1.5), z = round(P / (1.5 pi)) = 81, the sun its
+    partial mate; gear 3 and the planet at the design's smallest module (the curves allow
+    0.356 mm, less than any cutter: 1 mm kept), z = round(P / (1 pi)) = 169; the same teeth and modules as the dedicated file's,
+    each mesh's interference and free play as the dedicated file's. The general file names gear 2 "gear1" (shaft 1),
     gear 3 "gear1b" (the second gear on shaft 1). Not manufacturable, as the dedicated file:
     exit 4."""
     out, code = gears_dir
@@ -92,10 +94,16 @@ def test_gears_cut_the_seeders_teeth(gears_dir, dedicated_gears_dir):
     rec = json.loads((out / "verification.json").read_text())
     ded = json.loads((dedicated_gears_dir / "verification.json").read_text())
     gears = {g["name"]: g for g in rec["gears"]}
-    assert gears["gear1"]["teeth"] == 20 and gears["sun"]["teeth"] == 20
-    assert gears["gear1"]["module_mm"] == pytest.approx(6.0659, abs=1e-4)
-    assert gears["gear1b"]["teeth"] == 21 and gears["planet"]["teeth"] == 21
-    assert gears["gear1b"]["module_mm"] == pytest.approx(8.0265, abs=1e-4)
+    theirs_g = {g["name"]: g for g in ded["gears"]}
+    for ours, their, m_std in (("gear1", "gear2", 1.5), ("gear1b", "gear3", 1.0)):
+        z = round(gears[ours]["perimeter_mm"] / (m_std * np.pi))
+        assert gears[ours]["teeth"] == theirs_g[their]["teeth"] == z
+        assert gears[ours]["module_mm"] == pytest.approx(gears[ours]["perimeter_mm"]
+                                                         / (z * np.pi), rel=1e-9)
+        assert gears[ours]["module_mm"] == pytest.approx(theirs_g[their]["module_mm"],
+                                                         abs=1e-4)
+    assert (gears["gear1"]["teeth"], gears["gear1b"]["teeth"]) == (81, 169)
+    assert gears["planet"]["teeth"] == theirs_g["planet"]["teeth"]
     mesh = {m["pair"]: m for m in rec["mesh"]}
     theirs = {m["pair"]: m for m in ded["mesh"]}
     for ours_name, their_name in (("gear1_sun", "gear2_sun"), ("gear1b_planet", "gear3_planet")):

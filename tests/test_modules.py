@@ -122,14 +122,23 @@ def test_choose_teeth_closes_the_curve_with_a_standard_module():
 
 def test_choose_teeth_without_a_standard_module_in_the_window():
     ch = modules.choose_teeth
-    # the curves allow 2.2 mm, the design asks for 2.5: the largest cutter below, said so
+    # the curves allow 2.2 mm, the design asks for 2.5 (strength): 2.5 kept, said so
     c = ch(300.0, 2.2, 2.5)
-    assert c["standard_module_mm"] == 2.0 and not c["fits_window"]
-    assert "below the smallest module" in c["why"]
-    # the curves allow less than any cutter (0.356 mm): the smallest cutter, 0.5 mm
+    assert c["standard_module_mm"] == 2.5 and not c["fits_window"]
+    assert c["teeth"] == round(300.0 / (2.5 * np.pi)) and "undercut" in c["why"]
+    # the curves allow less than any cutter (0.356 mm), the design 1 mm or more: 1 mm
     c = ch(529.53, 0.356, 1.0)
-    assert c["standard_module_mm"] == 0.5 and c["teeth"] == round(529.53 / (0.5 * np.pi))
-    assert "undercut" in c["why"]
+    assert c["standard_module_mm"] == 1.0 and c["teeth"] == round(529.53 / np.pi) == 169
+    # 1 mm would leave 2000 / pi = 637 teeth (> 500), 1.125 566, 1.25 509: the next up,
+    # 1.375 mm, leaves 463
+    c = ch(2000.0, 0.356, 1.0)
+    assert c["standard_module_mm"] == 1.375 and c["teeth"] == round(2000 / (1.375 * np.pi))
+    # nothing at or above 60 mm: the largest below whose whole count has at least 6 teeth
+    # (300 / (18 pi) = 5.3: 6 teeth, closing at 300 / (6 pi) = 15.9 mm; 20 mm: 4.8 -> 5)
+    c = ch(300.0, 0.1, 60.0)
+    assert (c["standard_module_mm"], c["teeth"]) == (18.0, 6)
+    assert c["module_mm"] == pytest.approx(300 / (6 * np.pi))
+    assert "below the design's" in c["why"]
     # no cutter leaves 6-500 teeth: refused, naming the option that overrides
     with pytest.raises(ValueError, match="--module"):
         ch(600 * np.pi * 50.0 * 2, 0.4, 0.1)

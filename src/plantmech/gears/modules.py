@@ -119,10 +119,11 @@ def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int 
     the record says how far that is from the standard module and the scale of the pitch
     curves that would make it the standard one (``module_finding`` judges it).
 
-    Where no standard module fits the window: the largest standard module at most
-    ``high`` (the teeth are cut clean, below the smallest module the design asks for), else
-    the smallest standard module whose tooth counts stay in ``TEETH_RANGE`` (the curves
-    allow less than any cutter: the teeth are undercut, said by the findings). Returns
+    Where no standard module fits the window (the curves allow less than the design's
+    smallest module, or than any cutter): the smallest standard module at or above ``low``
+    whose tooth counts stay in ``TEETH_RANGE`` (the design's strength minimum is kept; the
+    teeth are undercut or pointed where the curves are too sharp, the findings say where),
+    else the largest below it that does. Returns
     {standard_module_mm, series, teeth, teeth_per_gear, module_mm, scale_to_standard,
     window_mm, multiple, fits_window, why}; raises ValueError when no module leaves every
     gear 6-500 teeth."""
@@ -168,8 +169,8 @@ def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int 
                + (f" in multiples of {q}" if q > 1 else ""))
     else:
         fits = False
-        below = [s for s in mods if s <= high * (1 + RTOL)]
-        order = sorted(below, reverse=True) + [s for s in mods if s > high * (1 + RTOL)]
+        above = [s for s in mods if s >= low * (1 - RTOL)]
+        order = above + sorted((s for s in mods if s < low * (1 - RTOL)), reverse=True)
         for s in order:
             zm = best_z(s, 0.0, np.inf)
             if zm is not None:
@@ -181,11 +182,13 @@ def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int 
                              f"pitch perimeter) with {lo_t}-{hi_t} teeth: give --module")
         s, z, m = chosen
         why = (f"no standard module fits the window {low:.3g}-{high:.3g} mm the pitch "
-               f"curves allow{where}: "
-               + (f"{s:g} mm, the largest at most {high:.3g} mm (below the smallest module "
-                  f"{low:.3g} mm the design asks for)" if s <= high * (1 + RTOL) else
-                  f"{s:g} mm, the smallest cutter leaving {lo_t}-{hi_t} teeth (the curves "
-                  "allow less than any cutter: the teeth are undercut)")
+               f"curves allow{where}: {s:g} mm, "
+               + (f"the smallest at or above the design's smallest module {low:.3g} mm "
+                  f"(its strength); above the {high:.3g} mm the curves allow, the teeth are "
+                  "undercut or pointed there (the findings say where)"
+                  if s >= low * (1 - RTOL) else
+                  f"the largest leaving {lo_t}-{hi_t} teeth, below the design's smallest "
+                  f"module {low:.3g} mm")
                + f"; {z} teeth close the {perimeter:.2f} mm pitch curve")
     return {"standard_module_mm": s, "series": series_of(s), "teeth": int(z),
             "teeth_per_gear": {k: int(round(p / (np.pi * m))) for k, p in gears.items()},
