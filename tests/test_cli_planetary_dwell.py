@@ -85,10 +85,10 @@ def test_gears_cut_the_seeders_teeth(gears_dir, dedicated_gears_dir):
     run here) at the default modules (``gears.modules.choose_teeth``): gear 2 at the largest
     standard module its curves allow (1.84 mm: 1.5), z = round(P / (1.5 pi)) = 81, the sun its
     partial mate; gear 3 and the planet at the design's smallest module (the curves allow
-    0.356 mm, less than any cutter: 1 mm kept), z = round(P / (1 pi)) = 169; the same teeth and modules as the dedicated file's,
-    each mesh's interference and free play as the dedicated file's. The general file names gear 2 "gear1" (shaft 1),
-    gear 3 "gear1b" (the second gear on shaft 1). Not manufacturable, as the dedicated file:
-    exit 4."""
+    0.356 mm, less than any cutter: 1 mm kept), z = round(P / (1 pi)) = 169; the same
+    teeth and modules as the dedicated file's, each mesh's interference and free play as
+    the dedicated file's. The general file names gear 2 "gear1" (shaft 1), gear 3 "gear1b"
+    (the second gear on shaft 1). Not manufacturable, as the dedicated file: exit 4."""
     out, code = gears_dir
     assert code == 4
     rec = json.loads((out / "verification.json").read_text())

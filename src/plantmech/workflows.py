@@ -340,5 +340,12 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     from plantmech.outputs.caveats import limits_from_file
 
     record["caveats"] = limits_from_file(design)  # the file's limits the verdict rests on
+    # the modules and tooth counts the command chose for the user (gears.modules)
+    record["caveats"] += [
+        {"kind": "choice", "name": f"module of {c['pair']}", "value": c["standard_module_mm"],
+         "text": f"module {c['standard_module_mm']:g} mm and {c['teeth']} teeth on "
+                 f"{c['pair']} chosen by default (the curve closes at {c['module_mm']:.4f} "
+                 "mm; --module or the file's tooth count overrides)"}
+        for c in record["module_choice"] if c["source"] == "default"]
     write_json(out / "verification.json", record)
     return record
