@@ -143,9 +143,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         if design.sun_gear.teeth and module is None:
             m = P / (np.pi * design.sun_gear.teeth)
         elif module is None:  # the workshop's choice (gears.modules.choose_teeth)
-            from plantmech.geometry.periodic import RadiusCurve as _RC
-
-            sun = _RC.from_samples(th[:-1], r[:-1], kind="spline")
+            sun = RadiusCurve.from_samples(th[:-1], r[:-1], kind="spline")
             choice = _choice(design, tooth, P, {
                 "middle": _mate_perimeter(th, r, a, False, samples)}, "sun", 1,
                 _window_external(sun, th[0], a, ("sun", "middle"), tooth, design))
