@@ -56,9 +56,9 @@ def test_gears_cut_gear_two_and_the_sun_as_the_dedicated_file(gears_dirs):
     (the curves allow 0.008 mm, less than any cutter: the design's smallest, 1 mm, kept;
     gears.modules.choose_teeth): z = round(P / pi) on each gear 2, 135 on the general
     file's (P = 425.32 mm); the two perimeters differ by some 4 mm (module docstring), so
-    the counts by at most 2 (at 5.9 mm they were equal); the module within 1 %; the sun - gear 2 mesh free of interference in both, its least free play
-    within 0.01 mm and its largest (the sun's toothless arc) within 0.2 mm. Not
-    manufacturable in both: exit 4."""
+    the counts by at most 2 (at 5.9 mm they were equal); the module within 1 %; the sun -
+    gear 2 mesh free of interference in both, its least free play within 0.01 mm and its
+    largest (the sun's toothless arc) within 0.2 mm. Not manufacturable in both: exit 4."""
     ours, theirs, code = gears_dirs
     assert code == 4
     rec, ded = _record(ours), _record(theirs)
