@@ -41,8 +41,12 @@ def written(shared):
 
 @pytest.fixture(scope="module")
 def gears_dirs(shared, written):
-    ours, code = gears_cut(shared, "written-sugarcane_seeder_dwell_inverse", written)
-    theirs, their_code = gears_cut(shared, "sugarcane_seeder_dwell", DEDICATED)
+    # --module 6, the module these comparisons were made at (the default module before
+    # gears.modules.choose_teeth; the default now keeps the design's 1 mm: some 135 teeth)
+    ours, code = gears_cut(shared, "written-sugarcane_seeder_dwell_inverse-module-6", written,
+                           "--module", "6")
+    theirs, their_code = gears_cut(shared, "sugarcane_seeder_dwell-module-6", DEDICATED,
+                                   "--module", "6")
     assert their_code == 4
     return ours, theirs, code
 
@@ -52,25 +56,20 @@ def _record(path):
 
 
 def test_gears_cut_gear_two_and_the_sun_as_the_dedicated_file(gears_dirs):
-    """Gear 2 (the general file's "gear1") and the sun at the default module in both files
-    (the curves allow 0.008 mm, less than any cutter: the design's smallest, 1 mm, kept;
-    gears.modules.choose_teeth): z = round(P / pi) on each gear 2, 135 on the general
-    file's (P = 425.32 mm); the two perimeters differ by some 4 mm (module docstring), so
-    the counts by at most 2 (at 5.9 mm they were equal); the module within 1 %; the sun -
-    gear 2 mesh free of interference in both, its least free play within 0.01 mm and its
-    largest (the sun's toothless arc) within 0.2 mm. Not manufacturable in both: exit 4."""
+    """Gear 2 (the general file's "gear1") z = 23 and the sun z = 22, as the dedicated
+    file; the module within 1 % (5.8843 against 5.9353 mm: the perimeters, module
+    docstring); the sun - gear 2 mesh free of interference in both, its least free play
+    within 0.01 mm and its largest (the sun's toothless arc) within 0.2 mm. Not
+    manufacturable in both: exit 4."""
     ours, theirs, code = gears_dirs
     assert code == 4
     rec, ded = _record(ours), _record(theirs)
     g = {x["name"]: x for x in rec["gears"]}
     t = {x["name"]: x for x in ded["gears"]}
-    for x in (g["gear1"], t["gear2"]):
-        assert x["teeth"] == round(x["perimeter_mm"] / np.pi)
-    z = g["gear1"]["teeth"]
-    assert z == round(425.32 / np.pi) == 135 and abs(z - t["gear2"]["teeth"]) <= 2
-    assert abs(g["sun"]["teeth"] - t["sun"]["teeth"]) <= 2
+    assert g["gear1"]["teeth"] == t["gear2"]["teeth"] == 23
+    assert g["sun"]["teeth"] == t["sun"]["teeth"] == 22
     assert g["gear1"]["module_mm"] == pytest.approx(t["gear2"]["module_mm"], rel=0.01)
-    assert g["gear1"]["module_mm"] * z * np.pi == pytest.approx(425.32, abs=0.2)
+    assert g["gear1"]["module_mm"] * 23 * np.pi == pytest.approx(425.32, abs=0.2)
     mesh = {m["pair"]: m for m in rec["mesh"]}["gear1_sun"]
     their = {m["pair"]: m for m in ded["mesh"]}["gear2_sun"]
     assert mesh["max_interference_mm"] == their["max_interference_mm"] == 0.0
