@@ -41,8 +41,12 @@ def written(shared):
 
 @pytest.fixture(scope="module")
 def gears_dirs(shared, written):
-    ours, code = gears_cut(shared, "written-sugarcane_seeder_dwell_inverse", written)
-    theirs, their_code = gears_cut(shared, "sugarcane_seeder_dwell", DEDICATED)
+    # --module 6, the module these comparisons were made at (the default module before
+    # gears.modules.choose_teeth; the default now keeps the design's 1 mm: some 135 teeth)
+    ours, code = gears_cut(shared, "written-sugarcane_seeder_dwell_inverse-module-6", written,
+                           "--module", "6")
+    theirs, their_code = gears_cut(shared, "sugarcane_seeder_dwell-module-6", DEDICATED,
+                                   "--module", "6")
     assert their_code == 4
     return ours, theirs, code
 

@@ -58,6 +58,36 @@ def test_table4_gear_files_verified(gear_dir, tmp_path, capsys):
     assert "dwell" in rec  # Table 4 has a toothless dwell
     for png in ("transmission_error", "tip_band", "loads"):
         assert (out / f"{png}.png").stat().st_size > 10_000
+    # the seeder's strength table (contact/strength.seeder_contacts): every gear rated,
+    # never in the dwell (the locking arcs) nor within 3 deg of its impacts, said so
+    st = rec["strength"]
+    assert [g["gear"] for g in st["gears"]] == ["gear2", "sun", "planet", "gear3"]
+    impacts = [i["carrier_angle_deg"] for i in rec["loads"]["dwell_impacts"]]
+    assert impacts == [74.75, 119.75]
+    for g in st["gears"]:
+        for kind in ("root", "flank"):
+            w = g[kind]
+            assert w["stress_MPa"] > 0 and 1 <= w["tooth"] <= g["teeth"]
+            assert w["safety"] == pytest.approx(w["limit_MPa"] / w["stress_MPa"], rel=2e-3)
+            assert all(abs(w["carrier_angle_deg"] - c) > 3.0 for c in impacts)
+            if g["gear"] in ("gear2", "sun"):
+                assert not 74.75 <= w["carrier_angle_deg"] <= 119.75
+    assert len(st["not_rated"]) == 3 and "toothless dwell" in st["not_rated"][2]
+    (shaft,) = st["shafts"]
+    assert shaft["gear"] == "planet" and shaft["overhang_mm"] == st["face_width_mm"]
+    assert shaft["overhang_source"] == "default"
+    assert any("taken from the default" in c for c in rec["verdict"]["caveats"])
+    assert "strength: gear2 flank safety" in {c["name"] for c in rec["checks"]}
+    # the overhang given: the shaft bent over it, said so (no default caveat)
+    out2 = tmp_path / "v2"
+    main(["verify", str(SEEDER), "--gears", str(gear_dir), "--out", str(out2), "--steps",
+          "36", "--no-plots", "--shaft-overhang", "6"])
+    rec2 = json.loads((out2 / "verification.json").read_text())
+    (sh2,) = rec2["strength"]["shafts"]
+    assert (sh2["overhang_mm"], sh2["overhang_source"]) == (6.0, "option")
+    assert sh2["bending_MPa"] == pytest.approx(shaft["bending_MPa"] / 2, rel=0.02)
+    assert not any("taken from the default" in c for c in rec2["verdict"]["caveats"])
+    assert any("from --shaft-overhang" in c for c in rec2["verdict"]["caveats"])
     assert "transmission error" in capsys.readouterr().out
 
 
@@ -214,7 +244,7 @@ def test_transplanter_gear_files_verified(transplanter_gear_dir, tmp_path, capsy
     from plantmech.contact.strength import MATERIALS, shaft_rating
 
     row, checks, found = shaft_rating("planet", 3.0, shaft["torque_N_m"],
-                                      shaft["normal_force_N"], st["face_width_mm"],
+                                      shaft["normal_force_N"], st["shaft_overhang"],
                                       MATERIALS["steel"], None)
     assert row["safety"] < 1 and found[0]["check"] == "shaft_strength"
     assert not checks[0]["ok"]

@@ -23,8 +23,10 @@ STEPS = 120
 
 @pytest.fixture(scope="module")
 def gear_dir(shared):
-    out, code = gears_cut(shared, "rotary_transplanter_elliptic-backlash-0.1", ELLIPTIC,
-                          "--backlash", "0.1")
+    # module 2: 25 teeth, an odd count, so the three ellipses are one gear turned (the
+    # default, 2.5 mm, cuts 20: tests/test_modules.py)
+    out, code = gears_cut(shared, "rotary_transplanter_elliptic-backlash-0.1-module-2",
+                          ELLIPTIC, "--backlash", "0.1", "--module", "2")
     assert code == 0
     return out
 

@@ -112,10 +112,36 @@ def test_shaft_check_closed_forms():
     assert sh["von_mises_MPa"] == pytest.approx(vm, abs=0.02)
     assert sh["safety"] == pytest.approx(490 / vm, rel=1e-3) and sh["wall_mm"] == 15.0
     # the same loads in a 3 mm bore: a finding naming the gear
-    row, checks, found = st.shaft_rating("planet", 3.0, 10.0, 100.0, 12.0, steel, 20.0)
+    arm = {"mm": 12.0, "source": st.OVERHANG_DEFAULT, "text": ""}
+    row, checks, found = st.shaft_rating("planet", 3.0, 10.0, 100.0, arm, steel, 20.0)
     assert row["safety"] < 1 and not checks[0]["ok"]
     assert found[0]["gear"] == "planet" and found[0]["check"] == "shaft_strength"
-    assert st.shaft_rating("planet", None, 10.0, 100.0, 12.0, steel, 20.0)[0]["skipped"]
+    assert "the default: an assumption" in found[0]["why"]
+    assert row["overhang_mm"] == 12.0 and row["overhang_source"] == "default"
+    assert st.shaft_rating("planet", None, 10.0, 100.0, arm, steel, 20.0)[0]["skipped"]
+    # the bending stress is proportional to the overhang: half the arm, half the bending
+    half = st.shaft_check(10.0, 10.0, 100.0, 6.0, steel)
+    assert half["bending_MPa"] == pytest.approx(sh["bending_MPa"] / 2, abs=0.01)
+
+
+def test_shaft_overhang_source():
+    """The overhang: the option over the file over the default (one face width), each
+    saying where it came from."""
+    from plantmech.design import DesignError, load_design
+
+    doc = tomllib.loads((EXAMPLES / "rice_transplanter.toml").read_text())
+    design = load_design(doc, name="d.toml")
+    d = st.overhang(design, 12.0)
+    assert (d["mm"], d["source"]) == (12.0, "default") and "assumption" in d["text"]
+    doc.setdefault("manufacturing", {})["shaft_overhang_mm"] = 6.0
+    filed = load_design(doc, name="d.toml")
+    f = st.overhang(filed, 12.0)
+    assert (f["mm"], f["source"]) == (6.0, "file") and "from the file" in f["text"]
+    o = st.overhang(filed, 12.0, 9.0)
+    assert (o["mm"], o["source"]) == (9.0, "option")
+    doc["manufacturing"]["shaft_overhang_mm"] = -1.0
+    with pytest.raises(DesignError, match="shaft_overhang_mm"):
+        load_design(doc, name="d.toml")
 
 
 def test_material_is_read_from_the_design_file():
@@ -230,3 +256,31 @@ def test_tangential_force_grows_with_the_working_pressure_angle():
     # a locking mesh (alpha + mu >= 89 deg): finite, at the 89 deg force, never negative
     lock = st.tangential_force(10.0, 50.0, np.radians(80.0), a25)
     assert lock == pytest.approx(200 * np.cos(a25) / np.cos(np.radians(89.0)))
+
+
+def test_seeder_contacts_of_a_circular_train():
+    """The dedicated seeder file with circular gears 2 and 3 (radius 63.5 mm at a1 = a2 =
+    127 mm, no dwell): at every carrier step both meshes' replacement gears are two 63.5 mm
+    circles, the driven radius 63.5 mm and mu = 0; every step is rated; gear 2 is driven by
+    the sun, the planet by gear 3."""
+    from plantmech.design import load_design
+
+    doc = tomllib.loads((EXAMPLES / "sugarcane_table4.toml").read_text())
+    for g in ("gear2", "gear3"):
+        doc["train"][g]["radii_mm"] = [63.5] * 8
+    del doc["train"]["dwell"]
+    design = load_design(doc, name="circular_seeder.toml")
+    psi = np.linspace(0, 2 * np.pi, 73)[:-1]
+    geo = st.seeder_contacts(design, psi)
+    assert set(geo) == {"sun_gear2", "gear3_planet"}
+    assert geo["sun_gear2"]["gears"] == ("gear2", "sun")
+    assert geo["gear3_planet"]["gears"] == ("planet", "gear3")
+    for g in geo.values():
+        assert np.allclose(g["rho"][0], 63.5, rtol=1e-4)
+        assert np.allclose(g["rho"][1], 63.5, rtol=1e-4)
+        assert np.allclose(g["radius_driven"], 63.5, rtol=1e-6)
+        assert np.allclose(g["mu"], 0, atol=1e-9) and g["rated"].all()
+    # the fixed sun turns back by the carrier angle relative to the carrier: its contact's
+    # body angle runs back with psi
+    sun = geo["sun_gear2"]["body_angle"][1]
+    assert np.allclose(np.exp(1j * (sun - sun[0])), np.exp(-1j * psi), atol=1e-6)

@@ -30,12 +30,15 @@ def _doc() -> dict:
 
 @pytest.fixture(scope="module")
 def elliptic(tmp_path_factory):
-    """``run_gears`` on the elliptic example: (record, outlines, out dir)."""
+    """``run_gears`` on the elliptic example at module 2 (25 teeth: an odd count puts a tooth
+    at the far end and a space at the near end, so the three gears are one gear turned;
+    the default module, 2.5 mm, gives 20: tests/test_modules.py): (record, outlines, out
+    dir)."""
     from plantmech.workflows import run_gears
 
     out = tmp_path_factory.mktemp("elliptic")
     outlines = {}
-    rec = run_gears(load_design(EXAMPLE), out, outlines=outlines)
+    rec = run_gears(load_design(EXAMPLE), out, module=2.0, outlines=outlines)
     return rec, outlines, out
 
 
@@ -52,7 +55,7 @@ def test_elliptic_example_gears_are_cut_and_ok(elliptic):
     P = ellipse_perimeter(A, E)
     for g in rec["gears"]:
         # closure: the pitch curve carries whole teeth, z pi m = its perimeter (closed form)
-        assert g["teeth"] == 25  # the largest standard module leaving 20 teeth: 2 mm
+        assert g["teeth"] == 25  # --module 2: 155.80 / (2 pi) = 24.8 -> 25 teeth
         assert g["teeth"] * np.pi * g["module_mm"] == pytest.approx(P, abs=2e-3)
         assert g["perimeter_mm"] == pytest.approx(P, abs=2e-3)
         assert g["stl_watertight"] and g["cutter"] == "rack"
@@ -227,7 +230,10 @@ def test_a_ring_follower_is_cut_first_with_twice_the_teeth(tmp_path):
     assert rec["verdict"] == "ok", rec["findings"]
     ring, sun = rec["gears"]
     assert (ring["name"], ring["internal"], sun["name"]) == ("planet", True, "sun")
-    assert (ring["teeth"], sun["teeth"]) == (50, 25)
+    # the default: the largest standard module the curves allow (the sun's near vertex,
+    # 2 B^2 / A / 17.1 = 2.9 mm): 2.5 mm; 4 A E(e^2) / (2.5 pi) = 19.95 -> 20 teeth
+    z = round(ellipse_perimeter(25.0, 0.1) / (2.5 * np.pi))
+    assert (ring["teeth"], sun["teeth"]) == (2 * z, z) == (40, 20)
     assert sun["perimeter_mm"] == pytest.approx(ellipse_perimeter(25.0, 0.1), abs=2e-3)
     assert ring["perimeter_mm"] == pytest.approx(2 * sun["perimeter_mm"], rel=1e-4)
     assert rec["mesh"][0]["max_interference_mm"] <= 1e-3

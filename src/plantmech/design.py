@@ -491,6 +491,12 @@ class Manufacturing(_Strict):
         "steel", description="gear material for the strength table of `plantmech verify` "
         "(contact/strength.py: C45 steel, grey cast iron GJL-250 by ISO 6336; POM, PA66 by "
         "VDI 2736)")
+    shaft_overhang_mm: float | None = Field(
+        None, gt=0, le=1000, allow_inf_nan=False, strict=True,
+        description="bending arm of the tooth force on the shaft in a gear's bore, mm: from "
+                    "the nearest bearing (or the shaft's shoulder) to the middle of the gear's "
+                    "face (`plantmech verify`'s shaft check, contact/strength.py); default: "
+                    "one face width, an assumption the verdict states")
 
     @model_validator(mode="after")
     def _root_clearance(self):

@@ -312,7 +312,8 @@ class GearPair(_Strict):
         None, ge=6, le=500, description="z: tooth count of the pair's driver (the sun, a "
         "compound gear, or the derived driver of a given follower) for `plantmech gears`: "
         "the module is its pitch perimeter / (pi z), so the curve closes on whole teeth; "
-        "default: the largest standard module leaving 20 teeth (or --module). An idler's "
+        "default: the largest standard module the pitch curves allow (gears.modules."
+        "choose_teeth; or --module). An idler's "
         "pair (no driver table) takes the previous pair's module; a multiple of the "
         "driver's lobes. A pair with a dwell: the given follower's (the sun is then a "
         "partial gear, toothless over its toothless arc)")

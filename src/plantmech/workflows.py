@@ -256,7 +256,7 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     limits = cut_limits(design)
     record = {"verdict": None, "findings": [], "gears": [], "mesh": [], "files": [],
               "face_width_mm": face_width, "backlash_mm": backlash, "tooth": tooth,
-              "limits": asdict(limits), "teeth_method": method}
+              "limits": asdict(limits), "teeth_method": method, "module_choice": []}
     findings = record["findings"]
     for pair, spec in gear_pairs(design, module, backlash, tooth=tooth, method=method):
         spec = getattr(pair, "spec", spec)  # the cutter sized to the pair
@@ -327,6 +327,12 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         # a module no stock cutter has (gears.modules)
         findings += [f for f in [module_finding(pair.name, spec.module,
                                                 design.manufacturing)] if f]
+        choice = getattr(pair, "module_choice", None)
+        record["module_choice"].append(
+            {"pair": pair.name, "module_mm": spec.module,
+             "source": ("--module" if module is not None else "default" if choice
+                        else getattr(pair, "module_source", None)
+                        or "the design's tooth count"), **(choice or {})})
         ga, gb = placed(pair, pair.phi_a[0], pair.phi_b[0])
         gf.plot_pair(out / f"{pair.name}_mesh.png", pair, ga, gb, names)
         record["files"].append(f"{pair.name}_mesh.png")
@@ -336,5 +342,12 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
     from plantmech.outputs.caveats import limits_from_file
 
     record["caveats"] = limits_from_file(design)  # the file's limits the verdict rests on
+    # the modules and tooth counts the command chose for the user (gears.modules)
+    record["caveats"] += [
+        {"kind": "choice", "name": f"module of {c['pair']}", "value": c["standard_module_mm"],
+         "text": f"module {c['standard_module_mm']:g} mm and {c['teeth']} teeth on "
+                 f"{c['pair']} chosen by default (the curve closes at {c['module_mm']:.4f} "
+                 "mm; --module or the file's tooth count overrides)"}
+        for c in record["module_choice"] if c["source"] == "default"]
     write_json(out / "verification.json", record)
     return record

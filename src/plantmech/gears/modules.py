@@ -97,3 +97,121 @@ def module_finding(gear: str, m: float, manufacturing=None) -> dict | None:
                    f"cuts it; the nearest is {near:g} mm (pitch curves scaled by "
                    f"{near / m:.4f}, as `plantmech design` does for the transplanters), or "
                    "set [manufacturing] special_module = true for a special cutter")
+
+
+#: tooth counts a gear is cut with (``gears.teeth.check_tooth_counts`` refuses others)
+TEETH_RANGE = (6, 500)
+
+
+def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int = 1,
+                 modules=None, mates: dict | None = None, gear: str = "gear",
+                 binding: str = "", odd: bool = False) -> dict:
+    """The module and tooth count a workshop would cut a closed pitch curve of perimeter
+    ``perimeter`` (mm) with, when the user gives neither: a standard module (``modules``,
+    default ISO 54 I and II, series I first) inside the window [``low``, ``high``] the
+    pitch curves allow (``gears.manufacturability``: no undercut or pointed tooth, a shaper
+    for the concave spans, the hub, the smallest tooth count, the design's smallest
+    module), the largest that fits; then the whole tooth count z, a multiple of
+    ``multiple`` (the lobes, the mate's turns per turn: the mate carries z / multiple whole
+    teeth), nearest perimeter / (pi m_std) whose closing module perimeter / (pi z) stays in
+    the window, every gear (``mates``: name -> pitch perimeter, mm) with
+    ``TEETH_RANGE`` teeth. The curve closes with z teeth only at m = perimeter / (pi z):
+    the record says how far that is from the standard module and the scale of the pitch
+    curves that would make it the standard one (``module_finding`` judges it).
+
+    Where no standard module fits the window (the curves allow less than the design's
+    smallest module, or than any cutter): the smallest standard module at or above ``low``
+    whose tooth counts stay in ``TEETH_RANGE`` (the design's strength minimum is kept; the
+    teeth are undercut or pointed where the curves are too sharp, the findings say where),
+    else the largest below it that does. Returns
+    {standard_module_mm, series, teeth, teeth_per_gear, module_mm, scale_to_standard,
+    window_mm, multiple, fits_window, why}; raises ValueError when no module leaves every
+    gear 6-500 teeth."""
+    mods = sorted(modules or available())
+    gears = {gear: float(perimeter), **(mates or {})}
+    lo_t, hi_t = TEETH_RANGE
+    q = max(1, int(multiple))
+
+    def teeth_ok(m):
+        return all(lo_t <= round(p / (np.pi * m)) <= hi_t for p in gears.values())
+
+    def best_z(s, lo, hi):
+        x = perimeter / (np.pi * s * q)
+        best = None
+        ks = {max(1, int(np.floor(x))), max(1, int(np.ceil(x)))}
+        if odd:  # the nearest odd k below and above x
+            f = int(np.floor(x))
+            ks = {max(1, f if f % 2 else f - 1), f + 1 if f % 2 == 0 else f + 2}
+        for k in ks:
+            z = k * q
+            m = perimeter / (np.pi * z)
+            if lo * (1 - RTOL) <= m <= hi * (1 + RTOL) and teeth_ok(m):
+                if best is None or abs(np.log(m / s)) < abs(np.log(best[1] / s)):
+                    best = (z, m)
+        return best
+
+    window = [float(low), float(high)]
+    inside = [s for s in mods if low * (1 - RTOL) <= s <= high * (1 + RTOL)]
+    listed = modules is not None
+    pools = [inside] if listed else [[s for s in inside if s in FIRST_SERIES], inside]
+    chosen, fits = None, True
+    for pool in pools:
+        for s in sorted(pool, reverse=True):
+            zm = best_z(s, low, high)
+            if zm is not None:
+                chosen = (s, *zm)
+                break
+        if chosen:
+            break
+    where = f" ({binding})" if binding else ""
+    if chosen:
+        s, z, m = chosen
+        why = (f"the largest {'listed' if listed else 'ISO 54 series ' + (series_of(s) or '')}"
+               f" module in the window {low:.3g}-{high:.3g} mm the pitch curves allow"
+               f"{where}; {z} teeth close the {perimeter:.2f} mm pitch curve nearest to "
+               f"{perimeter / (np.pi * s):.2f} = perimeter / (pi m)"
+               + (f" in multiples of {q}" if q > 1 else "")
+               + (" (odd: the two gears have the same pitch curve, so they are identical "
+                  "and interchangeable)" if odd else ""))
+    else:
+        fits = False
+        above = [s for s in mods if s >= low * (1 - RTOL)]
+        order = above + sorted((s for s in mods if s < low * (1 - RTOL)), reverse=True)
+        for s in order:
+            zm = best_z(s, 0.0, np.inf)
+            if zm is not None:
+                chosen = (s, *zm)
+                break
+        if not chosen:
+            named = ", ".join(f"{k} {p:.1f} mm" for k, p in gears.items())
+            raise ValueError(f"no standard module leaves every gear of the pair ({named} "
+                             f"pitch perimeter) with {lo_t}-{hi_t} teeth: give --module")
+        s, z, m = chosen
+        why = (f"no standard module fits the window {low:.3g}-{high:.3g} mm the pitch "
+               f"curves allow{where}: {s:g} mm, "
+               + (f"the smallest at or above the design's smallest module {low:.3g} mm "
+                  f"(its strength); above the {high:.3g} mm the curves allow, the teeth are "
+                  "undercut or pointed there (the findings say where)"
+                  if s >= low * (1 - RTOL) else
+                  f"the largest leaving {lo_t}-{hi_t} teeth, below the design's smallest "
+                  f"module {low:.3g} mm")
+               + f"; {z} teeth close the {perimeter:.2f} mm pitch curve")
+    return {"standard_module_mm": s, "series": series_of(s), "teeth": int(z),
+            "teeth_per_gear": {k: int(round(p / (np.pi * m))) for k, p in gears.items()},
+            "module_mm": float(m), "scale_to_standard": round(float(s / m), 6),
+            "window_mm": [round(window[0], 4), round(window[1], 4)], "multiple": q,
+            "fits_window": fits, "why": why}
+
+
+def module_choice_line(c: dict) -> str:
+    """The printed line of one pair's module choice (``workflows.run_gears``'s
+    ``module_choice``)."""
+    if c.get("source") != "default":
+        return f"module of {c['pair']}: {c['module_mm']:.4f} mm from {c['source']}"
+    s, m = c["standard_module_mm"], c["module_mm"]
+    return (f"module of {c['pair']}: {s:g} mm (ISO 54 series {c['series'] or '-'}), "
+            f"{c['teeth']} teeth (" + ", ".join(f"{k} {z}" for k, z in
+                                                c["teeth_per_gear"].items())
+            + f"), the curve closes at {m:.4f} mm"
+            + ("" if is_standard(m) else f" (pitch curves x {c['scale_to_standard']:.4f} "
+               "for the standard one)") + f": {c['why']}")

@@ -423,6 +423,7 @@ def _gears(args) -> int:
 def _gears_body(args, design, run) -> int:
     from plantmech.gears.findings import VERDICT_OK, describe, headline
     from plantmech.gears.manufacturability import rules_for
+    from plantmech.gears.modules import module_choice_line
     from plantmech.outputs.caveats import lines as caveat_lines
     from plantmech.workflows import run_gears
 
@@ -456,6 +457,8 @@ def _gears_body(args, design, run) -> int:
                 f"{mm['max_normal_gap_mm']:.3f} mm")
         print(f"  {'FAIL' if mm['pair'] in failed else 'ok  '} mesh {mm['pair']}: interference "
               f"{mm['max_interference_mm']:.4f} mm, circumferential backlash {play}")
+    for c in rec.get("module_choice", []):
+        print("  " + module_choice_line(c))
     for note in rec.get("notes", []):
         print(f"  note: {note}")
     if "step" in rec:
@@ -654,9 +657,12 @@ def build_parser() -> argparse.ArgumentParser:
     gears.add_argument("design", help="design file (TOML)")
     add_output_options(gears)
     gears.add_argument("--module", type=_number(float, 0.0, maximum=50.0, least=0.5),
-                       default=None, help="target module (mm, 0.5-50); default: the largest "
-                       "standard module leaving 20 teeth (transplanter: from internal_gear.teeth; "
-                       "planetary: from train.pairs[].teeth)")
+                       default=None, help="target module (mm, 0.5-50); default: the design's "
+                       "tooth count (internal_gear.teeth, sun_gear.teeth, train.pairs[].teeth), "
+                       "else the largest standard module (ISO 54, or [manufacturing] "
+                       "modules_mm) the pitch curves allow, with the whole tooth count nearest "
+                       "perimeter / (pi m) in multiples of the lobes and turns (said in the "
+                       "output and verification.json's module_choice)")
     gears.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0),
                        default=12.0, help="mm (up to 1000), for STL/STEP")
     gears.add_argument("--backlash", type=_number(float, 0.0, strict=False, maximum=5.0),

@@ -40,6 +40,10 @@ def register(subparsers) -> None:
                    help="gear material density, kg/m^3 (100-30000; loads)")
     p.add_argument("--face-width", type=_number(float, 0.0, maximum=1000.0), default=None,
                    help="gear face width, mm (default: the gears' verification.json, else 12)")
+    p.add_argument("--shaft-overhang", type=_number(float, 0.0, maximum=1000.0), default=None,
+                   help="bending arm of the tooth force on the planet's shaft, mm: bearing to "
+                   "the middle of the gear's face (default: the file's [manufacturing] "
+                   "shaft_overhang_mm, else one face width, an assumption the verdict states)")
     p.add_argument("--arm-mass", type=_number(float, 0.0, strict=False, maximum=1000.0),
                    default=1.0,
                    help="arm mass, kg (a slender rod planet axis -> tip)")
@@ -125,7 +129,7 @@ def _body(args, design, run) -> int:
         spec = _load_spec(args, gears_dir)
         loads = _record_loads(
             rec, lambda: seeder_loads(train, simulate(train, samples=3600), gears, spec))
-        _record_strength(rec, design, gears, loads, spec.face_width_mm)
+        _record_strength(rec, design, gears, loads, spec.face_width_mm, args.shaft_overhang)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -166,7 +170,7 @@ def _run_transplanter(args, design, gears, out) -> dict:
         spec = _load_spec(args, Path(args.gears))
         loads = _record_loads(rec, lambda: (khv_loads if khv else differential_loads)(
             design, gears, spec))
-        _record_strength(rec, design, gears, loads, spec.face_width_mm)
+        _record_strength(rec, design, gears, loads, spec.face_width_mm, args.shaft_overhang)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -209,7 +213,7 @@ def _run_planetary(args, design, gears, out) -> dict:
     if not args.no_loads:
         spec = _load_spec(args, Path(args.gears))
         loads = _record_loads(rec, lambda: planetary_loads(design, gears, spec))
-        _record_strength(rec, design, gears, loads, spec.face_width_mm)
+        _record_strength(rec, design, gears, loads, spec.face_width_mm, args.shaft_overhang)
     rec["wall_time_s"] = round(time.perf_counter() - t0, 3)
     files = []
     if not args.no_plots:
@@ -250,22 +254,17 @@ def _record_loads(rec: dict, compute):
     return loads
 
 
-def _record_strength(rec: dict, design, gears, loads, face_width_mm: float) -> None:
+def _record_strength(rec: dict, design, gears, loads, face_width_mm: float,
+                     overhang_mm: float | None = None) -> None:
     """The strength table (``contact/strength.py``) into ``rec`` and its safeties into the
     checks and the verdict; said "not computed" where there are no loads or no rating for
     the train."""
     if loads is None:
         rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
         return
-    if design.mechanism == "sugarcane_seeder":
-        rec["strength"] = {"not_computed": "the replacement-gear rating reads the contact "
-                           "geometry of the transplanters and the general planetary train "
-                           "(contact/strength.py); write the seeder as a mechanism = "
-                           "\"planetary\" file (examples/planetary/) to rate it"}
-        return
     from plantmech.contact.strength import strength_record
 
-    st = strength_record(design, gears, loads, face_width_mm)
+    st = strength_record(design, gears, loads, face_width_mm, overhang_mm)
     rec["strength"] = st
     rec["checks"] += st["checks"]
     rec["ok"] = rec["ok"] and all(c["ok"] for c in st["checks"])
@@ -288,6 +287,8 @@ def _strength_lines(st: dict) -> list[str]:
                 f"{w['min_safety']:g})  at arm {w['arm']}, carrier {w['carrier_angle_deg']:.1f}"
                 f" deg, tooth {w['tooth'] or '-'} (replacement z {w['equivalent_teeth']:g}, F_t "
                 f"{w['tangential_force_N']:.0f} N)")
+    for why in st.get("not_rated", []):
+        lines.append(f"    not rated: {why}")
     for sh in st["shafts"]:
         if "skipped" in sh:
             lines.append(f"    shaft of the {sh['gear']}: not checked ({sh['skipped']})")
@@ -297,7 +298,7 @@ def _strength_lines(st: dict) -> list[str]:
             f" mm: torque {sh['torque_N_m']:.2f} N m, torsion {sh['torsion_MPa']:.0f} MPa, "
             f"bending {sh['bending_MPa']:.0f} MPa, von Mises {sh['von_mises_MPa']:.0f} MPa, "
             f"safety {sh['safety']:.2f} (min {sh['min_safety']:g}), wall "
-            f"{sh.get('wall_mm', float('nan')):.1f} mm")
+            f"{sh.get('wall_mm', float('nan')):.1f} mm; {st['shaft_overhang']['text']}")
     return lines
 
 
@@ -314,7 +315,7 @@ def _load_spec(args, gears_dir: Path):
 def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
     """Write verification.json, print the figures, the checks, the caveats and the verdict
     (last, the same object as the record's ``verdict``); the exit code is the verdict's."""
-    from plantmech.outputs.caveats import caveats
+    from plantmech.outputs.caveats import caveats, with_caveats
     from plantmech.outputs.files import check_line, write_json
     from plantmech.outputs.verdict import verdict, verdict_line
 
@@ -333,6 +334,14 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
     if not_run:
         rec["not_checked"] = [not_run]
     rec["caveats"] = caveats(design, rec["checks"])
+    st = rec.get("strength", {})
+    arm = st.get("shaft_overhang")
+    bent = any("skipped" not in sh for sh in st.get("shafts", []))  # a shaft was checked
+    if bent and arm["source"] != "file":  # the file's: a limit_from_file caveat
+        rec["caveats"].append({"kind": "assumption" if arm["source"] == "default"
+                               else "option", "field": "shaft_overhang_mm",
+                               "value": arm["mm"], "text": arm["text"]})
+    with_caveats(v, rec["caveats"])  # the verdict carries what it rests on
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
           f"({rec['step_deg']:.2f} deg), {rec['wall_time_s']:.1f} s")

@@ -52,7 +52,6 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         ToothSpec,
         check_tooth_counts,
         make_pair,
-        standard_module,
         teeth_count,
     )
 
@@ -78,15 +77,23 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
                 # turn's last radius is the one before the step
                 r[-1] = float(curve.spline(curve.theta0 + 2 * np.pi))
             P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
-            m0 = module or standard_module(P, min_teeth)
             names = name.split("_")
-            check_tooth_counts(m0, {names[0]: P})
-            z, m = teeth_count(P, m0)
-            check_tooth_counts(m, {names[1]: _mate_perimeter(th, r, a, False, samples)})
+            mate_p = _mate_perimeter(th, r, a, False, samples)
+            choice = None
+            if module is None:  # the workshop's choice (gears.modules.choose_teeth)
+                choice = _choice(design, tooth, P, {names[1]: mate_p}, names[0], 1,
+                                 _window_external(curve, start, a, names, tooth, design))
+                m = choice["module_mm"]
+            else:
+                check_tooth_counts(module, {names[0]: P})
+                z, m = teeth_count(P, module)
+            check_tooth_counts(m, {names[1]: mate_p})
             spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
             bore = _bore(r.min(), spec)
-            out.append((make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
-                                  bore_b=_bore((a - r).min(), spec)), spec))
+            gp = make_pair(name, th, r, a, spec, samples=samples, bore_a=bore,
+                           bore_b=_bore((a - r).min(), spec))
+            gp.module_choice = choice
+            out.append((gp, spec))
     elif design.mechanism == "rice_transplanter":
         pair, *_ = simulate_transplanter(design, samples=360)
         g = design.internal_gear
@@ -95,20 +102,30 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         th = np.r_[np.mod(ang, 2 * np.pi)[order], 2 * np.pi + np.mod(ang, 2 * np.pi)[order][0]]
         r = np.r_[R[order], R[order][0]]
         P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
+        a = float(pair.a[0])
+        choice = None
         if g.teeth and module is None:
             z, m = g.teeth, P / (np.pi * g.teeth)
             check_tooth_counts(m, {"internal": P}, "internal_gear.teeth")
+        elif module is None:  # the workshop's choice (gears.modules.choose_teeth)
+            from plantmech.gears.internal import tooth_fit
+            from plantmech.gears.manufacturability import binding, rules_for
+
+            fit = tooth_fit(pair, 1.0, rules_for(design, tooth))["verdict"]
+            choice = _choice(design, tooth, P, {
+                "planet": _mate_perimeter(th, r, a, True, samples)}, "internal", g.lobes,
+                (float(fit.module_high[0]), binding(fit)[0]))
+            m = choice["module_mm"]
         else:
-            m0 = module or standard_module(P, min_teeth * g.lobes)
-            check_tooth_counts(m0, {"internal": P})
-            z, m = teeth_count(P, m0, g.lobes)
-        a = float(pair.a[0])
+            check_tooth_counts(module, {"internal": P})
+            z, m = teeth_count(P, module, g.lobes)
         check_tooth_counts(m, {"planet": _mate_perimeter(th, r, a, True, samples)},
                            "internal_gear.teeth" if g.teeth and module is None else "--module")
         spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
-        out.append((make_pair("internal_planet", th, r, a, spec, internal=True,
-                              samples=samples, rim=g.rim_mm + 3.0,
-                              bore_b=_bore((r - a).min(), spec)), spec))
+        gp = make_pair("internal_planet", th, r, a, spec, internal=True, samples=samples,
+                       rim=g.rim_mm + 3.0, bore_b=_bore((r - a).min(), spec))
+        gp.module_choice = choice
+        out.append((gp, spec))
     else:  # K-H-V: sun - middle, then middle - planet on the middle cut once
         from plantmech.geometry.periodic import RadiusCurve
 
@@ -122,12 +139,18 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         a = float(kp.a[0])
         P = PitchPolyline.from_polar(th[:-1], r[:-1], samples).perimeter
         source = "sun_gear.teeth" if design.sun_gear.teeth and module is None else "--module"
+        choice = None
         if design.sun_gear.teeth and module is None:
             m = P / (np.pi * design.sun_gear.teeth)
+        elif module is None:  # the workshop's choice (gears.modules.choose_teeth)
+            sun = RadiusCurve.from_samples(th[:-1], r[:-1], kind="spline")
+            choice = _choice(design, tooth, P, {
+                "middle": _mate_perimeter(th, r, a, False, samples)}, "sun", 1,
+                _window_external(sun, th[0], a, ("sun", "middle"), tooth, design))
+            m = choice["module_mm"]
         else:
-            m0 = module or standard_module(P, min_teeth)
-            check_tooth_counts(m0, {"sun": P})
-            z, m = teeth_count(P, m0)
+            check_tooth_counts(module, {"sun": P})
+            z, m = teeth_count(P, module)
         check_tooth_counts(m, {"sun": P, "middle": _mate_perimeter(th, r, a, False, samples)},
                            source)
         spec = ToothSpec(module=m, backlash_mm=backlash, method=method, **tooth)
@@ -141,8 +164,41 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
         p2 = make_pair("middle_planet", th2, middle(th2), a, p1.spec, samples=samples,
                        gear_a=p1.gear_b, pitch_a=p1.pitch_b, tooth_at_a=p1.tooth_at_b,
                        bore_b=_bore((a - middle(th2)).min(), spec))
+        p1.module_choice = choice
         out += [(p1, spec), (p2, spec)]
     return out
+
+
+def _window_external(curve, start: float, a: float, names, tooth: dict, design,
+                     n: int = 3600) -> tuple[float, str]:
+    """(largest module the pitch curves of an external pair allow, the rule that binds it):
+    ``gears.manufacturability`` of the gear's curve from ``start`` over one turn and its
+    mate at centre distance ``a`` (mm), as the seeder's gear checks judge it."""
+    from plantmech.gears.manufacturability import (
+        PairShape,
+        assess_pair,
+        binding,
+        rules_for,
+        shape_pair,
+    )
+
+    t = start + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    r, r1, r2 = curve.derivatives(t)
+    shapes, mu = shape_pair(t, r[None], r1[None], r2[None], a, tuple(names))
+    v = assess_pair(PairShape("_".join(names), shapes, mu), rules_for(design, tooth))
+    return float(v.module_high[0]), binding(v)[0]
+
+
+def _choice(design, tooth: dict, perimeter: float, mates: dict, gear: str, multiple: int,
+            window: tuple[float, str]) -> dict:
+    """``gears.modules.choose_teeth`` for a gear of ``design`` with the pitch-curve window
+    (largest module, its binding rule) and the design's smallest module and cutters."""
+    from plantmech.gears.manufacturability import rules_for
+    from plantmech.gears.modules import choose_teeth
+
+    man = design.manufacturing
+    return choose_teeth(perimeter, window[0], rules_for(design, tooth).min_module_mm,
+                        multiple, man.modules_mm or None, mates, gear, window[1])
 
 
 def _mate_perimeter(theta, r, a: float, internal: bool, samples: int) -> float:

@@ -18,10 +18,11 @@ as in the K-H-V train.
 Modules (docs/design-file.md, ``train.pairs[].teeth``). A group of pairs joined by idlers
 shares one module; it comes from the group's first pair: its ``teeth`` z (the module that
 makes the driver's pitch perimeter P carry exactly z teeth, m = P / (pi z)), else
-``--module``, else the largest standard module leaving ``min_teeth`` teeth on the group's
-smallest gear, turned into a whole tooth count on the driver (``gears.teeth.teeth_count``)
-that is a multiple of the driver's lobes and of an integer follower_turns q (the follower
-then carries z / q whole teeth).
+``--module``, else the workshop's choice (``gears.modules.choose_teeth``): the largest
+standard module in the window the group's pitch curves allow (``assess``: undercut, concave
+spans, hub, tooth count; the design's smallest module), turned into the whole tooth count on
+the driver nearest perimeter / (pi m) that is a multiple of the driver's lobes and of an
+integer follower_turns q (the follower then carries z / q whole teeth).
 """
 
 from __future__ import annotations
@@ -129,11 +130,13 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
     """Per pair: {module_mm, teeth_a, teeth_driver, source, perimeter_a_mm}: the module of
     its group (module docstring: from the group's first pair's driver, z_d whole and a
     multiple of its lobes and of an integer follower_turns q, so the follower carries
-    z_d / q whole teeth; by default the largest standard module leaving ``min_teeth`` on
-    the group's smallest gear) and the tooth counts of the gear cut first and of the
-    driver. Raises ValueError naming the field or option when a gear would get fewer than
-    6 or more than 500 teeth."""
-    from plantmech.gears.teeth import check_tooth_counts, standard_module, teeth_count
+    z_d / q whole teeth; by default ``gears.modules.choose_teeth`` in the group's window,
+    its record in ``choice``; ``min_teeth`` is no longer read) and the tooth counts of
+    the gear cut first and of the driver. Raises ValueError naming the field or option
+    when a gear would get fewer than 6 or more than 500 teeth."""
+    from plantmech.gears.manufacturability import binding
+    from plantmech.gears.modules import choose_teeth
+    from plantmech.gears.teeth import check_tooth_counts, teeth_count
 
     pairs = design.train.pairs
     groups = _groups(design)
@@ -145,6 +148,8 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
     whole = [perims[k][1] if p.dwell is not None else perims[k][0] for k, p in enumerate(pairs)]
     chosen: dict[int, tuple[float, str]] = {}
     notes: dict[int, str] = {}
+    choices: dict[int, dict] = {}
+    verdicts = rules = None
     out = []
     for k, p in enumerate(pairs):
         g = groups[k]
@@ -169,20 +174,35 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
                                 f"curve, but {p.teeth} teeth (even) make them different gears "
                                 "(a tooth meets a space): an odd count makes them identical "
                                 "and interchangeable")
-            else:
-                source = "--module" if module is not None else (
-                    f"the default module of train.pairs.{k}")
-                smallest = min(min(perims[j]) for j in range(len(pairs)) if groups[j] == g)
-                m0 = module or standard_module(smallest, min_teeth)
-                check_tooth_counts(m0, {names[k][0]: driver_perimeter}, source)
-                z, m = teeth_count(driver_perimeter, m0, multiple)
+            elif module is not None:
+                source = "--module"
+                check_tooth_counts(module, {names[k][0]: driver_perimeter}, source)
+                z, m = teeth_count(driver_perimeter, module, multiple)
                 if twins and z % 2 == 0 and multiple % 2:  # the nearest odd count
-                    exact = driver_perimeter / (np.pi * m0)
+                    exact = driver_perimeter / (np.pi * module)
                     z = z + multiple if exact > z else max(z - multiple, multiple)
                     m = driver_perimeter / (np.pi * z)
                     notes[k] = (f"pair {k + 1}: {z} teeth (odd) chosen: the two gears have "
                                 "the same pitch curve, and an odd count makes them identical "
                                 "and interchangeable (a tooth meets a space)")
+            else:  # the workshop's choice (gears.modules.choose_teeth) in the group's window
+                source = f"the default module of train.pairs.{k}"
+                if verdicts is None:
+                    verdicts, rules = assess(design, built)
+                members = [j for j in range(len(pairs)) if groups[j] == g]
+                high = min(float(verdicts[j].module_high[0]) for j in members)
+                tight = min(members, key=lambda j: float(verdicts[j].module_high[0]))
+                mates = {f"{names[j][i]}": perims[j][i] for j in members for i in (0, 1)}
+                odd = bool(twins and multiple % 2)
+                choice = choose_teeth(driver_perimeter, high, rules.min_module_mm, multiple,
+                                      design.manufacturing.modules_mm or None, mates,
+                                      names[k][0], binding(verdicts[tight])[0], odd=odd)
+                m = choice["module_mm"]
+                choices[g] = choice
+                if odd:
+                    notes[k] = (f"pair {k + 1}: {choice['teeth']} teeth (odd) chosen: the two "
+                                "gears have the same pitch curve, and an odd count makes them "
+                                "identical and interchangeable (a tooth meets a space)")
             chosen[g] = (m, source)
         m, source = chosen[g]
         check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
@@ -190,7 +210,8 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
             else perims[k][0]
         out.append({"module_mm": float(m), "teeth_a": int(round(a_perimeter / (np.pi * m))),
                     "teeth_driver": int(round(perims[k][0] / (np.pi * m))), "source": source,
-                    "perimeter_a_mm": float(a_perimeter), "note": notes.get(k)})
+                    "perimeter_a_mm": float(a_perimeter), "note": notes.get(k),
+                    "choice": choices.get(g) if groups[k] == k else None})
     return out
 
 
@@ -271,6 +292,7 @@ def gear_pairs(design, module: float | None = None, backlash: float = 0.1,
                            bore_b=_bore(float(rf.min()), spec, rules))
         gp.module_source = modules[k]["source"]
         gp.teeth_note = modules[k]["note"]
+        gp.module_choice = modules[k]["choice"]
         out.append((gp, spec))
     return out
 
