@@ -32,19 +32,11 @@ ALLOWED = ("design.py", "design_planetary.py", "design_reference.py", "kinds.py"
            "objectives/")
 
 #: modules with branches on a kind's name not yet moved to the registry (issue 28): their
-#: count may only fall. On main before the registry: 71 branches in 20 modules.
+#: count may only fall. On main before the registry: 68 branches in 19 modules.
 NOT_YET = {
     "mechanisms/gear_pairs.py": 3,         # the teeth of each dedicated train
-    "mechanisms/transplanter_design.py": 1,  # differential vs K-H-V inside the model
-    "optimize/problems.py": 3,             # the transplanter problem's K-H-V refusal
-    "optimize/planetary_problem.py": 1,    # refuses a non-planetary file
     "contact/strength.py": 2,              # the contact geometry per transplanter
-    "gears/manufacturability.py": 1,       # [gear_checks] (seeder) vs [limits]
     "interfaces/report_cli.py": 2,         # the report's animation per kind
-    "outputs/transplanter_report.py": 2,   # differential vs K-H-V rows
-    "outputs/transplanter_plots.py": 1,
-    "outputs/study_report.py": 1,          # a study's kind guessed from its parameters
-    "app/scene.py": 1,                     # the transplanter scene's fixed gear
 }
 
 

@@ -604,9 +604,11 @@ TRANSPLANTER_BOUNDS = {  # half-widths around the design's values
 def not_transplanter(design) -> str:
     """Why the transplanter problem refuses ``design``; for the K-H-V train, where its
     optimizer is (its general train file with ``--problem planetary``)."""
+    from plantmech.kinds import kind_of
+
     msg = (f"the transplanter problem optimizes a rice_transplanter design (this file is a "
            f"{design.mechanism})")
-    if design.mechanism == "rice_transplanter_khv":
+    if kind_of(design).fixed_gear == "sun_gear":  # a fixed sun: the K-H-V train
         msg += ("; the K-H-V train is optimized as a general train file: plantmech optimize "
                 "examples/planetary/rice_transplanter_khv.toml --problem planetary (its "
                 "pitch curves and arm, against the manufacturability rules; its transplanting "
@@ -629,7 +631,9 @@ class Transplanter(DesignProblem):
     def __init__(self, design, radius_bound_mm: float = 6.0, samples: int = 360,
                  interference: bool = True, tooth_fit: bool = False,
                  ring_scale_bound: float = 0.0):
-        if design.mechanism != "rice_transplanter":
+        from plantmech.kinds import kind_of
+
+        if self.name not in kind_of(design).problems:
             raise ValueError(not_transplanter(design))
         self.samples = samples
         self.interference = interference
@@ -669,8 +673,7 @@ class Transplanter(DesignProblem):
             variables.append(Variable("ring_scale", 1.0, 1.0 - ring_scale_bound,
                                       1.0 + ring_scale_bound, "", scale_radii))
         # (i)-(xii), plus (xiii)-(xv) where the train's tooth fit is computed
-        n_constr = 12 + len(self.TOOTH_FIT) if (design.mechanism == "rice_transplanter"
-                                                and g.teeth) else 12
+        n_constr = 12 + len(self.TOOTH_FIT) if g.teeth else 12
         super().__init__(design, variables, n_constr=n_constr)
 
     def evaluate_batch(self, X):
