@@ -459,7 +459,7 @@ def test_a_general_planetary_train(client):
 
 
 def test_a_khv_train_offers_every_number_of_its_train():
-    """A K-H-V file (no optimizer problem takes it): every radius of its sun, the rim, the
+    """A K-H-V file: every radius of its sun, the rim, the
     carrier's angle, every number of the arm and of the seedling box, each in a box of
     +-25 % (angles +-45 deg) around the file's value; counts are not offered."""
     import tomllib
@@ -481,4 +481,5 @@ def test_a_khv_train_offers_every_number_of_its_train():
         assert (params[f]["min"], params[f]["max"]) == pytest.approx((v - half, v + half))
     r = TestClient(server.create_app(workers=0)).get(
         "/api/problems", params={"mechanism": "rice_transplanter_khv"})
-    assert r.json()["problems"] == []  # the transplanter problem refuses it
+    # the transplanter problem takes it, as it takes the differential transplanter
+    assert [p["name"] for p in r.json()["problems"]] == ["transplanter"]

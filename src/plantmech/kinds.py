@@ -144,14 +144,9 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
                 "app_parameters": "plantmech.app.server:_transplanter_parameters",
                 "verify_gears": "plantmech.interfaces.verify_cli:transplanter_gear_names"}),
     Kind("rice_transplanter_khv", "K-H-V rice transplanter",
-         # no problem takes the dedicated K-H-V file: its general-train form
-         # (examples/planetary/rice_transplanter_khv.toml) is optimized by 'planetary'
-         problems=(), fixed_gear="sun_gear", section="sun_gear", standard_module_scaling=True,
-         unoptimized_reason=(
-             "no optimization problem takes a K-H-V file",
-             "no optimization problem takes a K-H-V file: its general-train form "
-             "(examples/planetary/rice_transplanter_khv.toml) is optimized by 'plantmech "
-             "optimize --problem planetary'"),
+         # the sun's radii, the carrier's start, the arm and the box, as the differential's
+         problems=("transplanter",), fixed_gear="sun_gear", section="sun_gear",
+         standard_module_scaling=True, choose_problem=lambda design: "transplanter",
          hooks={**_TRANSPLANTER_HOOKS,
                 "app_parameters": "plantmech.app.server:_khv_parameters",
                 "verify_gears": "plantmech.interfaces.verify_cli:khv_gear_names",

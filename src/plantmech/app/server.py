@@ -388,8 +388,8 @@ def _no_parameters(design) -> list[dict]:
 
 
 def _khv_parameters(design) -> list[dict]:
-    """The K-H-V train: no optimizer takes it, so every number of its tables, with the
-    general bounds (``_general_parameters``)."""
+    """The K-H-V train: every number of its tables, with the general bounds
+    (``_general_parameters``: +-25 %, angles +-45 deg)."""
     data = design_json(design)
     return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
         "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])

@@ -420,13 +420,16 @@ def transplanter_choices(design):
 
     if not _taken(design, "transplanter"):
         raise ValueError(not_transplanter(design))
+    from plantmech.kinds import kind_of
+
     d = design.model_copy(deep=True)
     choices = {}
-    g = design.internal_gear
+    field = kind_of(design).fixed_gear  # the internal gear, or the K-H-V train's sun
+    g = getattr(design, field)
     if "interpolation" in g.model_fields_set:
         choices["interpolation"] = {"value": g.interpolation, "set_by": "design file"}
     else:
-        d.internal_gear.interpolation = "spline"
+        getattr(d, field).interpolation = "spline"
         choices["interpolation"] = {
             "value": "spline", "set_by": "plantmech design (the file does not fix it)",
             "why": "periodic cubic spline (C2): its radius of curvature, which the tooth fit "
