@@ -564,9 +564,10 @@ def test_design_records_its_choices_in_run_json_the_headers_and_the_summary(tmp_
 
 def test_the_staged_job_optimizes_a_khv_transplanter(tmp_path, capsys):
     """The K-H-V file is optimized by the transplanter problem as the differential one is
-    (issue 28), staged as the differential's: its sun's radii, the carrier's start, the arm and the box move (a
-    sun has no lobe phase: sigma is not a variable); best.toml is a K-H-V file whose
-    objectives, simulated again by ``plantmech forward``, are the ones run.json reports."""
+    (issue 28), staged as the differential's: its sun's radii, the carrier's start, the arm
+    and the box move (a sun has no lobe phase: sigma is not a variable); best.toml is a
+    K-H-V file whose objectives, simulated again by ``plantmech forward``, are the ones
+    run.json reports."""
     from plantmech.interfaces.cli import main
     from plantmech.kinds import kind_of
     from plantmech.optimize.problems import Transplanter
