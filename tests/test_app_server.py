@@ -459,7 +459,7 @@ def test_a_general_planetary_train(client):
 
 
 def test_a_khv_train_offers_every_number_of_its_train():
-    """A K-H-V file (no optimizer problem takes it): every radius of its sun, the rim, the
+    """A K-H-V file: every radius of its sun, the rim, the
     carrier's angle, every number of the arm and of the seedling box, each in a box of
     +-25 % (angles +-45 deg) around the file's value; counts are not offered."""
     import tomllib
@@ -481,4 +481,44 @@ def test_a_khv_train_offers_every_number_of_its_train():
         assert (params[f]["min"], params[f]["max"]) == pytest.approx((v - half, v + half))
     r = TestClient(server.create_app(workers=0)).get(
         "/api/problems", params={"mechanism": "rice_transplanter_khv"})
-    assert r.json()["problems"] == []  # the transplanter problem refuses it
+    # the transplanter problem takes it, as it takes the differential transplanter
+    assert [p["name"] for p in r.json()["problems"]] == ["transplanter"]
+
+
+@pytest.mark.parametrize("path", ["rice_transplanter_khv.toml",
+                                  "planetary/rice_transplanter_khv.toml",
+                                  "rotary_transplanter_elliptic.toml"])
+def test_the_khv_and_elliptic_examples_are_edited_and_offered_an_optimizer(client, path):
+    """Issue 28: the K-H-V (dedicated and general-train files) and elliptic examples are
+    edited in the app as the papers' machines: every field of the edit panel holds the
+    file's value; moving the first pitch radius (the ellipses' eccentricity) within its
+    bounds re-evaluates the design (the checks move); and the page is offered the problem
+    the CLI optimizes the file by (``kinds``)."""
+    import tomllib
+
+    from plantmech.kinds import kind_of
+
+    design = server.validate_design(tomllib.loads((EXAMPLES / path).read_text()))
+    d = server.design_json(design)
+    panel = server.editable_parameters(design)
+    assert panel
+    for p in panel:
+        node = d
+        for part in p["field"].split("."):
+            node = node[int(part)] if part.isdigit() else node[part]
+        assert node == pytest.approx(p["value"]) and p["min"] <= p["value"] <= p["max"]
+    before = evaluate(client, d).json()
+    radius = next(p for p in panel if ".radii_mm." in p["field"]
+                  or p["field"].endswith(".eccentricity"))  # the ellipses' shape
+    *table, k = radius["field"].split(".")
+    node = d
+    for part in table:
+        node = node[int(part)] if part.isdigit() else node[part]
+    node[int(k) if k.isdigit() else k] = radius["value"] + 0.5 * (radius["max"] - radius["value"])
+    after = evaluate(client, d)
+    assert after.status_code == 200, after.text
+    moved = [c["name"] for c, c0 in zip(after.json()["checks"], before["checks"], strict=True)
+             if c["value"] != c0["value"]]
+    assert moved
+    offered = client.get("/api/problems", params={"mechanism": design.mechanism}).json()
+    assert [p["name"] for p in offered["problems"]] == list(kind_of(design).problems) != []

@@ -23,9 +23,11 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # the package itself: __version__ and the lazy public names, which it imports by string
     # on first use (importlib), never by an import statement
     ("package", ("plantmech",)),
+    # plantmech.kinds: the registry of mechanism kinds, naming each kind's hooks by string
+    # ("module:function", imported on use), so it imports nothing above the design layer
     ("design", ("plantmech.design", "plantmech.design_planetary", "plantmech.design_reference",
                 "plantmech.design_law",
-                "plantmech.units")),
+                "plantmech.units", "plantmech.kinds")),
     # the process's signal record (SIGINT/SIGTERM/SIGHUP received, pool workers' initializer):
     # it imports nothing of the package, and the optimizer's pools and every writer read it
     ("process", ("plantmech.outputs.signals",)),

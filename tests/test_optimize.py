@@ -562,12 +562,36 @@ def test_design_records_its_choices_in_run_json_the_headers_and_the_summary(tmp_
     assert "interpolation: spline" in capsys.readouterr().out
 
 
-def test_the_staged_job_refuses_a_khv_transplanter_by_name(tmp_path, capsys):
+def test_the_staged_job_optimizes_a_khv_transplanter(tmp_path, capsys):
+    """The K-H-V file is optimized by the transplanter problem as the differential one is
+    (issue 28), staged as the differential's: its sun's radii, the carrier's start, the arm
+    and the box move (a sun has no lobe phase: sigma is not a variable); best.toml is a
+    K-H-V file whose objectives, simulated again by ``plantmech forward``, are the ones
+    run.json reports."""
     from plantmech.interfaces.cli import main
+    from plantmech.kinds import kind_of
+    from plantmech.optimize.problems import Transplanter
 
-    rc = main(["optimize", str(EXAMPLES / "rice_transplanter_khv.toml"), "--problem",
-               "transplanter", "--out", str(tmp_path / "o"), "--quiet"])
-    err = capsys.readouterr().err
-    assert rc == 2 and "rice_transplanter design" in err and "Traceback" not in err
-    # it says where the K-H-V train's optimizer is (tests/test_optimize_planetary.py runs it)
-    assert "examples/planetary/rice_transplanter_khv.toml --problem planetary" in err
+    example = EXAMPLES / "rice_transplanter_khv.toml"
+    design = load_design(example)
+    assert kind_of(design).default_problem(design) == "transplanter"
+    names = [v.name for v in Transplanter(design).variables]
+    assert names == [f"r{k}" for k in range(len(design.sun_gear.radii_mm))] + [
+        "initial_angle_deg", "S_mm", "H1_mm", "beta_deg", "box_x_mm", "box_y_mm",
+        "box_inclination_deg"]
+    out = tmp_path / "o"
+    rc = main(["optimize", str(example), "--problem", "transplanter", "--out", str(out),
+               "--generations", "2", "--pop", "8", "--quiet"])
+    assert rc in (0, 4), capsys.readouterr().err
+    best = load_design(out / "best.toml")
+    assert best.mechanism == "rice_transplanter_khv"
+    assert len(best.sun_gear.radii_mm) == len(design.sun_gear.radii_mm)
+    rec = json.loads((out / "run.json").read_text())
+    assert len(rec["stages"]) == 4  # the staged job of the differential transplanter
+    assert main(["forward", str(out / "best.toml"), "--out", str(tmp_path / "f"),
+                 "--no-plots"]) in (0, 4)
+    fwd = {o["name"]: o for o in json.loads((tmp_path / "f" / "summary.json").read_text())[
+        "objectives"]}
+    for o in rec["verified_full_resolution"]["objectives"]:
+        if o["value"] is not None:
+            assert fwd[o["name"]]["value"] == pytest.approx(o["value"], abs=1e-6), o["name"]

@@ -261,3 +261,35 @@ levels = 3
     s = json.loads((out / "summary.json").read_text())
     assert s["variants_not_moved"] == 1  # e = 0.95 > 0.8; 0.1 and 0.525 are built
     assert "1 could not be built" in capsys.readouterr().out and (out / "sweep.png").exists()
+
+
+def test_a_khv_file_is_studied_and_reported_with_its_uncomputable_objectives(tmp_path, capsys):
+    """The K-H-V example (issue 28: studied and reported as the papers' machines): its tip
+    never passes through the seedling mat, so the picking angle (iii) and the objectives
+    read from it cannot be computed. The tolerance study says so - nominal None where
+    ``plantmech forward`` reports None, never met by a variant - and writes its summary
+    and report (it refused with "objectives[0].nominal = nan" before)."""
+    khv = str(ROOT / "examples" / "rice_transplanter_khv.toml")
+    assert main(["forward", khv, "--out", str(tmp_path / "f"), "--no-plots"]) == 4
+    forward = {o["name"]: o["value"] for o in json.loads(
+        (tmp_path / "f" / "summary.json").read_text())["objectives"]}
+    spec = _write(tmp_path / "t.toml", """kind = "tolerance"
+samples = 24
+chunk = 12
+seed = 0
+cycle_samples = 180
+[parameters.S_mm]
+distribution = "normal"
+sigma = 0.1
+""")
+    out = tmp_path / "s"
+    assert main(["study", khv, "--spec", spec, "--out", str(out), "--workers", "1",
+                 "--quiet", "--no-plots", "--report"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    missing = {o["name"] for o in s["objectives"] if o["nominal"] is None}
+    assert missing == {n for n, v in forward.items() if v is None} and "picking_angle" in missing
+    for o in s["objectives"]:
+        if o["name"] in missing:
+            assert o["probability_ok"] == 0.0 and o["first_order_std"] is None
+    assert "not computable" in capsys.readouterr().out
+    assert 'n/a' in (out / "report.html").read_text(encoding="utf-8")

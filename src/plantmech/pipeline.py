@@ -31,13 +31,23 @@ class DesignOutcome:
         return self.record["verdict"]
 
 
-def problem_for(design) -> str:
-    """The optimization problem that designs this file's mechanism."""
-    if design.mechanism == "planetary":  # the fields its [optimize.variables] frees
-        return "planetary"
-    if design.mechanism != "sugarcane_seeder":
-        return "transplanter"
-    return "seeder-layered" if design.train is None else "seeder-layer2"
+def problem_for(design) -> str | None:
+    """The optimization problem that designs this file's mechanism (``kinds.Kind.
+    default_problem``), or None when nothing may move (``Kind.unoptimized_reason``)."""
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).default_problem(design)
+
+
+def _require_planetary_curves(design) -> None:
+    """ValueError naming the field when a planetary file gives a [trajectory] (inverse
+    design's input) instead of its pitch curves."""
+    from plantmech.trains.spec import TrainSpecError, require_curves
+
+    try:
+        require_curves(design)
+    except TrainSpecError as exc:
+        raise ValueError(f"field '{exc}") from None
 
 
 def _stopped_by_time(record: dict) -> bool:
@@ -71,28 +81,25 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         stages.append(info)
         return info
 
-    if design.mechanism == "planetary":
-        from plantmech.trains.spec import TrainSpecError, require_curves
+    from plantmech.kinds import kind_of
 
-        try:
-            require_curves(design)  # a [trajectory] file is inverse design's input
-        except TrainSpecError as exc:
-            raise ValueError(f"field '{exc}") from None
+    kind = kind_of(design)
+    if kind.has("require_train"):
+        kind.hook("require_train")(design)  # ValueError naming the field
     say("[1/3] checking the design at full resolution (objectives and manufacturability)")
-    start = design if design.mechanism != "sugarcane_seeder" or design.train is not None \
-        else None  # a trajectory alone is no gear train yet: optimize it
+    # a trajectory alone is no gear train yet: optimize it
+    start = None if kind.trajectory_only(design) else design
     final, check, opt_rec = design, None, {}
     if start is not None:
         check = verify(design, True)
         stage("check", all_met=check["all_met"], failed=_failed(check))
     if check is not None and check["all_met"]:
         say("      every objective and manufacturability check met: no optimization needed")
-    elif design.mechanism == "planetary" and design.optimize is None:
+    elif problem_for(design) is None:
         # nothing the job may move: the file names its free fields, or the design stands
         say(f"      not met: {', '.join(_failed(check))}")
-        say("[2/3] not optimized: the file frees no field ([optimize.variables]: the dotted "
-            "paths the optimizer may move: plantmech docs design-file)")
-        stage("optimize", skipped="the file has no [optimize.variables]")
+        say(f"[2/3] not optimized: {kind.unoptimized_reason[1]}")
+        stage("optimize", skipped=kind.unoptimized_reason[0])
     else:
         name = problem_for(design)
         if check is not None:
@@ -192,7 +199,9 @@ def _scaled(design, scale: float):
     from plantmech.design import load_design
 
     raw = design.model_dump(exclude_none=True, mode="json")
-    gear = raw["internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"]
+    from plantmech.kinds import kind_of
+
+    gear = raw[kind_of(design).fixed_gear]
     gear["radii_mm"] = [r * scale for r in gear["radii_mm"]]
     if "centre_distance_mm" in gear:
         gear["centre_distance_mm"] *= scale
@@ -205,9 +214,9 @@ def _standard_module(final, check, verify):
     to the nearest standard module (series I first), if the scaled design still meets every
     objective at full resolution; the record says what was tried."""
     from plantmech.gears import modules
+    from plantmech.kinds import kind_of
 
-    if final.mechanism not in ("rice_transplanter", "rice_transplanter_khv") \
-            or check is None or not check["all_met"]:
+    if not kind_of(final).standard_module_scaling or check is None or not check["all_met"]:
         return final, check, None
     row = next((o for o in check["objectives"] if o["name"] == "module"), None)
     if row is None or row["value"] is None:
@@ -247,21 +256,14 @@ def _standard_module(final, check, verify):
 def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
     """report.html (and mechanism.gif): the final design's objectives, plots and animation,
     the gears' findings and drawings, and the job's verdict."""
+    from plantmech.kinds import kind_of
     from plantmech.outputs.report import (
         findings_rows,
-        job_animation,
-        job_figures,
         write_report,
     )
     from plantmech.outputs.verdict import verdict_line
-    from plantmech.workflows import run_seeder_forward, run_transplanter
 
-    if final.mechanism == "planetary":
-        summary, figures, animation = _planetary_parts(final)
-    else:
-        job = (run_seeder_forward(final) if final.mechanism == "sugarcane_seeder"
-               else run_transplanter(final))
-        summary, figures, animation = job.summary, list(job_figures(job)), job_animation(job)
+    summary, figures, animation = kind_of(final).hook("report_parts")(final)
     drawings = []
     # why an optimization fell short: its trade-off fronts (layer 2's, and the path's own)
     layered = (out / "optimize" / "layer2").is_dir()
@@ -283,6 +285,26 @@ def _report(final, out: Path, rec: dict, gears: dict | None) -> list[Path]:
                         verdict=(v["ok"], verdict_line(v, "every objective and "
                                                           "manufacturability check met, the "
                                                           "gears cut and checked")))
+
+
+def _job_parts(job):
+    from plantmech.outputs.report import job_animation, job_figures
+
+    return job.summary, list(job_figures(job)), job_animation(job)
+
+
+def _job_parts_seeder(design):
+    """(summary, figures, animation) of a seeder's train for the report: its forward run."""
+    from plantmech.workflows import run_seeder_forward
+
+    return _job_parts(run_seeder_forward(design))
+
+
+def _job_parts_transplanter(design):
+    """(summary, figures, animation) of a rice transplanter for the report."""
+    from plantmech.workflows import run_transplanter
+
+    return _job_parts(run_transplanter(design))
 
 
 def _planetary_parts(design):

@@ -202,18 +202,21 @@ def pitch_curve_findings(design) -> list[dict]:
     cuttable module and working pressure angle of both pairs, the transplanter's tooth fit
     and cuttable-module margin) as ``gears.findings`` findings, so that ``plantmech gears``
     and ``plantmech design`` judge the same rules."""
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("pitch_findings")(design)
+
+
+def objective_findings(design) -> list[dict]:
+    """``pitch_curve_findings`` of a kind whose forward job (``kinds`` hook "forward_job")
+    reports the manufacturability rules among its objectives (the seeder, the rice
+    transplanters)."""
     import re
 
     from plantmech.gears.findings import finding
+    from plantmech.kinds import kind_of
 
-    if design.mechanism == "planetary":
-        from plantmech.trains.gearing import pitch_curve_findings as train_findings
-
-        return train_findings(design)
-    if design.mechanism == "sugarcane_seeder":
-        rows = run_seeder_forward(design).summary["objectives"]
-    else:
-        rows = run_transplanter(design).summary["objectives"]
+    rows = kind_of(design).hook("forward_job")(design).summary["objectives"]
     names = ("cuttable_module", "working_pressure_angle", "equivalent_teeth",
              "internal_teeth_difference")
     out = []

@@ -304,8 +304,8 @@ def transplanter_scene(job, frames: int = 360, detail: int = 720) -> dict:
     J = m.B.shape[1]
     c0 = np.radians(d.carrier.initial_angle_deg)
     gears, links = [], []
-    if d.mechanism == "rice_transplanter":
-        g = d.internal_gear
+    g = getattr(d, "internal_gear", None)  # the differential's lobed internal gear
+    if g is not None:
         ang, R = pair.internal_polar(0)
         phase0 = np.radians(g.initial_phase_deg)
         ratio = d.drive.speed_ratio or (g.lobes - 1) / g.lobes

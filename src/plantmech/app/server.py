@@ -156,14 +156,16 @@ def evaluate(design, quality: str = "full") -> dict:
     Table 1 and the attitude objectives); "full": the design's own resolution and every
     check (seeder: the forward simulation of the designed train with every section-4.1
     objective and the gear checks)."""
-    drag = quality == "drag"
-    if design.mechanism == "sugarcane_seeder":
-        if design.train is None:
-            return _seeder_trajectory(design, drag)
-        return _seeder_train(design, drag)
-    if design.mechanism == "planetary":
-        return _planetary(design, drag)
-    return _transplanter(design, drag)
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("app_scene")(design, quality == "drag")
+
+
+def _seeder(design, drag: bool) -> dict:
+    """A seeder from its trajectory (inverse design) or from its [train] (forward)."""
+    if design.train is None:
+        return _seeder_trajectory(design, drag)
+    return _seeder_train(design, drag)
 
 
 def _resolution(drag: bool) -> tuple[int, int]:
@@ -261,7 +263,9 @@ def _transplanter(design, drag: bool) -> dict:
     d = design.model_copy(deep=True)
     if drag:
         d.samples = DRAG_SAMPLES
-    gear = "internal_gear" if d.mechanism == "rice_transplanter" else "sun_gear"
+    from plantmech.kinds import kind_of
+
+    gear = kind_of(d).fixed_gear
     try:
         job = run_transplanter(d)
     except (InternalPairError, ValueError) as exc:
@@ -377,17 +381,31 @@ def editable_parameters(design) -> list[dict]:
     """The transplanter's published parameters the page edits: design field, unit and
     the optimizer's bounds around the current value (``optimize.problems.Transplanter``)
     as the input's limits."""
-    if design.mechanism == "sugarcane_seeder":
-        return []
-    if design.mechanism == "planetary":
-        return _planetary_parameters(design)
-    if design.mechanism == "rice_transplanter_khv":  # no optimizer bounds: its numbers
-        data = design_json(design)
-        return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
-            "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("app_parameters")(design)
+
+
+def _no_parameters(design) -> list[dict]:
+    """The seeder is edited on the drawing (its points or its pitch-curve radii)."""
+    return []
+
+
+def _khv_parameters(design) -> list[dict]:
+    """The K-H-V train: every number of its tables, with the general bounds
+    (``_general_parameters``: +-25 %, angles +-45 deg)."""
+    data = design_json(design)
+    return _general_parameters([(t, t.replace("_", " "), data[t]) for t in (
+        "sun_gear", "carrier", "arm", "seedling_box") if isinstance(data.get(t), dict)])
+
+
+def _transplanter_parameters(design) -> list[dict]:
+    """The differential transplanter: its published parameters with the optimizer's bounds
+    around the current value (``optimize.problems.Transplanter``) as the input's limits."""
+    from plantmech.kinds import kind_of
     from plantmech.optimize.problems import Transplanter
 
-    gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
+    gear = kind_of(design).fixed_gear
     field = {"initial_angle_deg": "carrier.initial_angle_deg",
              "initial_phase_deg": "internal_gear.initial_phase_deg",
              "S_mm": "arm.S_mm", "H1_mm": "arm.H1_mm", "beta_deg": "arm.beta_deg",
@@ -770,14 +788,11 @@ def create_app(initial: Path | None = None, workers: int | None = None,
 
     @app.get("/api/problems")
     async def problems(mechanism: str = "sugarcane_seeder"):
-        from plantmech.optimize.jobs import PROBLEMS, job_defaults
+        from plantmech.kinds import KINDS
+        from plantmech.optimize.jobs import job_defaults
 
-        if mechanism == "planetary":  # the fields its [optimize.variables] frees
-            names = ["planetary"]
-        elif mechanism == "sugarcane_seeder":
-            names = [p for p in PROBLEMS if p.startswith("seeder-")]
-        else:  # the transplanter problem takes a rice_transplanter design only
-            names = ["transplanter"] if mechanism == "rice_transplanter" else []
+        kind = KINDS.get(mechanism)
+        names = kind.problems if kind is not None else ()  # the problems that take its file
         out = []
         for p in names:  # the app requires manufacturability (the job's defaults with it)
             algo, gen, pop, stages = job_defaults(p)

@@ -167,9 +167,10 @@ def rules_for(design, tool: dict | None = None) -> CuttingRules:
           "min_internal_difference": m.min_internal_difference, "min_top_land": m.min_top_land,
           "hub_modules": m.hub_modules, "min_bore_mm": m.min_bore_mm,
           "min_module_mm": m.min_module_mm}
-    if design.mechanism == "sugarcane_seeder":
-        kw["pressure_angle_deg"] = design.gear_checks.tool_pressure_angle_deg
-        kw["max_working_pressure_angle_deg"] = design.gear_checks.max_working_pressure_angle_deg
+    checks = getattr(design, "gear_checks", None)  # the seeder's [gear_checks]
+    if checks is not None:
+        kw["pressure_angle_deg"] = checks.tool_pressure_angle_deg
+        kw["max_working_pressure_angle_deg"] = checks.max_working_pressure_angle_deg
     else:
         lim = design.limits
         kw["max_working_pressure_angle_deg"] = lim.max_working_pressure_angle_deg

@@ -74,17 +74,19 @@ def run_command(args, body, require_trajectory: bool = False, inputs: tuple = ()
       3, nothing written).
     """
     from plantmech.design import DesignError, load_design
+    from plantmech.kinds import kind_of
     from plantmech.outputs.files import NonFiniteOutput, OutputError, OutputRun
 
     try:
         design = load_design(Path(args.design))
         refuse_planetary(args, design)
-        if require_trajectory and design.mechanism != "planetary":
-            if design.mechanism != "sugarcane_seeder":
+        kind = kind_of(design)
+        if require_trajectory:
+            if not kind.has("inverse_cli"):
                 raise DesignError(f"{args.design}: field 'mechanism': inverse design is for "
-                                  f"the sugarcane seeder; a {design.mechanism} design runs "
-                                  "with 'plantmech forward'")
-            if design.trajectory is None:
+                                  "the sugarcane seeder and the general planetary train; a "
+                                  f"{design.mechanism} design runs with 'plantmech forward'")
+            if kind.inverse_needs_trajectory and design.trajectory is None:
                 raise DesignError(f"{args.design}: field 'trajectory' is required for inverse "
                                   "design (this file gives a [train]: use 'plantmech forward')")
         run = OutputRun(args.out, [Path(args.design), *map(Path, inputs)],
@@ -130,10 +132,6 @@ def ended_by(exc: BaseException) -> int | None:
     return None
 
 
-#: the commands that take a general planetary train (``mechanism = "planetary"``)
-PLANETARY_COMMANDS = ("forward", "gears", "optimize", "inverse", "study", "design", "verify")
-
-
 def refuse_planetary(args, design) -> None:
     """A general planetary train (``mechanism = "planetary"``) runs with ``plantmech
     forward``, ``plantmech gears``, ``plantmech optimize --problem planetary``,
@@ -141,11 +139,13 @@ def refuse_planetary(args, design) -> None:
     any other command or problem refuses it by name (DesignError, exit 2). ``--report``
     of forward, gears, optimize, study and design takes it; of inverse not yet."""
     from plantmech.design import DesignError
+    from plantmech.kinds import kind_of
 
     command = getattr(args, "command", None)
-    if design.mechanism != "planetary":
+    kind = kind_of(design)
+    if kind.commands is None:  # every command takes it
         return
-    if command not in PLANETARY_COMMANDS:
+    if command not in kind.commands:
         raise DesignError(f"{args.design}: field 'mechanism': a \"planetary\" train runs with "
                           "'plantmech forward', 'plantmech gears', 'plantmech optimize "
                           "--problem planetary', 'plantmech inverse' (from a [trajectory]), "
@@ -153,12 +153,11 @@ def refuse_planetary(args, design) -> None:
                           f"'plantmech app' so far; '{command}' is for the seeder and the rice "
                           "transplanters only")
     problem = getattr(args, "problem", None)
-    if command == "optimize" and problem != "planetary":
+    if command == "optimize" and problem not in kind.problems:
         raise DesignError(f"{args.design}: option --problem: a \"planetary\" train is "
                           f"optimized with --problem planetary ('{problem}' is for the seeder "
                           "and the rice transplanters)")
-    if command not in ("forward", "gears", "optimize", "study", "design") \
-            and getattr(args, "report", False):
+    if command not in kind.report_commands and getattr(args, "report", False):
         raise DesignError(f"{args.design}: option --report: the HTML report is not available "
                           f"for mechanism \"planetary\" yet ('{command}' writes its files and "
                           "verification.json without it)")
@@ -173,10 +172,13 @@ def _inverse(args) -> int:
 
 
 def _inverse_body(args, design, run) -> int:
-    if design.mechanism == "planetary":
-        from plantmech.interfaces.planetary_inverse_cli import inverse_planetary
+    from plantmech.kinds import kind_of
 
-        return inverse_planetary(args, design, run)
+    return kind_of(design).hook("inverse_cli")(args, design, run)
+
+
+def _inverse_seeder(args, design, run) -> int:
+    """The seeder's inverse design (three-bar split of its [trajectory]) into ``run.path``."""
     from plantmech.geometry.trajectory import TrajectoryError
     from plantmech.outputs.files import write_json
     from plantmech.outputs.seeder_report import write_inverse_outputs
@@ -242,6 +244,13 @@ def _forward(args) -> int:
 
 
 def _forward_body(args, design, run) -> int:
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("forward_cli")(args, design, run)
+
+
+def _forward_seeder(args, design, run) -> int:
+    """The seeder's forward simulation (its [train], or its trajectory's inverse design)."""
     from plantmech.gears.closure import ClosureError
     from plantmech.geometry.periodic import PitchCurveError
     from plantmech.geometry.trajectory import TrajectoryError
@@ -250,12 +259,6 @@ def _forward_body(args, design, run) -> int:
     from plantmech.workflows import InfeasibleDesign, run_seeder_forward
 
     out = run.path
-    if design.mechanism == "planetary":
-        from plantmech.interfaces.planetary_cli import forward_planetary
-
-        return forward_planetary(args, design, run)
-    if design.mechanism != "sugarcane_seeder":
-        return _forward_transplanter(args, design, run)
     t0 = time.perf_counter()
     try:
         job = run_seeder_forward(design)
@@ -306,8 +309,9 @@ def _forward_transplanter(args, design, run) -> int:
     try:
         job = run_transplanter(design)
     except (InternalPairError, ValueError) as exc:
-        gear = "internal_gear" if design.mechanism == "rice_transplanter" else "sun_gear"
-        print(f"error: {args.design}: [{gear}]: {exc}", file=sys.stderr)
+        from plantmech.kinds import kind_of
+
+        print(f"error: {args.design}: [{kind_of(design).fixed_gear}]: {exc}", file=sys.stderr)
         return EXIT_INPUT
     job.summary["wall_time_s"] = round(time.perf_counter() - t0, 4)
     v = job.summary["verdict"] = verdict(job.summary["objectives"])

@@ -288,9 +288,12 @@ def _tolerance_files(args, design, out: Path, s: dict) -> list[Path]:
               "left out of the tip-path band")
     for o in s["objectives"]:
         top = o["sensitivity"]["ranking"][0]
-        print(f"  {o['name']:<36} nominal {o['nominal']:>10.4f} {o['unit']:<4} "
-              f"P(ok {o['limit']}) = {o['probability_ok']:.4f}   std {o.get('std', 0):.4g}"
-              f" (first order {o['first_order_std']:.4g}); most: {top['parameter']}")
+        nom = "not computable" if o["nominal"] is None else f"{o['nominal']:>10.4f}"
+        fo = "n/a" if o["first_order_std"] is None else f"{o['first_order_std']:.4g}"
+        std = f"{o['std']:.4g}" if "std" in o else "n/a"  # not computed in any variant
+        print(f"  {o['name']:<36} nominal {nom:>10} {o['unit']:<4} "
+              f"P(ok {o['limit']}) = {o['probability_ok']:.4f}   std {std}"
+              f" (first order {fo}); most: {top['parameter']}")
     bs = s["band_summary"]
     print(f"  tip-path band: largest std {bs['largest_mc_std_mm']:.4f} mm (first order "
           f"{bs['largest_first_order_std_mm']:.4f} mm), envelope up to "

@@ -72,52 +72,53 @@ def run(args) -> int:
 def _body(args, design, run) -> int:
     """Read the gear files, drive them through the train, write into ``run.path``."""
     from plantmech.contact.outlines import GearFileError, read_gear_dxf
+    from plantmech.kinds import kind_of
 
     gears_dir = Path(args.gears)
     out = run.path
-    names = {"sugarcane_seeder": SEEDER_GEARS, "rice_transplanter": TRANSPLANTER_GEARS,
-             "rice_transplanter_khv": KHV_GEARS}.get(design.mechanism)
-    if design.mechanism == "planetary":
-        from plantmech.contact.planetary import gear_file_names
-
-        try:
-            names = tuple(gear_file_names(design))
-        except ValueError as exc:
-            print(f"error: {args.design}: {exc}", file=sys.stderr)
-            return EXIT_INPUT
-    if names is None:
+    kind = kind_of(design)
+    if not kind.has("verify_run"):
         print(f"error: {args.design}: field 'mechanism' = {design.mechanism!r}: 'plantmech "
               "verify' drives the sugarcane seeder's, the rice transplanters' and the general "
               "planetary trains", file=sys.stderr)
+        return EXIT_INPUT
+    try:
+        names = tuple(kind.hook("verify_gears")(design))
+    except ValueError as exc:
+        print(f"error: {args.design}: {exc}", file=sys.stderr)
         return EXIT_INPUT
     try:
         gears = {n: read_gear_dxf(gears_dir / f"{n}.dxf", n) for n in names}
     except GearFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    if design.mechanism == "planetary":
-        try:
-            rec = _run_planetary(args, design, gears, out)
-        except ValueError as exc:  # the train cannot be built from the file
-            print(f"error: {args.design}: {exc}", file=sys.stderr)
-            return EXIT_INPUT
-        return _report(args, design, gears, gears_dir, run, rec, rec.pop("_loads"))
-    if design.mechanism.startswith("rice_transplanter"):
-        try:
-            rec = _run_transplanter(args, design, gears, out)
-        except ValueError as exc:  # the pitch curves of the design cannot be built
-            section = "sun_gear" if design.mechanism.endswith("khv") else "internal_gear"
-            print(f"error: {args.design}: [{section}]: {exc}", file=sys.stderr)
-            return EXIT_INPUT
-        return _report(args, design, gears, gears_dir, run, rec, rec.pop("_loads"))
+    try:
+        rec = kind.hook("verify_run")(args, design, gears, out)
+    except ValueError as exc:  # the train cannot be built from the file
+        where = f"[{kind.section}]: " if kind.section else ""
+        print(f"error: {args.design}: {where}{exc}", file=sys.stderr)
+        return EXIT_INPUT
+    return _report(args, design, gears, gears_dir, run, rec, rec.pop("_loads"))
+
+
+def seeder_gear_names(design) -> tuple[str, ...]:
+    return SEEDER_GEARS
+
+
+def transplanter_gear_names(design) -> tuple[str, ...]:
+    return TRANSPLANTER_GEARS
+
+
+def khv_gear_names(design) -> tuple[str, ...]:
+    return KHV_GEARS
+
+
+def _run_seeder(args, design, gears, out) -> dict:
+    """The seeder's two pairs driven tooth on tooth (and their loads and plots)."""
     from plantmech.contact.seeder import analyse_seeder, seeder_record, seeder_train
 
     t0 = time.perf_counter()
-    try:
-        train = seeder_train(design)
-    except ValueError as exc:
-        print(f"error: {args.design}: [train]: {exc}", file=sys.stderr)
-        return EXIT_INPUT
+    train = seeder_train(design)  # ValueError: [train]
     contact = analyse_seeder(train, gears, steps=args.steps)
     limits = _limits(args)
     rec = seeder_record(contact, train, limits)
@@ -126,7 +127,7 @@ def _body(args, design, run) -> int:
         from plantmech.contact.loads import seeder_loads
         from plantmech.mechanisms.seeder_forward import simulate
 
-        spec = _load_spec(args, gears_dir)
+        spec = _load_spec(args, Path(args.gears))
         loads = _record_loads(
             rec, lambda: seeder_loads(train, simulate(train, samples=3600), gears, spec))
         _record_strength(rec, design, gears, loads, spec.face_width_mm, args.shaft_overhang)
@@ -142,7 +143,8 @@ def _body(args, design, run) -> int:
             vp.plot_loads(out / "loads.png", loads)
             files.append("loads.png")
     rec["files"] = files
-    return _report(args, design, gears, gears_dir, run, rec, loads)
+    rec["_loads"] = loads
+    return rec
 
 
 def _limits(args) -> dict:
@@ -151,7 +153,13 @@ def _limits(args) -> dict:
             "attitude_error_deg": args.max_attitude_error, "tip_band_mm": args.max_tip_band}
 
 
-def _run_transplanter(args, design, gears, out) -> dict:
+def _run_khv(args, design, gears, out) -> dict:
+    """The K-H-V train: every arm's middle gear against the sun, its planet against the
+    middle."""
+    return _run_transplanter(args, design, gears, out, khv=True)
+
+
+def _run_transplanter(args, design, gears, out, khv: bool = False) -> dict:
     """The differential transplanter (every arm's planet against the internal gear) or
     the K-H-V train (every arm's middle gear against the sun, its planet against the
     middle)."""
@@ -159,7 +167,6 @@ def _run_transplanter(args, design, gears, out) -> dict:
     from plantmech.contact.transplanter import analyse_transplanter, transplanter_record
 
     t0 = time.perf_counter()
-    khv = design.mechanism == "rice_transplanter_khv"
     contact = (analyse_khv if khv else analyse_transplanter)(design, gears, steps=args.steps)
     limits = _limits(args)
     rec = (khv_record if khv else transplanter_record)(contact, limits)
@@ -257,8 +264,7 @@ def _record_loads(rec: dict, compute):
 def _record_strength(rec: dict, design, gears, loads, face_width_mm: float,
                      overhang_mm: float | None = None) -> None:
     """The strength table (``contact/strength.py``) into ``rec`` and its safeties into the
-    checks and the verdict; said "not computed" where there are no loads or no rating for
-    the train."""
+    checks and the verdict; said "not computed" where there are no loads."""
     if loads is None:
         rec["strength"] = {"not_computed": "no loads (--no-loads, or the loads were skipped)"}
         return

@@ -64,8 +64,8 @@ def simulate_transplanter(design, radii=None, samples: int | None = None, dense:
     offset = design_param(design, params, "carrier_offset_mm")
     play = (np.radians(params["backlash_deg"]) if params and "backlash_deg" in params
             else None)
-    if design.mechanism == "rice_transplanter":
-        g = design.internal_gear
+    g = getattr(design, "internal_gear", None)  # the differential's lobed internal gear
+    if g is not None:
         r = np.atleast_2d(g.radii_mm if radii is None else radii).astype(float)
         pair = lobed_internal_pair(np.radians(g.phases()), r, g.lobes, g.interpolation, dense,
                                    g.min_planet_radius_mm, g.centre_distance_mm)

@@ -56,8 +56,7 @@ def make_problem(design, name: str, layer2_points: int = 16, tooth_fit: bool = T
         from plantmech.optimize.planetary_problem import PlanetaryProblem
 
         return PlanetaryProblem(design, manufacturability=tooth_fit)
-    if design.mechanism != "sugarcane_seeder":
-        raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
+    _takes(design, name)
     if name == "seeder-layer1":
         _needs_trajectory(design, name)
         return P.SeederLayer1(design)
@@ -83,10 +82,25 @@ def place_seeding_point(design):
     return design, placement
 
 
+def _takes(design, name: str) -> None:
+    """ValueError naming the kinds problem ``name`` takes when the design is of another
+    (``kinds.Kind.problems``)."""
+    from plantmech.kinds import KINDS, kind_of
+
+    if name not in kind_of(design).problems:
+        takes = [k.name for k in KINDS.values() if name in k.problems]
+        raise ValueError(f"problem {name!r} needs a {' or '.join(takes) or 'known'} design")
+
+
+def _taken(design, name: str) -> bool:
+    from plantmech.kinds import kind_of
+
+    return name in kind_of(design).problems
+
+
 def _needs_trajectory(design, name: str) -> None:
     """Layer 1 (alone or layered) moves type-value points: refuse other designs."""
-    if design.mechanism != "sugarcane_seeder":
-        raise ValueError(f"problem {name!r} needs a sugarcane_seeder design")
+    _takes(design, name)
     if design.trajectory is None:
         raise ValueError("layer 1 moves type-value points: the design needs a [trajectory]")
 
@@ -105,7 +119,7 @@ def optimize(design, name: str, out: Path, design_input: str, seed: int = 0,
 
     placement = None
     if (name in ("seeder-layer1", "seeder-layered", "seeder-joint") and seeding_point == "auto"
-            and not seeding_shifts and design.mechanism == "sugarcane_seeder"
+            and not seeding_shifts and _taken(design, name)
             and design.trajectory is not None):
         design, placement = place_seeding_point(design)
         if progress:
@@ -404,15 +418,18 @@ def transplanter_choices(design):
     from plantmech.design import Manufacturing
     from plantmech.optimize.problems import not_transplanter
 
-    if design.mechanism != "rice_transplanter":
+    if not _taken(design, "transplanter"):
         raise ValueError(not_transplanter(design))
+    from plantmech.kinds import kind_of
+
     d = design.model_copy(deep=True)
     choices = {}
-    g = design.internal_gear
+    field = kind_of(design).fixed_gear  # the internal gear, or the K-H-V train's sun
+    g = getattr(design, field)
     if "interpolation" in g.model_fields_set:
         choices["interpolation"] = {"value": g.interpolation, "set_by": "design file"}
     else:
-        d.internal_gear.interpolation = "spline"
+        getattr(d, field).interpolation = "spline"
         choices["interpolation"] = {
             "value": "spline", "set_by": "plantmech design (the file does not fix it)",
             "why": "periodic cubic spline (C2): its radius of curvature, which the tooth fit "
@@ -547,17 +564,34 @@ def verify(design, tooth_fit: bool = True) -> dict:
     """Re-evaluate a design with the full-resolution single-design model (the optimizer
     works at reduced resolution): {all_met, objectives}. ``tooth_fit`` False: the
     transplanter's tooth-fit objectives (xiii)-(xv) are reported, not required."""
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("optimizer_check")(design, tooth_fit)
+
+
+def _tooth_fit_reported(objs: list[dict], tooth_fit: bool) -> dict:
+    """{all_met, objectives}: ``tooth_fit`` False makes the gear-shape checks reported, not
+    required."""
     from plantmech.optimize.problems import is_gear_shape_check
 
-    if design.mechanism == "planetary":
-        from plantmech.optimize.planetary_problem import verify as verify_planetary
+    if not tooth_fit:
+        objs = [dict(o, required=False) if is_gear_shape_check(o["name"]) else o
+                for o in objs]
+    return {"all_met": all(o["ok"] for o in objs if o.get("required", True)),
+            "objectives": objs}
 
-        return verify_planetary(design, tooth_fit)
-    if design.mechanism != "sugarcane_seeder":
-        from plantmech.workflows import run_transplanter
 
-        objs = run_transplanter(design).summary["objectives"]
-    elif design.train is not None:  # the train's objectives, after its path's Table 1
+def _check_transplanter(design, tooth_fit: bool = True) -> dict:
+    """``verify`` of a rice transplanter: its forward job's objectives (i)-(xv)."""
+    from plantmech.workflows import run_transplanter
+
+    return _tooth_fit_reported(run_transplanter(design).summary["objectives"], tooth_fit)
+
+
+def _check_seeder(design, tooth_fit: bool = True) -> dict:
+    """``verify`` of a seeder: its train's objectives after its path's Table 1, or (a
+    trajectory alone) layer 1's checks of the inverse design."""
+    if design.train is not None:  # the train's objectives, after its path's Table 1
         from plantmech.objectives.seeder import planning_checks
         from plantmech.workflows import run_seeder_forward
 
@@ -576,11 +610,7 @@ def verify(design, tooth_fit: bool = True) -> dict:
         if not job.result.feasible:
             objs.insert(0, {"name": "feasible_inverse", "value": float(max(len(errors), 1)),
                             "unit": "", "limit": "= 0 errors", "ok": False})
-    if not tooth_fit:
-        objs = [dict(o, required=False) if is_gear_shape_check(o["name"]) else o
-                for o in objs]
-    return {"all_met": all(o["ok"] for o in objs if o.get("required", True)),
-            "objectives": objs}
+    return _tooth_fit_reported(objs, tooth_fit)
 
 
 def summary_lines(record: dict) -> list[str]:

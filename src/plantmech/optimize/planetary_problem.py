@@ -96,7 +96,9 @@ class PlanetaryProblem(DesignProblem):
     objective_names = ["max_working_pressure_angle_deg"]
 
     def __init__(self, design, manufacturability: bool = True):
-        if design.mechanism != "planetary":
+        from plantmech.kinds import kind_of
+
+        if self.name not in kind_of(design).problems:
             raise ValueError("problem 'planetary' optimizes a mechanism = \"planetary\" design "
                              "(this file is a " + design.mechanism + ")")
         from plantmech.design_planetary import PlanetaryOptimize, get_path, set_path

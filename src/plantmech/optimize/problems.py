@@ -602,16 +602,12 @@ TRANSPLANTER_BOUNDS = {  # half-widths around the design's values
 
 
 def not_transplanter(design) -> str:
-    """Why the transplanter problem refuses ``design``; for the K-H-V train, where its
-    optimizer is (its general train file with ``--problem planetary``)."""
-    msg = (f"the transplanter problem optimizes a rice_transplanter design (this file is a "
-           f"{design.mechanism})")
-    if design.mechanism == "rice_transplanter_khv":
-        msg += ("; the K-H-V train is optimized as a general train file: plantmech optimize "
-                "examples/planetary/rice_transplanter_khv.toml --problem planetary (its "
-                "pitch curves and arm, against the manufacturability rules; its transplanting "
-                "objectives (i)-(xv) are not yet evaluated on the general train)")
-    return msg
+    """Why the transplanter problem refuses ``design`` (the kinds it takes: ``kinds``)."""
+    from plantmech.kinds import KINDS
+
+    takes = " or ".join(k.name for k in KINDS.values() if "transplanter" in k.problems)
+    return (f"the transplanter problem optimizes a {takes} design (this file is a "
+            f"{design.mechanism})")
 
 
 class Transplanter(DesignProblem):
@@ -629,16 +625,20 @@ class Transplanter(DesignProblem):
     def __init__(self, design, radius_bound_mm: float = 6.0, samples: int = 360,
                  interference: bool = True, tooth_fit: bool = False,
                  ring_scale_bound: float = 0.0):
-        if design.mechanism != "rice_transplanter":
+        from plantmech.kinds import kind_of
+
+        if self.name not in kind_of(design).problems:
             raise ValueError(not_transplanter(design))
         self.samples = samples
         self.interference = interference
         self.tooth_fit = tooth_fit
-        g = design.internal_gear
+        # the fixed non-circular gear: the differential's internal gear, the K-H-V's sun
+        field = kind_of(design).fixed_gear
+        g = getattr(design, field)
         variables = []
         for k, r in enumerate(g.radii_mm):
             def apply(d, val, k=k):
-                d.internal_gear.radii_mm[k] = float(val)
+                getattr(d, field).radii_mm[k] = float(val)
             variables.append(Variable(f"r{k}", float(r), max(r - radius_bound_mm, 1.0),
                                       r + radius_bound_mm, "mm", apply))
         from plantmech.mechanisms.transplanter_design import design_param as _param
@@ -653,7 +653,9 @@ class Transplanter(DesignProblem):
             "box_y_mm": lambda d, v: setattr(d.seedling_box, "y_mm", v),
             "box_inclination_deg": lambda d, v: setattr(d.seedling_box, "inclination_deg", v),
         }
-        self.param_names = list(TRANSPLANTER_BOUNDS)
+        # a sun has no lobe phase (sigma): the K-H-V train's arm starts with the carrier
+        self.param_names = [n for n in TRANSPLANTER_BOUNDS
+                            if n != "initial_phase_deg" or hasattr(g, "initial_phase_deg")]
         for name in self.param_names:
             x0 = float(_param(design, None, name))
             b = TRANSPLANTER_BOUNDS[name]
@@ -665,12 +667,12 @@ class Transplanter(DesignProblem):
         self.ring_scale = ring_scale_bound > 0
         if self.ring_scale:
             def scale_radii(d, val):
-                d.internal_gear.radii_mm = [float(r) * val for r in d.internal_gear.radii_mm]
+                getattr(d, field).radii_mm = [float(r) * val for r in getattr(d, field).radii_mm]
             variables.append(Variable("ring_scale", 1.0, 1.0 - ring_scale_bound,
                                       1.0 + ring_scale_bound, "", scale_radii))
-        # (i)-(xii), plus (xiii)-(xv) where the train's tooth fit is computed
-        n_constr = 12 + len(self.TOOTH_FIT) if (design.mechanism == "rice_transplanter"
-                                                and g.teeth) else 12
+        # (i)-(xii), plus (xiii)-(xv) where the train's tooth fit is computed (a lobed
+        # internal gear with a tooth count: objectives.transplanter_design.gear_fit)
+        n_constr = 12 + len(self.TOOTH_FIT) if g.teeth and hasattr(g, "lobes") else 12
         super().__init__(design, variables, n_constr=n_constr)
 
     def evaluate_batch(self, X):
@@ -688,7 +690,11 @@ class Transplanter(DesignProblem):
         lo, hi = self.design.limits.angle_difference_deg
         F = np.c_[v[:, names.index("seedling_block_skew")], v[:, names.index("hole_width")],
                   np.abs(v[:, names.index("angle_difference")] - 0.5 * (lo + hi))]
-        G, limits = ev.violation, list(ev.limits)
+        # an objective a candidate cannot compute (a K-H-V tip that never passes through
+        # the seedling mat has no picking angle, hence no skew) is as bad as a candidate
+        # that cannot mesh (``_one_by_one``): 1e6, never a NaN the search sorts by
+        F = np.where(np.isfinite(F), F, 1e6)
+        G, limits = np.where(np.isfinite(ev.violation), ev.violation, 1e6), list(ev.limits)
         required, extra = np.ones(len(names), bool), {}
         if not self.tooth_fit:  # the paper's objectives only; the tooth fit is reported
             G, required, limits, extra = _reported_only(

@@ -209,9 +209,10 @@ def study_mechanism(state: dict, summary: dict) -> str:
 
 
 def _parameters_table(summary: dict, mechanism: str) -> str:
-    from plantmech.studies.parameters import SEEDER_PARAMETERS, TRANSPLANTER_PARAMETERS
+    from plantmech.kinds import KINDS
 
-    known = SEEDER_PARAMETERS if mechanism == "sugarcane_seeder" else TRANSPLANTER_PARAMETERS
+    kind = KINDS.get(mechanism)
+    known = kind.hook("study_model").PARAMETERS if kind is not None else {}
     rows = ['<table id="tolerance-table"><thead><tr><th>parameter</th><th>what</th>'
             "<th>deviation</th><th>std</th><th>nominal</th></tr></thead><tbody>"]
     for p in summary["parameters"]:

@@ -150,7 +150,7 @@ def plot_gears(job) -> Figure:
     fig = Figure(figsize=(9.5, 7.5), layout="constrained")
     ax = fig.subplots()
     c0 = np.radians(job.design.carrier.initial_angle_deg)
-    if job.design.mechanism == "rice_transplanter":
+    if getattr(job.design, "internal_gear", None) is not None:  # the differential's pair
         pair = job.pair
         ang, R = pair.internal_polar(0)
         phase0 = np.radians(job.design.internal_gear.initial_phase_deg)

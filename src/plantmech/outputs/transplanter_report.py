@@ -88,8 +88,8 @@ def transplanter_summary(job, k: int = 0) -> dict:
         "carrier_speed_deg_s": d.drive.carrier_speed_deg_s,
         "samples": int(len(m.carrier_angle)),
     }
-    if d.mechanism == "rice_transplanter":
-        g = d.internal_gear
+    g = getattr(d, "internal_gear", None)  # the differential's lobed internal gear
+    if g is not None:
         rp = job.pair.planet_radius[k]
         ratio = d.drive.speed_ratio or (g.lobes - 1) / g.lobes
         out["speed_ratio_omega1_omega2"] = ratio
@@ -108,8 +108,9 @@ def motion_table(job, k: int = 0) -> dict[str, np.ndarray]:
     d = job.design
     cols = {"carrier_angle_deg": m.carrier_angle * DEG,
             "time_s": m.carrier_angle * DEG / d.drive.carrier_speed_deg_s}
-    if d.mechanism == "rice_transplanter":
-        ratio = d.drive.speed_ratio or (d.internal_gear.lobes - 1) / d.internal_gear.lobes
+    g = getattr(d, "internal_gear", None)  # the differential's internal gear turns
+    if g is not None:
+        ratio = d.drive.speed_ratio or (g.lobes - 1) / g.lobes
         cols["internal_gear_angle_deg"] = m.carrier_angle * DEG * ratio  # theta_1, clockwise
     J = m.B.shape[1]
     sign = job.evaluation.metrics["forward_sign"][k]

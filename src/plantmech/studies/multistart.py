@@ -18,23 +18,20 @@ from plantmech.studies.engine import (
 )
 from plantmech.studies.spec import MultiStartSpec, StudySpecError
 
-#: the mechanism each problem optimizes, and whether it moves type-value points (and so
-#: needs a [trajectory])
-PROBLEM_MECHANISM = {"seeder-layer1": ("sugarcane_seeder", True),
-                     "seeder-layer2": ("sugarcane_seeder", False),
-                     "seeder-layered": ("sugarcane_seeder", True),
-                     "seeder-joint": ("sugarcane_seeder", False),
-                     "transplanter": ("rice_transplanter", False),
-                     "planetary": ("planetary", False)}
+#: the problems that move type-value points (and so need a [trajectory])
+TRAJECTORY_PROBLEMS = ("seeder-layer1", "seeder-layered")
 
 
 def check_problem(design, spec: MultiStartSpec, source: str = "study file") -> None:
     """StudySpecError naming ``source`` and the field when ``spec.problem`` cannot optimize
     ``design`` (before a start is sent: every start would fail the same way)."""
-    mechanism, trajectory = PROBLEM_MECHANISM[spec.problem]
-    if design.mechanism != mechanism:
+    from plantmech.kinds import KINDS, kind_of
+
+    if spec.problem not in kind_of(design).problems:
+        takes = " or ".join(k.name for k in KINDS.values() if spec.problem in k.problems)
         raise StudySpecError(f"{source}: field 'problem': {spec.problem!r} optimizes a "
-                             f"{mechanism} design, and {design.name!r} is a {design.mechanism}")
+                             f"{takes} design, and {design.name!r} is a {design.mechanism}")
+    trajectory = spec.problem in TRAJECTORY_PROBLEMS
     if trajectory and getattr(design, "trajectory", None) is None:
         raise StudySpecError(f"{source}: field 'problem': {spec.problem!r} moves type-value "
                              f"points: the design {design.name!r} needs a [trajectory]")

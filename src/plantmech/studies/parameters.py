@@ -103,18 +103,21 @@ class Evaluated:
     extra: dict
 
 
+def model_class(design):
+    """The study model of the design's kind (``kinds.Kind``, hook "study_model")."""
+    from plantmech.kinds import kind_of
+
+    return kind_of(design).hook("study_model")
+
+
 def parameters_of(design) -> dict:
-    if design.mechanism == "planetary":  # any numeric field, by its dotted path
-        return {}
-    return SEEDER_PARAMETERS if design.mechanism == "sugarcane_seeder" else TRANSPLANTER_PARAMETERS
+    """The named study parameters of the design's kind ({}: any numeric field, by its
+    dotted path, as the general train's)."""
+    return model_class(design).PARAMETERS
 
 
 def make_model(design, names: list[str], cycle_samples: int = 720, dense: int = 2048):
-    if design.mechanism == "sugarcane_seeder":
-        return SeederModel(design, names, cycle_samples, dense)
-    if design.mechanism == "planetary":
-        return PlanetaryModel(design, names, cycle_samples)
-    return TransplanterModel(design, names, cycle_samples)
+    return model_class(design).build(design, names, cycle_samples, dense)
 
 
 def _check_names(names, known, mechanism):
@@ -132,18 +135,18 @@ def check_parameters(design, names: list[str]) -> None:
     """StudyInputError naming the first of ``names`` this design cannot vary: the checks
     of the model's construction, without its evaluation (a study checks them before its
     --out is made)."""
-    if design.mechanism == "planetary":
-        PlanetaryModel(design, names)  # reads the fields' values only
-    elif design.mechanism == "sugarcane_seeder":
-        SeederModel.check(design, names)
-    else:
-        TransplanterModel.check(design, names)
+    model_class(design).check(design, names)
 
 
 class SeederModel:
     """Variants of a seeder's [train] (see the module docstring for the model)."""
 
     mechanism = "sugarcane_seeder"
+    PARAMETERS = SEEDER_PARAMETERS
+
+    @classmethod
+    def build(cls, design, names, cycle_samples: int = 720, dense: int = 2048):
+        return cls(design, names, cycle_samples, dense)
 
     @staticmethod
     def check(design, names: list[str]) -> None:
@@ -229,10 +232,24 @@ class SeederModel:
 class TransplanterModel:
     """Variants of a transplanter (seed 001): see the module docstring."""
 
+    PARAMETERS = TRANSPLANTER_PARAMETERS
+
+    @classmethod
+    def build(cls, design, names, cycle_samples: int = 720, dense: int = 2048):
+        return cls(design, names, cycle_samples)
+
     @staticmethod
-    def check(design, names: list[str]) -> None:
+    def _fixed_gear(design):
+        """The fixed non-circular gear: the internal gear (differential) or the sun (K-H-V)."""
+        from plantmech.kinds import kind_of
+
+        return getattr(design, kind_of(design).fixed_gear)
+
+    @classmethod
+    def check(cls, design, names: list[str]) -> None:
         _check_names(names, TRANSPLANTER_PARAMETERS, design.mechanism)
-        if design.mechanism != "rice_transplanter" and "ring_phase_deg" in names:
+        if not hasattr(cls._fixed_gear(design), "initial_phase_deg") \
+                and "ring_phase_deg" in names:
             raise StudyInputError("parameter 'ring_phase_deg': a K-H-V train has no lobe phase")
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720):
@@ -240,7 +257,7 @@ class TransplanterModel:
 
         self.check(design, names)
         self.mechanism = design.mechanism
-        if design.mechanism == "rice_transplanter" and design.internal_gear.centre_distance_mm:
+        if getattr(self._fixed_gear(design), "centre_distance_mm", None):
             # the variants' pairs close by their teeth: solve the centre distance
             design = design.model_copy(deep=True)
             design.internal_gear.centre_distance_mm = None
@@ -249,8 +266,7 @@ class TransplanterModel:
         self._carrier0 = None
 
     def _gear(self):
-        d = self.design
-        return d.internal_gear if d.mechanism == "rice_transplanter" else d.sun_gear
+        return self._fixed_gear(self.design)
 
     def carrier_length(self) -> float:
         """O - planet axis (mm) of the nominal design: a (differential) or 2 a (K-H-V)."""
@@ -326,6 +342,15 @@ class PlanetaryModel:
     the [limits] checks and the pitch curves' manufacturability rules)."""
 
     mechanism = "planetary"
+    PARAMETERS: dict = {}  # any numeric field, by its dotted path
+
+    @classmethod
+    def build(cls, design, names, cycle_samples: int = 720, dense: int = 2048):
+        return cls(design, names, cycle_samples)
+
+    @classmethod
+    def check(cls, design, names: list[str]) -> None:
+        cls(design, names)  # reads the fields' values only
 
     def __init__(self, design, names: list[str], cycle_samples: int = 720):
         from plantmech.design_planetary import get_path

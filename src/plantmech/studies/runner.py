@@ -203,16 +203,20 @@ def tolerance_summary(model, spec: ToleranceSpec, out: Path) -> dict:
         ok = data[f"{name}__ok"].astype(bool)
         src, r2 = standardized_regression(X, data[name])
         contrib = np.abs(fo["grad_objectives"][:, k]) * stds
+        # an objective the nominal design cannot compute (a K-H-V tip that never passes
+        # through the seedling mat: no picking angle) has no nominal value and no first
+        # order: None in the summary (JSON has no NaN), its variants counted as not met
+        computable = bool(np.isfinite(nominal.values[0, k]))
         objectives.append({
             "name": name, "unit": fo["units"][k], "limit": fo["limits"][k],
-            "nominal": float(nominal.values[0, k]), "nominal_ok": bool(nominal.ok[0, k]),
+            "nominal": _finite(nominal.values[0, k]), "nominal_ok": bool(nominal.ok[0, k]),
             "probability_ok": float(ok.mean()), "probability_ok_95": wilson(int(ok.sum()), N),
             **describe(data[name]),
-            "first_order_std": float(np.sqrt(np.sum(contrib**2))),
-            "first_order_mean": float(nominal.values[0, k]
-                                      + fo["grad_objectives"][:, k] @ np.array(
-                                          [dist.mean(d) for d in dists])),
-            "sensitivity": _ranked(names, src, contrib, r2),
+            "first_order_std": _finite(np.sqrt(np.sum(contrib**2))),
+            "first_order_mean": _finite(nominal.values[0, k]
+                                        + fo["grad_objectives"][:, k] @ np.array(
+                                            [dist.mean(d) for d in dists])),
+            "sensitivity": _ranked(names, src, contrib if computable else None, r2),
         })
     all_ok = data["all_ok"].astype(bool)
     kept = np.ones(N, bool)
@@ -255,6 +259,12 @@ def tolerance_summary(model, spec: ToleranceSpec, out: Path) -> dict:
             "first_order_sigma: |d output / d parameter| x std, central differences of the "
             "same model at the nominal design (step 0.01 std)"),
     }
+
+
+def _finite(x) -> float | None:
+    """``x`` as a float, or None where it is not finite (JSON has no NaN)."""
+    x = float(x)
+    return x if np.isfinite(x) else None
 
 
 def _ranked(names, src, contrib, r2) -> dict:
