@@ -377,6 +377,84 @@ def _invert(Fp, g, p, qp, F, N, h, inv, k_last, last, walk):
     return theta + 2.0 * np.pi * w, k, yv
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _cell(x, N, inv):
+    """(interval k, fraction s in [0, 1)) of angle x (rad) on the uniform periodic grid of
+    N points, spacing 1 / ``inv``: ``_read``'s interval rule."""
+    u = x * inv
+    kf = np.floor(u)
+    return int(kf) % N, u - kf
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _cubic(y, dy, p, k, N, h, s, sub):
+    """Value at fraction s of interval k of row p's periodic Hermite table through values
+    ``y`` and slopes ``dy`` - ``sub`` (``_read``'s value, its interval already found)."""
+    k1 = 0 if k == N - 1 else k + 1
+    s2 = s * s
+    s3 = s2 * s
+    y0 = y[p, k]
+    return (y0 + (2 * s3 - 3 * s2) * (y0 - y[p, k1]) + (s3 - 2 * s2 + s) * ((dy[p, k] - sub) * h)
+            + (s3 - s2) * ((dy[p, k1] - sub) * h))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _invert_cell(Fp, g, p, qp, F, N, h, k_last, last, walk):
+    """(k, s, whole turns w, remainder) with Fp(theta) + q theta = F at theta = (k + s) h +
+    2 pi w: ``_invert``'s interval (walked from the previous target's, or bisected), its
+    linear inverse, then Newton on that interval's cubic in s (no interval search per
+    step; up to 4 steps, stopped after a step below 1e-8: Newton's error is then below
+    (h g' / 2 g) 1e-16, i.e. s to the last bit; 2 steps on the bundled grids)."""
+    period = 2.0 * np.pi * qp
+    w = np.floor(F / period)
+    yv = F - w * period
+    lo, hi = 0, N
+    if walk and yv >= last:
+        lo = k_last
+        steps = 0
+        while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
+            lo += 1
+            steps += 1
+        if steps < 8:
+            hi = lo + 1
+    elif walk:
+        hi = k_last + 1
+        steps = 0
+        while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
+            hi -= 1
+            steps += 1
+        if steps < 8:
+            lo = hi - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Fp[p, mid] + qp * (mid * h) <= yv:
+            lo = mid
+        else:
+            hi = mid
+    k = lo
+    k1 = 0 if k == N - 1 else k + 1
+    y0 = Fp[p, k]
+    dyy = y0 - Fp[p, k1]
+    d0 = (g[p, k] - qp) * h
+    d1 = (g[p, k1] - qp) * h
+    base = qp * (k * h)
+    qh = qp * h
+    f0 = y0 + base
+    f1 = Fp[p, k1] + qp * ((k + 1) * h)
+    s = (yv - f0) / (f1 - f0 if f1 > f0 else 1.0)
+    for _ in range(4):
+        s2 = s * s
+        s3 = s2 * s
+        val = (y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+               + base + qh * s)
+        der = (6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1 + qh
+        step = (val - yv) / der
+        s -= step
+        if abs(step) <= 1e-8:  # quadratic: the next step would be below 1e-16
+            break
+    return k, s, w, yv
+
+
 @njit(cache=True, error_model="numpy", nogil=True)
 def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived,
                lock, width, tsense, dwell, sun0, sun_rate, carrier0, cs, arms, samples,
@@ -388,12 +466,16 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     a compound driver turned by ``shift`` (K, P), a derived one (``derived`` (K,) True)
     phased so it starts at ``shift`` at arm 0's first sample; pair 0's toothless dwell
     (``dwell``: lock, width (P,), ``tsense``) squeezes its toothless arcs out; a pair whose
-    follower is ``given`` inverts its law, else reads it forward. ``same_arms`` (a fixed
-    sun, samples a multiple of the arms): arm j at psi is arm 1 at psi + 2 pi j / J, so
-    arm 1 is walked (one sample more: its arm angle a turn on) and the others copied, the
-    arm angle a turn on past 2 pi. Returns (tip, tip rate
-    d tip / d psi (complex (P, J, S)), arm angle beta, its rate (P, J, S), the planet's
-    centre (complex (P, J, S)))."""
+    follower is ``given`` inverts its law (``_invert_cell``: the interval walked from the
+    previous sample's, Newton on its cubic), else reads it forward (one interval lookup for
+    F and g). ``same_arms`` (a fixed sun, samples a multiple of the arms): arm j at psi is
+    arm 1 at psi + 2 pi j / J, so arm 1 is walked (one sample more: its arm angle a turn
+    on) and the others copied, the arm angle a turn on past 2 pi. The carrier's direction
+    exp(i cs (psi + 2 pi j / J)) is tabulated once for every design (turned by each
+    design's start), the arm's exp(i beta) that times exp(i (planet body angle + arm
+    offset)): one sin/cos pair per sample. Returns (tip, tip rate d tip / d psi (complex
+    (P, J, S)), arm angle beta, its rate (P, J, S), the planet's centre (complex
+    (P, J, S)))."""
     K = len(Fp)
     P, N = Fp[0].shape
     h = 2.0 * np.pi / N
@@ -407,12 +489,21 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
     start = np.empty(K)
     k_last = np.zeros(K, dtype=np.int64)
     y_last = np.zeros(K)
+    walked = 1 if same_arms else arms
+    S1 = samples + (1 if same_arms else 0)
+    turn = np.empty((walked, S1), dtype=np.complex128)  # exp(i cs (psi + off_j))
+    for j in range(walked):
+        for si in range(S1):
+            x = cs * (two_pi * si / samples + two_pi * j / arms)
+            turn[j, si] = complex(np.cos(x), np.sin(x))
     for p in range(P):
         planet0 = 0.0
         beta_end = 0.0
-        for j in range(1 if same_arms else arms):
+        c0 = carrier0[p]
+        start_dir = complex(np.cos(c0), np.sin(c0))
+        for j in range(walked):
             off = two_pi * j / arms
-            for si in range(samples + (1 if same_arms else 0)):
+            for si in range(S1):
                 psi = two_pi * si / samples
                 alpha = sun0[p] + sun_rate * psi - cs * off
                 rate = sun_rate
@@ -436,19 +527,25 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                     theta_d = delta[k, p] + eps_d[k] - am
                     qk = q_e[k, p]
                     if given[k]:
-                        theta_f, k_last[k], y_last[k] = _invert(
-                            Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, inv, k_last[k],
+                        c, s, w, y_last[k] = _invert_cell(
+                            Fp[k], g[k], p, qk, sense[k] * theta_d, N, h, k_last[k],
                             y_last[k], si > 0)
-                        gv, _ = _read(g[k], dg[k], p, theta_f, N, h, inv, 0.0)
+                        k_last[k] = c
+                        theta_f = (c * h + h * s) + two_pi * w
+                        if s < 0.0 or s >= 1.0:  # Newton stepped off its interval
+                            c, s = _cell(theta_f, N, inv)
+                        gv = _cubic(g[k], dg[k], p, c, N, h, s, 0.0)
                         rate = sense[k] * rate / gv
                     else:
-                        fp, _ = _read(Fp[k], g[k], p, theta_d, N, h, inv, qk)
-                        gv, _ = _read(g[k], dg[k], p, theta_d, N, h, inv, 0.0)
+                        c, s = _cell(theta_d, N, inv)
+                        fp = _cubic(Fp[k], g[k], p, c, N, h, s, qk)
+                        gv = _cubic(g[k], dg[k], p, c, N, h, s, 0.0)
                         theta_f = sense[k] * (fp + qk * theta_d)
                         rate = sense[k] * gv * rate
                     alpha = delta[k, p] + eps_f[k] - theta_f
-                carrier = carrier0[p] + cs * (psi + off)
-                centre = shaft[p] * complex(np.cos(carrier), np.sin(carrier))
+                carrier = c0 + cs * (psi + off)
+                cdir = start_dir * turn[j, si]
+                centre = shaft[p] * cdir
                 planet = carrier + alpha
                 if j == 0 and si == 0:
                     planet0 = planet
@@ -456,7 +553,8 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                 if si == samples:  # one turn on: the arm's whole turns per carrier turn
                     beta_end = beta
                     break
-                e = complex(np.cos(beta), np.sin(beta))
+                body = alpha + (arm_angle[p] - planet0)
+                e = cdir * complex(np.cos(body), np.sin(body))
                 tip[p, j, si] = centre + arm_length[p] * e
                 centre_out[p, j, si] = centre
                 br = cs + rate
@@ -464,7 +562,7 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                 beta_out[p, j, si] = beta
                 rate_out[p, j, si] = br
         if same_arms:  # arm j at psi is arm 1 at psi + 2 pi j / J, a turn later past 2 pi
-            turn = beta_end - beta_out[p, 0, 0]
+            turn_b = beta_end - beta_out[p, 0, 0]
             for j in range(1, arms):
                 lag = samples * j // arms
                 for si in range(samples):
@@ -472,7 +570,7 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
                     extra = 0.0
                     if src >= samples:
                         src -= samples
-                        extra = turn
+                        extra = turn_b
                     tip[p, j, si] = tip[p, 0, src]
                     tip_rate[p, j, si] = tip_rate[p, 0, src]
                     centre_out[p, j, si] = centre_out[p, 0, src]
