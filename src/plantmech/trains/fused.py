@@ -177,34 +177,104 @@ def crossings(ax, ay):
     return out
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _mean_ratio(r, p, kappa, c, a, stride):
-    """mean over the strided row p of r / (kappa r + c a)."""
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
+def _ratio_sums(r, p, kappa, c, a, stride):
+    """(mean of g = r / (kappa r + c a), mean of g / (kappa r + c a)) over the strided row
+    p of r (its sums reassociated: SIMD; 1e-16 relative from the sequential sums)."""
     N = r.shape[1]
-    total = 0.0
+    s1 = 0.0
+    s2 = 0.0
     n = 0
     for i in range(0, N, stride):
         x = r[p, i]
-        total += x / (kappa * x + c * a)
+        inv = 1.0 / (kappa * x + c * a)
+        gi = x * inv
+        s1 += gi
+        s2 += gi * inv
         n += 1
-    return total / n
+    return s1 / n, s2 / n
+
+
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz", "nnan", "ninf"})
+def _row_range(r, p):
+    """(smallest, largest) of row p of r."""
+    lo = r[p, 0]
+    hi = r[p, 0]
+    for i in range(r.shape[1]):
+        x = r[p, i]
+        lo = min(lo, x)
+        hi = max(hi, x)
+    return lo, hi
+
+
+@njit(cache=True, error_model="numpy")
+def _closing_distance(r, p, kappa, c, q, lo, hi, coarse, step_tol):
+    """a with mean(r / (kappa r + c a)) = q over row p of r (``solve_centre_distance``'s
+    root, to its relative step ``step_tol``): the mean is monotone in a on [lo, hi], so
+    Newton on the coarse table (every ``coarse``-th radius), kept inside a bracket it
+    shrinks (a step leaving it bisects), then Newton on the full table until the relative
+    step is below ``step_tol``; the full table's 64 bisections if 12 steps do not settle
+    it. Returns (a, settled by Newton)."""
+    rising = c < 0  # an internal pair: the mean ratio rises with a
+    a0, a1 = lo, hi
+    a = 0.5 * (a0 + a1)
+    if coarse > 1:
+        for _ in range(4):  # a quarter of the bracket first: Newton's basin
+            m, _ = _ratio_sums(r, p, kappa, c, a, coarse)
+            if (m < q) == rising:
+                a0 = a
+            else:
+                a1 = a
+            a = 0.5 * (a0 + a1)
+        for _ in range(40):
+            m, d = _ratio_sums(r, p, kappa, c, a, coarse)
+            if (m < q) == rising:
+                a0 = a
+            else:
+                a1 = a
+            new = a - (m - q) / (-c * d)
+            if not (new > a0 and new < a1):
+                new = 0.5 * (a0 + a1)
+            done = abs(new - a) <= 1e-12 * abs(a)
+            a = new
+            if done or a1 - a0 <= 1e-13 * abs(a):
+                break
+    settled = False
+    for _ in range(12):
+        m, d = _ratio_sums(r, p, kappa, c, a, 1)
+        new = min(max(a - (m - q) / (-c * d), lo), hi)
+        settled = abs(new - a) <= step_tol * abs(a)
+        a = new
+        if settled:
+            break
+    if not settled:
+        a0, a1 = lo, hi
+        for _ in range(64):
+            mid = 0.5 * (a0 + a1)
+            m, _ = _ratio_sums(r, p, kappa, c, mid, 1)
+            if (m < q) == rising:
+                a0 = mid
+            else:
+                a1 = mid
+        a = 0.5 * (a0 + a1)
+    return a, settled
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
 def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, step_tol):
     """The closed laws of P pairs of one kind (``trains.pairs.pair_law``'s tables) in one
     pass per design: the centre distance a (given, or solved as
-    ``solve_centre_distance``: ``coarse_steps`` bisections of every ``coarse``-th radius in
-    [lo, hi], Newton on the full table until the relative step is below ``step_tol``, the
-    full table's 64 bisections if 12 steps do not settle it), the ratio g = r / (kappa r +
-    c a) and its slope, the periodic cubic spline's running integral F of g (its moments
-    by the cyclic (1, 4, 1) system, Sherman-Morrison on a Thomas sweep, where the NumPy path
-    uses an FFT: the same spline, 1e-16 apart), q_e = F(2 pi) / 2 pi and the periodic part
+    ``solve_centre_distance`` solves it, by ``_closing_distance``: Newton on every
+    ``coarse``-th radius inside a shrinking bracket, then on the full table until the
+    relative step is below ``step_tol``; the same root to 1e-14 relative; ``coarse_steps``
+    is not used: kept for the callers), the ratio g = r / (kappa r + c a) and its slope,
+    the periodic cubic spline's running integral F of g (its moments by the cyclic
+    (1, 4, 1) system, Sherman-Morrison on a Thomas sweep, where the NumPy path uses an FFT:
+    the same spline, 1e-16 apart), q_e = F(2 pi) / 2 pi and the periodic part
     Fp = F - q_e theta. Returns (a (P,), g, dg, Fp (P, N), q_e (P,), smallest follower
     radius (P,)). ``kappa``, ``c``: the kind's r_f = kappa r_d + c a."""
     P, N = r.shape
     h = 2.0 * np.pi / N
-    rising = c < 0  # an internal pair: the mean ratio rises with a
     a_out = np.empty(P)
     g = np.empty((P, N))
     dg = np.empty((P, N))
@@ -239,55 +309,18 @@ def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, st
     zfact = 1.0 + z[0] + z[N - 1] / gamma
     scale = 6.0 / (h * h)
     for p in range(P):
-        qp = q[p]
         if solve:
-            a0, a1 = lo[p], hi[p]
-            for _ in range(coarse_steps):
-                mid = 0.5 * (a0 + a1)
-                below = (_mean_ratio(r, p, kappa, c, mid, coarse) < qp) == rising
-                if below:
-                    a0 = mid
-                else:
-                    a1 = mid
-            a = 0.5 * (a0 + a1)
-            settled = False
-            for _ in range(12):
-                s1 = 0.0
-                s2 = 0.0
-                for i in range(N):
-                    x = r[p, i]
-                    inv = 1.0 / (kappa * x + c * a)
-                    gi = x * inv
-                    s1 += gi
-                    s2 += gi * inv
-                f = s1 / N - qp
-                df = -c * (s2 / N)
-                new = min(max(a - f / df, lo[p]), hi[p])
-                settled = abs(new - a) <= step_tol * abs(a)
-                a = new
-                if settled:
-                    break
-            if not settled:
-                a0, a1 = lo[p], hi[p]
-                for _ in range(64):
-                    mid = 0.5 * (a0 + a1)
-                    if (_mean_ratio(r, p, kappa, c, mid, 1) < qp) == rising:
-                        a0 = mid
-                    else:
-                        a1 = mid
-                a = 0.5 * (a0 + a1)
+            a, _ = _closing_distance(r, p, kappa, c, q[p], lo[p], hi[p], coarse, step_tol)
         else:
             a = given[p]
         a_out[p] = a
         ca = c * a
-        low = np.inf
         for i in range(N):
-            rf = kappa * r[p, i] + ca
-            low = min(low, rf)
-            inv = 1.0 / rf
+            inv = 1.0 / (kappa * r[p, i] + ca)
             g[p, i] = r[p, i] * inv
             dg[p, i] = dr[p, i] * ca * (inv * inv)
-        rf_min[p] = low
+        rmin, rmax = _row_range(r, p)  # r_f = kappa r + c a: smallest at an end of r's range
+        rf_min[p] = min(kappa * rmin + ca, kappa * rmax + ca)
         # moments: T x = rhs (Thomas), then the Sherman-Morrison correction
         for i in range(N):
             prev = g[p, i - 1] if i > 0 else g[p, N - 1]
