@@ -432,6 +432,22 @@ def _cubic(y, dy, p, k, N, h, s, sub):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _cubic_slope(y, dy, p, k, N, h, s):
+    """(value, slope) at fraction s of interval k of row p's periodic Hermite table
+    through values ``y`` and slopes ``dy`` (``_read``, its interval already found)."""
+    k1 = 0 if k == N - 1 else k + 1
+    s2 = s * s
+    s3 = s2 * s
+    y0 = y[p, k]
+    dyy = y0 - y[p, k1]
+    d0 = dy[p, k] * h
+    d1 = dy[p, k1] * h
+    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
+    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
+    return value, slope
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _invert_cell(Fp, g, p, qp, F, N, h, k_last, last, walk):
     """(k, s, whole turns w, remainder) with Fp(theta) + q theta = F at theta = (k + s) h +
     2 pi w: ``_invert``'s interval (walked from the previous target's, or bisected), its
@@ -616,8 +632,9 @@ def chain_tips(Fp, g, dg, q_e, delta, given, eps_d, eps_f, sense, shift, derived
 def mate_tables(Fp, g, q_e, r, dr, a, kappa, c, sense):
     """The follower's pitch curve (r_f, dr_f / dphi) (P, N) on its own uniform grid phi_i
     = 2 pi i / N of P closed laws (``pairs.PairLaw.mate``) in one pass per design: the
-    contact's driver angle theta = F^-1(sense phi) (``_invert``, walked along the grid),
-    the driver's radius and slope there (its Hermite table ``r``, ``dr``), r_f = kappa r +
+    contact's driver angle theta = F^-1(sense phi) (``_invert_cell``, walked along the
+    grid), the driver's radius and slope there (its Hermite table ``r``, ``dr``, read in
+    the interval the inverse found), r_f = kappa r +
     c a and its slope kappa r' / (sense g), g = r / r_f: PairLaw.mate's numbers."""
     P, N = Fp.shape
     h = 2.0 * np.pi / N
@@ -630,9 +647,12 @@ def mate_tables(Fp, g, q_e, r, dr, a, kappa, c, sense):
         ca = c * a[p]
         for i in range(N):
             target = sense * (2.0 * np.pi * i / N)
-            theta, k_last, last = _invert(Fp, g, p, qp, target, N, h, inv, k_last, last,
-                                          i > 0)
-            rd, drd = _read(r, dr, p, theta, N, h, inv, 0.0)
+            k_last, s, w, last = _invert_cell(Fp, g, p, qp, target, N, h, k_last, last,
+                                              i > 0)
+            k, u = k_last, s
+            if u < 0.0 or u >= 1.0:  # Newton stepped off its interval
+                k, u = _cell((k_last * h + h * s) + 2.0 * np.pi * w, N, inv)
+            rd, drd = _cubic_slope(r, dr, p, k, N, h, u)
             rf = kappa * rd + ca
             gg = rd / rf
             rf_out[p, i] = rf
