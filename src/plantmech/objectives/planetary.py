@@ -245,7 +245,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
     from plantmech.trains.spec import TrainSpecError, build_from_designs
 
     try:
-        built = build_from_designs(designs)
+        built = build_from_designs(designs, grouped=True)  # grouped by structure_key
     except TrainSpecError as exc:
         if len(designs) == 1:
             if motions is not None:
