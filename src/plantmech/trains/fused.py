@@ -55,6 +55,29 @@ def _curvature(r, d, dd, f, ff, plain):
     return np.inf if num == 0 else cube / num
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _extreme_points(r, r1, p, i0, i1, N, kappa, ca, sd, sf, h, cdv, cfv, rhov, fv, pdv, pfv):
+    """``pair_extremes``' per-point values at grid points i0 <= i < i1 of row p (its
+    arithmetic, term by term; r'' from the slopes' centred differences, wrapping round at
+    the ends): both gears' signed radii of curvature, the follower's radius and body-angle
+    rate, both perimeter terms."""
+    for i in range(i0, i1):
+        rr, d = r[p, i], r1[p, i]
+        dd = ((r1[p, i + 1] if i + 1 < N else r1[p, 0])
+              - (r1[p, i - 1] if i > 0 else r1[p, N - 1])) / (2 * h)
+        rho = kappa * rr + ca
+        f = rr / rho
+        ff = ca * d / (rho * rho)
+        kd, kdd = kappa * d, kappa * dd
+        cdv[i] = sd * _curvature(rr, d, dd, 1.0, 0.0, True)
+        cfv[i] = sf * _curvature(rho, kd, kdd, f, ff, False)
+        rhov[i] = rho
+        fv[i] = f
+        pdv[i] = np.sqrt(d * d + rr * rr)
+        rf = rho * f
+        pfv[i] = np.sqrt(kd * kd + rf * rf)
+
+
 @njit(cache=True, error_model="numpy", nogil=True)
 def pair_extremes(r, r1, a, kappa, c, ring_d, ring_f, t0, h):
     """(values (P, 13), indices (P, 8)) of P pairs from the driver's tables r, r' (P, N)
@@ -72,28 +95,32 @@ def pair_extremes(r, r1, a, kappa, c, ring_d, ring_f, t0, h):
     vals = np.empty((P, 13))
     idx = np.zeros((P, 8), dtype=np.int64)
     inf = np.inf
+    sd = -1.0 if ring_d else 1.0
+    sf = -1.0 if ring_f else 1.0
+    cdv = np.empty(N)  # per point, the branch-free pass's values (SIMD)
+    cfv = np.empty(N)
+    rhov = np.empty(N)
+    fv = np.empty(N)
+    pdv = np.empty(N)
+    pfv = np.empty(N)
     for p in range(P):
         ca = c * a[p]
+        # the arithmetic, branch-free (SIMD): the ends' r'' wrap round (below)
+        _extreme_points(r, r1, p, 1, N - 1, N, kappa, ca, sd, sf, h, cdv, cfv, rhov, fv, pdv,
+                        pfv)
+        _extreme_points(r, r1, p, 0, 1, N, kappa, ca, sd, sf, h, cdv, cfv, rhov, fv, pdv,
+                        pfv)
+        _extreme_points(r, r1, p, N - 1, N, N, kappa, ca, sd, sf, h, cdv, cfv, rhov, fv,
+                        pdv, pfv)
         cvx_d = ccv_d = rad_d = cvx_f = ccv_f = rad_f = diff = inf
         i_cvx_d = i_ccv_d = i_rad_d = i_cvx_f = i_ccv_f = i_rad_f = i_mu = i_diff = 0
         per_d = per_f = 0.0
         mu = -inf
         cum = 0.0
         phi_cvx = phi_ccv = phi_rad = 0.0
-        for i in range(N):
+        for i in range(N):  # the reductions, in the grid's order
             rr, d = r[p, i], r1[p, i]
-            dd = ((r1[p, i + 1] if i + 1 < N else r1[p, 0])
-                  - (r1[p, i - 1] if i > 0 else r1[p, N - 1])) / (2 * h)
-            rho = kappa * rr + ca
-            f = rr / rho
-            ff = ca * d / (rho * rho)
-            kd, kdd = kappa * d, kappa * dd
-            cd = _curvature(rr, d, dd, 1.0, 0.0, True)
-            cf = _curvature(rho, kd, kdd, f, ff, False)
-            if ring_d:
-                cd = -cd
-            if ring_f:
-                cf = -cf
+            cd, cf, rho, f = cdv[i], cfv[i], rhov[i], fv[i]
             cum += f
             phi = t0 + cum * h - f * h
             if i == 0:  # an extreme never found is at index 0, as argmin of an inf row
@@ -110,9 +137,8 @@ def pair_extremes(r, r1, a, kappa, c, ring_d, ring_f, t0, h):
                 ccv_f, i_ccv_f, phi_ccv = -cf, i, phi
             if rho < rad_f:
                 rad_f, i_rad_f, phi_rad = rho, i, phi
-            per_d += np.sqrt(d * d + rr * rr)
-            rf = rho * f
-            per_f += np.sqrt(kd * kd + rf * rf)
+            per_d += pdv[i]
+            per_f += pfv[i]
             m = abs(d) / rr
             if m > mu:
                 mu, i_mu = m, i
