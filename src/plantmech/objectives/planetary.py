@@ -31,15 +31,21 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     all designs' rows at once), then tested exactly: O(n log n + crossing candidates) per
     design instead of every one of the n^2 / 2 pairs (tests/test_objectives_planetary.py
     holds it to the all-pairs count). A population of ``curves.KERNEL_POINTS`` points or
-    more is counted by ``trains.fused.crossings`` (the same sweep per design, compiled)."""
+    more, or of several designs once the fused passes are loaded, is counted by
+    ``trains.fused.crossings`` (the same sweep per design, compiled)."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
     n = samples
     ax, ay = z.real, z.imag
+    import sys
+
     from plantmech.trains.curves import use_kernels
 
-    if use_kernels(P * n):  # a population: per design, one sorted sweep (the same counts)
+    # a population (or designs whose train pass loaded numba already: a sub-population of
+    # a large grid, 32 x 720 points, costs nothing to import): per design, one sorted
+    # sweep (the same counts)
+    if use_kernels(P * n) or (P > 1 and "plantmech.trains.fused" in sys.modules):
         from plantmech.trains.fused import crossings
 
         return crossings(np.ascontiguousarray(ax), np.ascontiguousarray(ay)).astype(int)
