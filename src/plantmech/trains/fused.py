@@ -507,30 +507,29 @@ def _cubic_slope(y, dy, p, k, N, h, s):
 @njit(cache=True, error_model="numpy", inline="always")
 def _invert_cell(Fp, g, p, qp, F, N, h, k_last, last, walk):
     """(k, s, whole turns w, remainder) with Fp(theta) + q theta = F at theta = (k + s) h +
-    2 pi w: ``_invert``'s interval (walked from the previous target's, or bisected), its
-    linear inverse, then Newton on that interval's cubic in s (no interval search per
+    2 pi w: ``_invert``'s interval (the last k with table[k] <= remainder: galloped from
+    the previous target's, 1, 2, 4 ... cells, then bisected; bisected when not ``walk``),
+    its linear inverse, then Newton on that interval's cubic in s (no interval search per
     step; up to 4 steps, stopped after a step below 1e-8: Newton's error is then below
     (h g' / 2 g) 1e-16, i.e. s to the last bit; 2 steps on the bundled grids)."""
     period = 2.0 * np.pi * qp
     w = np.floor(F / period)
     yv = F - w * period
     lo, hi = 0, N
-    if walk and yv >= last:
+    if walk and yv >= last:  # table[k_last] <= yv: gallop up (1, 2, 4 ... cells)
         lo = k_last
-        steps = 0
-        while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
-            lo += 1
-            steps += 1
-        if steps < 8:
-            hi = lo + 1
-    elif walk:
+        step = 1
+        while lo + step < N and Fp[p, lo + step] + qp * ((lo + step) * h) <= yv:
+            lo += step
+            step *= 2
+        hi = min(lo + step, N)
+    elif walk:  # table[k_last + 1] > yv: gallop down
         hi = k_last + 1
-        steps = 0
-        while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
-            hi -= 1
-            steps += 1
-        if steps < 8:
-            lo = hi - 1
+        step = 1
+        while hi - step > 0 and Fp[p, hi - step] + qp * ((hi - step) * h) > yv:
+            hi -= step
+            step *= 2
+        lo = max(hi - step, 0)
     while hi - lo > 1:
         mid = (lo + hi) // 2
         if Fp[p, mid] + qp * (mid * h) <= yv:
