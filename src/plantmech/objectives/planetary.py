@@ -280,6 +280,10 @@ def judged(designs: list, built, motion) -> list[list[dict]]:
     verdicts, rules = assess(first, built)
     graded = [violation(v, rules) for v in verdicts]  # (P, 2) each
     lim = rules.max_working_pressure_angle_deg
+    # per pair, its (P,) numbers as Python floats once (a row per design reads them)
+    pairs = [(v.name, v.module_low.tolist(), v.module_high.tolist(),
+              v.working_pressure_angle_deg.tolist(), g[:, 0].tolist(), g[:, 1].tolist())
+             for v, g in zip(verdicts, graded, strict=True)]
     out = []
     for i, design in enumerate(designs):
         rows = []
@@ -287,14 +291,13 @@ def judged(designs: list, built, motion) -> list[list[dict]]:
             rng = getattr(design.limits, c.name)
             rows.append(dict(c.as_dict(), violation=float(relative_violation(
                 values[c.name][i], rng.min, rng.max))))
-        for v, g in zip(verdicts, graded, strict=True):
-            lo, hi = float(v.module_low[i]), float(v.module_high[i])
-            w = float(v.working_pressure_angle_deg[i])
-            rows.append({"name": f"cuttable_module_{v.name}", "value": round(hi, 6),
+        for name, low, high, angle, g_module, g_angle in pairs:
+            lo, hi, w = low[i], high[i], angle[i]
+            rows.append({"name": f"cuttable_module_{name}", "value": round(hi, 6),
                          "unit": "mm", "limit": f">= {lo:g} mm", "ok": bool(hi >= lo),
-                         "violation": float(g[i, 0])})
-            rows.append({"name": f"working_pressure_angle_{v.name}", "value": round(w, 6),
+                         "violation": g_module[i]})
+            rows.append({"name": f"working_pressure_angle_{name}", "value": round(w, 6),
                          "unit": "deg", "limit": f"<= {lim:g} deg", "ok": bool(w <= lim),
-                         "violation": float(g[i, 1])})
+                         "violation": g_angle[i]})
         out.append(rows)
     return out
