@@ -514,73 +514,9 @@ def pair_laws(r, dr, kappa, c, q, lo, hi, given, solve, coarse, coarse_steps, st
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _read(y, dy, p, x, N, h, inv, sub):
-    """(value, slope) of row p's periodic Hermite table through values ``y`` and slopes
-    ``dy`` - ``sub`` at angle x (``kernels.hermite_rows`` at one angle)."""
-    u = x * inv
-    kf = np.floor(u)
-    s = u - kf
-    k = int(kf) % N
-    k1 = 0 if k == N - 1 else k + 1
-    s2 = s * s
-    s3 = s2 * s
-    y0, y1 = y[p, k], y[p, k1]
-    d0, d1 = (dy[p, k] - sub) * h, (dy[p, k1] - sub) * h
-    dyy = y0 - y1
-    value = y0 + (2 * s3 - 3 * s2) * dyy + (s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1
-    slope = ((6 * s2 - 6 * s) * dyy + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1) / h
-    return value, slope
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _invert(Fp, g, p, qp, F, N, h, inv, k_last, last, walk):
-    """(theta, its table interval, the target's remainder) with Fp(theta) + q theta = F
-    (``kernels.invert_rows`` at one target: the table's interval walked from the previous
-    target's (``k_last``, ``last``; up to 8 steps, when ``walk``) or bisected, its linear
-    inverse, then up to 4 Newton steps)."""
-    period = 2.0 * np.pi * qp
-    w = np.floor(F / period)
-    yv = F - w * period
-    lo, hi = 0, N
-    if walk and yv >= last:
-        lo = k_last
-        steps = 0
-        while lo + 1 < N and Fp[p, lo + 1] + qp * ((lo + 1) * h) <= yv and steps < 8:
-            lo += 1
-            steps += 1
-        if steps < 8:
-            hi = lo + 1
-    elif walk:
-        hi = k_last + 1
-        steps = 0
-        while hi > 1 and Fp[p, hi - 1] + qp * ((hi - 1) * h) > yv and steps < 8:
-            hi -= 1
-            steps += 1
-        if steps < 8:
-            lo = hi - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if Fp[p, mid] + qp * (mid * h) <= yv:
-            lo = mid
-        else:
-            hi = mid
-    k = lo
-    f0 = Fp[p, k] + qp * (k * h)
-    f1 = (Fp[p, k + 1] if k + 1 < N else Fp[p, 0]) + qp * ((k + 1) * h)
-    theta = k * h + h * (yv - f0) / (f1 - f0 if f1 > f0 else 1.0)
-    for _ in range(4):
-        fp, dfp = _read(Fp, g, p, theta, N, h, inv, qp)
-        step = theta - (fp + qp * theta - yv) / (dfp + qp)
-        if step == theta:
-            break
-        theta = step
-    return theta + 2.0 * np.pi * w, k, yv
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _cell(x, N, inv):
     """(interval k, fraction s in [0, 1)) of angle x (rad) on the uniform periodic grid of
-    N points, spacing 1 / ``inv``: ``_read``'s interval rule."""
+    N points, spacing 1 / ``inv`` (``kernels.hermite_rows``' interval rule)."""
     u = x * inv
     kf = np.floor(u)
     return int(kf) % N, u - kf
@@ -589,7 +525,8 @@ def _cell(x, N, inv):
 @njit(cache=True, error_model="numpy", inline="always")
 def _cubic(y, dy, p, k, N, h, s, sub):
     """Value at fraction s of interval k of row p's periodic Hermite table through values
-    ``y`` and slopes ``dy`` - ``sub`` (``_read``'s value, its interval already found)."""
+    ``y`` and slopes ``dy`` - ``sub`` (``kernels.hermite_rows``' value, its interval
+    already found)."""
     k1 = 0 if k == N - 1 else k + 1
     s2 = s * s
     s3 = s2 * s
@@ -601,7 +538,8 @@ def _cubic(y, dy, p, k, N, h, s, sub):
 @njit(cache=True, error_model="numpy", inline="always")
 def _cubic_slope(y, dy, p, k, N, h, s):
     """(value, slope) at fraction s of interval k of row p's periodic Hermite table
-    through values ``y`` and slopes ``dy`` (``_read``, its interval already found)."""
+    through values ``y`` and slopes ``dy`` (``kernels.hermite_rows``, its interval already
+    found)."""
     k1 = 0 if k == N - 1 else k + 1
     s2 = s * s
     s3 = s2 * s
@@ -617,11 +555,12 @@ def _cubic_slope(y, dy, p, k, N, h, s):
 @njit(cache=True, error_model="numpy", inline="always")
 def _invert_cell(Fp, g, p, qp, F, N, h, k_last, last, walk):
     """(k, s, whole turns w, remainder) with Fp(theta) + q theta = F at theta = (k + s) h +
-    2 pi w: ``_invert``'s interval (the last k with table[k] <= remainder: galloped from
-    the previous target's, 1, 2, 4 ... cells, then bisected; bisected when not ``walk``),
-    its linear inverse, then Newton on that interval's cubic in s (no interval search per
-    step; up to 4 steps, stopped after a step below 1e-8: Newton's error is then below
-    (h g' / 2 g) 1e-16, i.e. s to the last bit; 2 steps on the bundled grids)."""
+    2 pi w: the interval of the table Fp + q theta_k (the last k with table[k] <=
+    remainder, the k of ``kernels.invert_rows``: galloped from the previous target's, 1,
+    2, 4 ... cells, then bisected; bisected when not ``walk``), its linear inverse, then
+    Newton on that interval's cubic in s (no interval search per step; up to 4 steps,
+    stopped after a step below 1e-8: Newton's error is then below (h g' / 2 g) 1e-16,
+    i.e. s to the last bit; 2 steps on the bundled grids)."""
     period = 2.0 * np.pi * qp
     w = np.floor(F / period)
     yv = F - w * period
