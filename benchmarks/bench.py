@@ -232,9 +232,14 @@ def general_population_variants(which: str, P: int, rng) -> list:
     distances solved; ``elliptic`` (examples/rotary_transplanter_elliptic.toml, no dwell,
     grid 8192, two arms): A uniform(22, 28) mm, e uniform(0.1, 0.3), arm uniform(140, 180)
     mm; ``table4_grid2048``: Table 4's at a 2048-point grid (the dense grid of the seeder's
-    own population kernel at 720 samples: the same work per design as that figure's)."""
+    own population kernel at 720 samples: the same work per design as that figure's);
+    ``differential`` (examples/planetary/rice_transplanter.toml, the differential
+    transplanter as a general train: a driven 4-lobed ring, three arms, grid 16384): the
+    ring's twelve radii + uniform(-1.5, 1.5) mm, its centre distance solved."""
     if which.startswith("table4"):
         base = load_design(ROOT / "examples" / "planetary" / "sugarcane_table4.toml")
+    elif which == "differential":
+        base = load_design(ROOT / "examples" / "planetary" / "rice_transplanter.toml")
     else:
         base = load_design(ROOT / "examples" / "rotary_transplanter_elliptic.toml")
     out = []
@@ -249,6 +254,11 @@ def general_population_variants(which: str, P: int, rng) -> list:
             p0.centre_distance_mm = p1.centre_distance_mm = None
             if which == "table4_grid2048":
                 d.train.grid = 2048
+        elif which == "differential":
+            ring = d.train.pairs[0]
+            ring.driver.radii_mm = [float(v) for v in np.asarray(ring.driver.radii_mm)
+                                    + rng.uniform(-1.5, 1.5, len(ring.driver.radii_mm))]
+            ring.centre_distance_mm = None
         else:
             drv = d.train.pairs[0].driver
             drv.semi_major_mm = float(rng.uniform(22, 28))
@@ -276,61 +286,107 @@ def _threads(n: int):
     return ctx()
 
 
-def bench_general_population(rng, P: int = 1000) -> None:
+def uptime_load() -> str:
+    """The machine's load as ``uptime`` prints it (1, 5 and 15 minute averages) and its
+    cores: other engineers share them, so every speed figure is read beside it."""
+    one, five, fifteen = os.getloadavg()
+    return (f"load average {one:.2f}, {five:.2f}, {fifteen:.2f} (uptime) on "
+            f"{os.cpu_count()} cores")
+
+
+def train_pass(designs: list, samples: int) -> None:
+    """The general population's compiled work without its rows: per sub-population, the
+    build (tabulation, laws), the fused tip pass and the fused gear-rule extremes
+    (``objectives.planetary``'s groups, as ``population_evaluation`` runs them); the rows
+    (the [limits] checks' and rules' dicts per design) are what it leaves out."""
+    from plantmech.objectives.planetary import chunk_designs
+    from plantmech.trains.gearing import assess
+    from plantmech.trains.model import simulate, simulate_tips
+    from plantmech.trains.spec import build_from_designs
+
+    size = chunk_designs(designs[0].train.grid)
+    for start in range(0, len(designs), size):
+        part = designs[start:start + size]
+        built = build_from_designs(part, grouped=True)
+        simulate_tips(built, samples) or simulate(built, samples)
+        assess(part[0], built)
+
+
+def bench_general_population(rng, P: int = 1000, repeat: int = 5) -> None:
     """The general train model (trains/, ``objectives.planetary.population_evaluation``):
     P designs x 720 samples, every objective (build: tabulation, closure, centre distances;
     simulation; the [limits] checks and each pair's pitch-curve rules; the fused passes of
     ``trains.fused`` for populations), for Table 4 (with its dwell, its file's 16384-point
-    grid; and at a 2048-point grid, the seeder kernel's own dense grid at 720 samples) and
-    the elliptic rotary transplanter (no dwell, two arms, grid 8192); with one kernel thread
-    and one per core (PLANTMECH_KERNEL_THREADS: the sub-populations on threads); issue 28's
-    targets >= 20,000 designs/s for Table 4 with two threads (>= 10,000 with one) and for
-    the elliptic example. Side by side: the dedicated seeder kernel
-    (``workflows.evaluate_seeder_population``, dense 2048, one thread) on the very designs
-    of Table 4's 2048-point population, and the ratio of the two (wall and CPU). Then the
-    single design (P = 1: the file as bundled, at 720 samples and at its own 3600, what the
-    CLI and the app pay). Wall medians with CPU time and the machine's load
-    (``--general-population-only``)."""
+    grid; and at a 2048-point grid, the seeder kernel's own dense grid at 720 samples),
+    the elliptic rotary transplanter (no dwell, two arms, grid 8192) and the differential
+    transplanter as a general train (a driven ring, three arms, grid 16384; the general
+    objective set: no interference, which the general path does not compute); with one
+    kernel thread and two (PLANTMECH_KERNEL_THREADS: the sub-populations on threads);
+    issue 28's targets >= 20,000 designs/s for Table 4 with two threads (>= 10,000 with
+    one) and for the elliptic example. Beside them, in the same run: the train pass alone
+    (``train_pass``: the compiled work without the rows) and the dedicated seeder kernel
+    (``workflows.evaluate_seeder_population``, dense 2048) on the very designs of Table
+    4's 2048-point population, one and two threads, with the ratio of the two (wall and
+    CPU). Then the single design (P = 1: the file as bundled, at 720 samples and at its own
+    3600, what the CLI and the app pay) and one design forward. Wall medians of
+    ``repeat`` runs with the CPU time's median and the machine's load as ``uptime`` gives
+    it (``--general-population-only``)."""
 
     from plantmech.objectives.planetary import population_evaluation
     from plantmech.workflows import evaluate_seeder_population
 
-    cores = os.cpu_count() or 1
-    for which in ("table4", "elliptic", "table4_grid2048"):
+    print(f"general train populations: {P} designs, medians of {repeat}; {uptime_load()}")
+    general: dict = {}
+    for which in ("table4", "table4_grid2048", "elliptic", "differential"):
         designs = general_population_variants(which, P, rng)
         population_evaluation(designs[:64], 720)  # imports, compiled kernels loaded
-        for threads in sorted({1, min(cores, 2)}):
+        for threads in (1, 2):
             with _threads(threads):
-                t, c = wall_cpu_median(lambda d=designs: population_evaluation(d, 720), 3)
-            target = (None if which == "table4_grid2048" else
+                t, c = wall_cpu_median(lambda d=designs: population_evaluation(d, 720), repeat)
+            target = (None if which in ("table4_grid2048", "differential") else
                       20000.0 if threads == 2 or which == "elliptic" else 10000.0)
-            print(f"general train population ({which}), {P} designs x 720 samples, every "
-                  f"objective, {threads} kernel thread(s): {t:.2f} s ({P / t:.0f} designs/s; "
-                  f"{P / c:.0f} per CPU second; median of 3; load average "
-                  f"{os.getloadavg()[0]:.1f} on {cores} cores"
-                  + (f"; target >= {target:.0f} designs/s)" if target else ")"))
+            print(f"general train population ({which}, grid {designs[0].train.grid}), {P} "
+                  f"designs x 720 samples, every objective, {threads} kernel thread(s): "
+                  f"{t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU second; "
+                  f"{uptime_load()}" + (f"; target >= {target:.0f} designs/s)" if target
+                                        else ")"))
             name = f"general_population_{which}_720_designs_per_s"
             figure(name if threads == 1 else name.replace("_720_", "_720_threads2_"), P / t,
                    "designs/s", target, "higher", designs=P, designs_per_cpu_s=P / c,
-                   grid=designs[0].train.grid, kernel_threads=threads)
-            if which == "table4_grid2048" and threads == 1:
-                general = (t, c)
+                   grid=designs[0].train.grid, kernel_threads=threads, repeats=repeat)
+            general[which, threads] = (t, c)
+        t, c = wall_cpu_median(lambda d=designs: train_pass(d, 720), repeat)
+        print(f"  its train pass alone (build, fused tips, fused gear-rule extremes; no rows), "
+              f"one thread: {t:.2f} s ({P / t:.0f} designs/s; {P / c:.0f} per CPU second): "
+              f"the rows and objectives around it take {general[which, 1][1] - c:.2f} s CPU "
+              f"of {general[which, 1][1]:.2f}")
+        figure(f"general_train_pass_{which}_720_designs_per_s", P / t, "designs/s",
+               better="higher", designs=P, designs_per_cpu_s=P / c, repeats=repeat)
         if which == "table4_grid2048":  # the dedicated kernel on the same designs
             R2 = np.array([d.train.pairs[0].follower.radii_mm for d in designs])
             R3 = np.array([d.train.pairs[1].driver.radii_mm for d in designs])
             t4 = load_design(ROOT / "examples" / "sugarcane_table4.toml")
-            with _threads(1):
-                evaluate_seeder_population(t4, R2, R3, samples=720, dense=2048)
-                t, c = wall_cpu_median(lambda t4=t4, R2=R2, R3=R3: evaluate_seeder_population(
-                    t4, R2, R3, samples=720, dense=2048), 3)
-            print(f"  beside it, the dedicated seeder kernel on the same {P} designs (dense "
-                  f"2048, 720 samples, one thread): {t:.3f} s ({P / t:.0f} designs/s; "
-                  f"{P / c:.0f} per CPU second); the general train takes "
-                  f"{general[0] / t:.1f}x its wall time, {general[1] / c:.1f}x its CPU time")
-            figure("seeder_kernel_table4_grid2048_720_designs_per_s", P / t, "designs/s",
-                   better="higher", designs=P, designs_per_cpu_s=P / c)
-            figure("general_over_seeder_kernel_table4_720_cpu_ratio", general[1] / c, "x",
-                   1.0, "lower", wall_ratio=general[0] / t)
+            evaluate_seeder_population(t4, R2, R3, samples=720, dense=2048)
+            for threads in (1, 2):
+                with _threads(threads):
+                    t, c = wall_cpu_median(
+                        lambda t4=t4, R2=R2, R3=R3: evaluate_seeder_population(
+                            t4, R2, R3, samples=720, dense=2048), repeat)
+                gt, gc = general[which, threads]
+                print(f"  beside it, the dedicated seeder kernel on the same {P} designs "
+                      f"(dense 2048, 720 samples, {threads} kernel thread(s)): {t:.3f} s "
+                      f"({P / t:.0f} designs/s; {P / c:.0f} per CPU second); the general "
+                      f"train takes {gt / t:.1f}x its wall time, {gc / c:.1f}x its CPU time "
+                      f"({uptime_load()})")
+                name = "seeder_kernel_table4_grid2048_720_designs_per_s"
+                figure(name if threads == 1 else name.replace("_720_", "_720_threads2_"),
+                       P / t, "designs/s", better="higher", designs=P,
+                       designs_per_cpu_s=P / c, kernel_threads=threads, repeats=repeat)
+                if threads == 1:
+                    figure("general_over_seeder_kernel_table4_720_cpu_ratio", gc / c, "x",
+                           1.0, "lower", wall_ratio=gt / t)
+            continue
+        if which == "differential":
             continue
         one = load_design(ROOT / "examples" / ("planetary/sugarcane_table4.toml"
                                                if which == "table4"
@@ -339,7 +395,7 @@ def bench_general_population(rng, P: int = 1000) -> None:
             t, c = wall_cpu_median(lambda s=samples, o=one: population_evaluation([o], s), 7)
             print(f"general train single design ({which} as bundled), {samples} samples, "
                   f"every objective: {t * 1e3:.1f} ms ({c * 1e3:.1f} ms CPU; median of 7; "
-                  f"load average {os.getloadavg()[0]:.1f})")
+                  f"{uptime_load()})")
             figure(f"general_single_{which}_{samples}_ms", t * 1e3, "ms", cpu_ms=c * 1e3)
         if which == "table4":  # one design forward (build + simulate), as `forward` runs it
             from plantmech.trains.model import simulate
@@ -348,7 +404,7 @@ def bench_general_population(rng, P: int = 1000) -> None:
             t, c = wall_cpu_median(lambda o=one: simulate(build_from_design(o), o.samples), 7)
             print(f"general train one design forward (Table 4 as bundled, grid "
                   f"{one.train.grid}), {one.samples} samples: {t * 1e3:.1f} ms "
-                  f"({c * 1e3:.1f} ms CPU; median of 7; target <= 5 ms)")
+                  f"({c * 1e3:.1f} ms CPU; median of 7; target <= 5 ms; {uptime_load()})")
             figure("general_forward_table4_3600_ms", t * 1e3, "ms", 5.0, cpu_ms=c * 1e3)
 
 
@@ -470,7 +526,8 @@ def main() -> None:
         bench_seeder_population(np.random.default_rng(0))
         return
     if "--general-population-only" in sys.argv:  # the general train's population figures
-        bench_general_population(np.random.default_rng(0), _flag("--designs", 1000))
+        bench_general_population(np.random.default_rng(0), _flag("--designs", 1000),
+                                 _flag("--repeat", 5))
         return
     if "--study-only" in sys.argv:  # make bench-study: the Dask scaling alone
         study_scaling(_flag("--study-samples", 0), repeat=_flag("--study-repeat", 1))
@@ -742,17 +799,18 @@ def _json_path() -> Path | None:
 USAGE = """usage: bench.py [--json PATH] [--verify-only | --transplanter-only |
                             --seeder-population-only | --general-population-only |
                             --study-only | --pair [--pair-runs N]]
-                [--designs N] [--study-samples N] [--study-repeat N] [--layered] [--design]
+                [--designs N] [--repeat N] [--study-samples N] [--study-repeat N]
+                [--layered] [--design]
 
 Without an --*-only flag every benchmark runs (minutes), then the app's (app_bench.py);
 --layered and --design add the long end-to-end jobs to that run. --json PATH also writes
 the named figures (value, unit, target, met, load, commit). --designs N: the general
-train population's size (default 1000). --pair: issue 35's elliptic gear pair against
-ncgears (installed on first use in benchmarks/.venv-ncgears, never a plantmech dependency),
---pair-runs N runs each (default 3)."""
+train population's size (default 1000); --repeat N: its runs per figure (median; 5).
+--pair: issue 35's elliptic gear pair against ncgears (installed on first use in
+benchmarks/.venv-ncgears, never a plantmech dependency), --pair-runs N runs each (default 3)."""
 KNOWN = {"--json", "--verify-only", "--transplanter-only", "--seeder-population-only",
          "--study-only", "--study-samples", "--study-repeat", "--layered", "--design",
-         "--general-population-only", "--designs", "--pair", "--pair-runs"}
+         "--general-population-only", "--designs", "--repeat", "--pair", "--pair-runs"}
 
 
 def _check_arguments() -> None:

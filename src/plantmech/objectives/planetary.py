@@ -31,15 +31,21 @@ def self_crossings(path: np.ndarray, samples: int = LOOP_SAMPLES) -> np.ndarray:
     all designs' rows at once), then tested exactly: O(n log n + crossing candidates) per
     design instead of every one of the n^2 / 2 pairs (tests/test_objectives_planetary.py
     holds it to the all-pairs count). A population of ``curves.KERNEL_POINTS`` points or
-    more is counted by ``trains.fused.crossings`` (the same sweep per design, compiled)."""
+    more, or of several designs once the fused passes are loaded, is counted by
+    ``trains.fused.crossings`` (the same sweep per design, compiled)."""
     P, S = path.shape
     idx = np.linspace(0, S, samples, endpoint=False).astype(int)
     z = path[:, idx]
     n = samples
     ax, ay = z.real, z.imag
+    import sys
+
     from plantmech.trains.curves import use_kernels
 
-    if use_kernels(P * n):  # a population: per design, one sorted sweep (the same counts)
+    # a population (or designs whose train pass loaded numba already: a sub-population of
+    # a large grid, 32 x 720 points, costs nothing to import): per design, one sorted
+    # sweep (the same counts)
+    if use_kernels(P * n) or (P > 1 and "plantmech.trains.fused" in sys.modules):
         from plantmech.trains.fused import crossings
 
         return crossings(np.ascontiguousarray(ax), np.ascontiguousarray(ay)).astype(int)
@@ -245,7 +251,7 @@ def _evaluate_group(designs: list, samples: int, motions: list | None = None
     from plantmech.trains.spec import TrainSpecError, build_from_designs
 
     try:
-        built = build_from_designs(designs)
+        built = build_from_designs(designs, grouped=True)  # grouped by structure_key
     except TrainSpecError as exc:
         if len(designs) == 1:
             if motions is not None:
@@ -274,6 +280,10 @@ def judged(designs: list, built, motion) -> list[list[dict]]:
     verdicts, rules = assess(first, built)
     graded = [violation(v, rules) for v in verdicts]  # (P, 2) each
     lim = rules.max_working_pressure_angle_deg
+    # per pair, its (P,) numbers as Python floats once (a row per design reads them)
+    pairs = [(v.name, v.module_low.tolist(), v.module_high.tolist(),
+              v.working_pressure_angle_deg.tolist(), g[:, 0].tolist(), g[:, 1].tolist())
+             for v, g in zip(verdicts, graded, strict=True)]
     out = []
     for i, design in enumerate(designs):
         rows = []
@@ -281,14 +291,13 @@ def judged(designs: list, built, motion) -> list[list[dict]]:
             rng = getattr(design.limits, c.name)
             rows.append(dict(c.as_dict(), violation=float(relative_violation(
                 values[c.name][i], rng.min, rng.max))))
-        for v, g in zip(verdicts, graded, strict=True):
-            lo, hi = float(v.module_low[i]), float(v.module_high[i])
-            w = float(v.working_pressure_angle_deg[i])
-            rows.append({"name": f"cuttable_module_{v.name}", "value": round(hi, 6),
+        for name, low, high, angle, g_module, g_angle in pairs:
+            lo, hi, w = low[i], high[i], angle[i]
+            rows.append({"name": f"cuttable_module_{name}", "value": round(hi, 6),
                          "unit": "mm", "limit": f">= {lo:g} mm", "ok": bool(hi >= lo),
-                         "violation": float(g[i, 0])})
-            rows.append({"name": f"working_pressure_angle_{v.name}", "value": round(w, 6),
+                         "violation": g_module[i]})
+            rows.append({"name": f"working_pressure_angle_{name}", "value": round(w, 6),
                          "unit": "deg", "limit": f"<= {lim:g} deg", "ok": bool(w <= lim),
-                         "violation": float(g[i, 1])})
+                         "violation": g_angle[i]})
         out.append(rows)
     return out

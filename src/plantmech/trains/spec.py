@@ -203,18 +203,21 @@ def _curves_from_specs(specs: list, grid: int, name: str) -> Curve:
                         open_turn=getattr(first, "open", False))
 
 
-def train_from_designs(designs: list) -> Train:
+def train_from_designs(designs: list, grouped: bool = False) -> Train:
     """One ``Train`` of P planetary designs sharing their ``structure_key``: every number
     of the files becomes a (P,) array (the curves (P, grid)); P = 1 is
     ``train_from_design``. Raises ValueError when the structures differ, TrainSpecError
-    (naming the field) when a curve cannot be tabulated."""
+    (naming the field) when a curve cannot be tabulated. ``grouped``: the caller has
+    grouped the designs by ``structure_key`` already (the key, a JSON dump of the rules per
+    design, is not computed a second time)."""
     first = designs[0]
     require_curves(first)
-    key = structure_key(first)
-    for i, d in enumerate(designs[1:], 1):
-        if structure_key(d) != key:
-            raise ValueError(f"design {i} does not share design 0's train structure (pair "
-                             "kinds, curve families, turns, grid, carrier, rules)")
+    if not grouped:
+        key = structure_key(first)
+        for i, d in enumerate(designs[1:], 1):
+            if structure_key(d) != key:
+                raise ValueError(f"design {i} does not share design 0's train structure "
+                                 "(pair kinds, curve families, turns, grid, carrier, rules)")
     t = first.train
     pairs = []
     for k, p in enumerate(t.pairs):
@@ -305,10 +308,11 @@ def check_breaks(built: BuiltTrain) -> None:
                 + (f" (design {d})" if built.designs > 1 else ""))
 
 
-def build_from_designs(designs: list) -> BuiltTrain:
-    """The built train of P planetary designs sharing their structure (``train_from_designs``);
-    TrainSpecError names the pair (and the design) whose curves cannot roll or close."""
-    train = train_from_designs(designs)
+def build_from_designs(designs: list, grouped: bool = False) -> BuiltTrain:
+    """The built train of P planetary designs sharing their structure (``train_from_designs``,
+    ``grouped`` as there); TrainSpecError names the pair (and the design) whose curves
+    cannot roll or close."""
+    train = train_from_designs(designs, grouped)
     try:
         built = build(train, len(designs))
     except (PairError, CurveError) as exc:
