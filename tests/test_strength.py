@@ -284,3 +284,22 @@ def test_seeder_contacts_of_a_circular_train():
     # body angle runs back with psi
     sun = geo["sun_gear2"]["body_angle"][1]
     assert np.allclose(np.exp(1j * (sun - sun[0])), np.exp(-1j * psi), atol=1e-6)
+
+
+def test_root_below_five_replacement_teeth_is_not_rated():
+    """Replacement spur gears of 1-4 teeth (a sharp span at a coarse module): ISO 6336-3's
+    30 deg tangent construction gives Y_F 95.7 at z = 2 and 0.49 at z = 1.5 (no monotone
+    trend) and no Y_S at z <= 2; the root stress there is NaN and flagged not rated, the
+    flank stress still computed; at z >= 5 the root stress is K F_t / (b m) Y_F Y_S."""
+    mat = st.MATERIALS["steel"]
+    rho = np.array([0.6, 1.5, 2.4, 6.0, 50.0])  # mm at module 1: z = 1.2, 3, 4.8, 12, 100
+    s = st.pair_stresses(np.full(5, 100.0), 10.0, 1.0, rho, np.full(5, 50.0),
+                         np.radians(20), 1.0, 1.25, mat)
+    assert list(s["root_rated_1"]) == [False, False, False, True, True]
+    assert np.isnan(s["sigma_F_1_MPa"][:3]).all() and np.isfinite(s["sigma_F_1_MPa"][3:]).all()
+    assert np.isfinite(s["sigma_H_MPa"]).all()
+    y_f, y_s = st.form_factors(np.array([12.0]), np.radians(20), 1.25,
+                               st.Rating().rack_tip_radius,
+                               np.clip(s["contact_ratio"][3:4], 1, 2), mat.plastic, 1.0)
+    assert s["sigma_F_1_MPa"][3] == pytest.approx(
+        st.Rating().K * 100.0 / 10.0 * float(y_f[0] * y_s[0]), rel=1e-9)

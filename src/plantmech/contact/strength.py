@@ -185,6 +185,12 @@ def form_factors(z, alpha: float, dedendum: float, rack_tip_radius: float, eps=N
 MAX_WORKING_DEG = 89.0
 #: tooth count a ring's replacement is rated at (ISO 6336-3's basic-rack approximation)
 RACK_TEETH = 2000.0
+#: the fewest replacement teeth the root is rated on: below it the 30 deg tangent
+#: construction of ``form_factors`` breaks down (measured on the 20 deg rack: Y_F 6.6, 12.1,
+#: 52.3, 95.7, 0.49 at z = 5, 4, 3, 2, 1.5, not growing as the tooth narrows; Y_S undefined
+#: at z <= 2); such a span is undercut or pointed (the manufacturability findings), its
+#: root is "not rated" in the record, never a number
+ROOT_RATED_MIN_TEETH = 5.0
 
 
 def pair_stresses(F_t, b: float, m: float, rho1, rho2, alpha: float, addendum: float,
@@ -205,11 +211,16 @@ def pair_stresses(F_t, b: float, m: float, rho1, rho2, alpha: float, addendum: f
     y_eps = 0.25 + 0.75 / eps if tip else 1.0
     for k, rho in (("1", rho1), ("2", rho2)):
         z = np.where(rho > 0, 2 * np.abs(rho) / m, RACK_TEETH)
-        y_f, y_s = form_factors(z, alpha, dedendum, rating.rack_tip_radius, eps, tip,
-                                addendum)
+        with np.errstate(invalid="ignore"):  # z below ROOT_RATED_MIN_TEETH: not rated
+            y_f, y_s = form_factors(np.maximum(z, ROOT_RATED_MIN_TEETH), alpha, dedendum,
+                                    rating.rack_tip_radius, eps, tip, addendum)
         out[f"z_{k}"] = np.where(rho > 0, 2 * rho / m, 2 * rho / m)
         out[f"Y_F_{k}"], out[f"Y_S_{k}"] = y_f, y_s
-        out[f"sigma_F_{k}_MPa"] = rating.K * F_t / (b * m) * y_f * y_s * y_eps
+        rated = z >= ROOT_RATED_MIN_TEETH
+        out[f"root_rated_{k}"] = rated
+        with np.errstate(invalid="ignore"):
+            out[f"sigma_F_{k}_MPa"] = np.where(
+                rated, rating.K * F_t / (b * m) * y_f * y_s * y_eps, np.nan)
     return out
 
 
@@ -629,6 +640,7 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float,
     for c in impacts:
         near_impact |= np.abs((psi_deg - c + 180.0) % 360.0 - 180.0) <= IMPACT_WINDOW_DEG
     worst: dict[tuple, dict] = {}
+    unrated: dict[str, list] = {}  # gear -> [steps loaded but not rated, loaded, min z_eq]
     shaft_load = {"torque": 0.0, "normal": 0.0}
     order: list[str] = []
     for name, g in geo.items():
@@ -649,7 +661,16 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float,
             if gear not in order:
                 order.append(gear)
             root = s[f"sigma_F_{idx + 1}_MPa"]
+            loaded = F_t > 0
+            short = loaded & ~np.asarray(s[f"root_rated_{idx + 1}"])
+            if short.any():
+                u = unrated.setdefault(gear, [0, 0, np.inf])
+                u[0] += int(short.sum())
+                u[1] += int(loaded.sum())
+                u[2] = min(u[2], float(np.min(s[f"z_{idx + 1}"][short])))
             for kind, stress in (("root", root), ("flank", s["sigma_H_MPa"])):
+                if np.all(np.isnan(stress)):
+                    continue
                 t = int(np.nanargmax(stress))
                 key = (gear, kind)
                 if key in worst and worst[key]["stress_MPa"] >= stress[t]:
@@ -669,11 +690,15 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float,
     table, findings, checks = [], [], []
     for gear in order:
         row = {"gear": gear, "teeth": gears[gear].teeth,
-               "module_mm": round(worst[(gear, "root")]["module_mm"], 4)}
+               "module_mm": round(worst[(gear, "flank")]["module_mm"], 4)}
         for kind, limit, smin in (("root", material.root_limit_MPa, material.min_root_safety),
                                   ("flank", material.sigma_Hlim_MPa,
                                    material.min_flank_safety)):
-            w = worst[(gear, kind)]
+            w = worst.get((gear, kind))
+            if w is None:  # every loaded step below ROOT_RATED_MIN_TEETH
+                row[kind] = {"not_computed": "every loaded contact on a replacement spur "
+                             f"gear of fewer than {ROOT_RATED_MIN_TEETH:g} teeth"}
+                continue  # said in not_rated
             safety = limit / w["stress_MPa"] if w["stress_MPa"] > 0 else np.inf
             w = {k: v for k, v in w.items() if k != "module_mm"}
             row[kind] = dict(w, stress_MPa=round(w["stress_MPa"], 2),
@@ -703,7 +728,12 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float,
             "tooth": {"pressure_angle_deg": rules.pressure_angle_deg,
                       "addendum": rules.addendum, "dedendum": rules.dedendum},
             "face_width_mm": face_width_mm, "shaft_overhang": arm,
-            "not_rated": _not_rated(geo, impacts),
+            "not_rated": _not_rated(geo, impacts) + [
+                f"{gear} root: {n} of {of} loaded steps on a replacement spur gear of "
+                f"fewer than {ROOT_RATED_MIN_TEETH:g} teeth (down to {zmin:.2f}), where "
+                "ISO 6336-3's form factors do not hold: the tooth is undercut or pointed "
+                "there (the manufacturability findings); the root safety is the rated "
+                "steps' only" for gear, (n, of, zmin) in unrated.items()],
             "gears": table,
             "shafts": [shaft],
             "findings": findings, "checks": checks}

@@ -218,7 +218,8 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
 def _identical_mates(built, k: int) -> bool:
     """Whether pair k's two gears have the same pitch curve (turned, or turned over): an
     external pair turning 1:1 whose follower's radius table is the driver's shifted round
-    the grid, or reversed (two ellipses about their foci)."""
+    the grid, or reversed (two ellipses about their foci). Two equal circles are not: a
+    circle meshes with its mate in any phase, so its tooth count is free."""
     law = built.laws[k]
     if law.kind != "external" or abs(float(np.ravel(law.follower_turns)[0]) - 1) > 1e-12 \
             or law.driver.open:
@@ -227,6 +228,8 @@ def _identical_mates(built, k: int) -> bool:
     if a.shape != b.shape:
         return False
     tol = 1e-6 * float(a.max())
+    if float(a.max() - a.min()) <= tol:
+        return False
     for c in (b, b[::-1]):
         corr = np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(c)), a.size)
         shift = int(np.argmax(corr))
