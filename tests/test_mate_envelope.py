@@ -205,13 +205,13 @@ def test_table4_sun_by_the_envelope_matches_the_simulated_cut():
     assert np.abs(np.sort(t_env["angle_deg"]) - np.sort(t_sim["angle_deg"])).max() < 1.0
 
 
-def _example_mates(name, with_pairs: bool = False):
+def _example_mates(name, with_pairs: bool = False, module: float | None = None):
     """Every mate of a bundled example as ``plantmech gears`` makes it (by the envelope by
     default, an internal one within the simulated cut's reach), with the simulated cut of
     the same mate as the reference: [(pair name,
     envelope gear, made, simulated gear, generating A, MateMotion, B's pitch polyline,
     B's blank)], each followed by the pair and the reach (MateReach, internal; else None)
-    when ``with_pairs``."""
+    when ``with_pairs``; ``module``: as ``--module`` (else the default, a standard one)."""
     from pathlib import Path
 
     from plantmech.design import load_design
@@ -232,9 +232,9 @@ def _example_mates(name, with_pairs: bool = False):
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(teeth, "envelope_cut_made", spy)
-        pairs = gear_pairs(design, tooth={"pressure_angle_deg": rules.pressure_angle_deg,
-                                          "addendum": rules.addendum,
-                                          "dedendum": rules.dedendum})
+        pairs = gear_pairs(design, module,
+                           tooth={"pressure_angle_deg": rules.pressure_angle_deg,
+                                  "addendum": rules.addendum, "dedendum": rules.dedendum})
     cut_by_a = [p for p, _ in pairs if p.b_cut_by_a]
     assert len(cut_by_a) == len(calls)
     out = []
@@ -426,7 +426,9 @@ def test_table4_planet_by_the_envelope_has_no_fold_back():
     its positions) is swept by gear 3 (brute force)."""
     from plantmech.gears.outline import fold_backs
 
-    mates = dict((n, rest) for n, *rest in _example_mates("sugarcane_table4"))
+    # at --module 6 (20 teeth a gear, the default before standard modules): the case was
+    # found there; the default 1.5 mm cuts ~140 teeth a gear
+    mates = dict((n, rest) for n, *rest in _example_mates("sugarcane_table4", module=6.0))
     assert set(mates) == {"gear2_sun", "gear3_planet"}
     for name, (gear, made, sim, tool, motion, _pitch_b, blank) in mates.items():
         assert made == {"method": "envelope", "cutter": "mate", "why": None}, name

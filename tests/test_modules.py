@@ -61,7 +61,8 @@ def test_a_gear_cut_at_a_non_standard_module_is_a_finding(tmp_path):
     undercut bound at the ellipse's near vertex, 2 (B^2 / A) / 17.1 = 2.83 mm: 2.5 mm), on
     the sun the odd tooth count nearest P / (2.5 pi) = 19.8 (the sun and idler 1 are the
     same ellipse about its focus turning 1:1: an odd count makes them identical, issue 35):
-    19 teeth closing at 2.6101 mm, not a cutter's; without the file's special_module the cut gears carry the
+    19 teeth closing at 2.6101 mm, not a cutter's; without the file's special_module the cut
+    gears carry the
     finding, and the record says what was chosen and why."""
     from plantmech.design import load_design
     from plantmech.workflows import run_gears
