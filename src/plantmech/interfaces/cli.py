@@ -117,13 +117,10 @@ def ended_by(exc: BaseException) -> int | None:
     output classes (``OutputRun``, ``OutputFile``) have already deleted their temporary
     files and left ``--out`` as it was."""
     from plantmech.outputs.files import is_no_space
-    from plantmech.outputs.signals import NAMES
+    from plantmech.outputs.signals import stopped
 
     if isinstance(exc, KeyboardInterrupt):
-        signum = getattr(exc, "signum", 2)
-        print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it "
-              "was", file=sys.stderr)
-        return getattr(exc, "exit_code", 130)
+        return stopped(exc)
     if is_no_space(exc):
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         print(f"error: no space left on the device{where}: nothing was written, --out left "
