@@ -1034,7 +1034,7 @@ function markStale() {
   const h = $("make-headline");
   if (state.gearVerdict) {
     const text = `gears: ${state.gearVerdict.headline}${gStale ? " (for an earlier version)" : ""}`;
-    if (h.textContent !== text) { h.textContent = text; h.className = state.gearVerdict.verdict === "ok" && !gStale ? "good" : "bad"; }
+    if (h.textContent !== text) { h.textContent = text; h.className = state.gearVerdict.ok && !gStale ? "good" : "bad"; }
   }
 }
 
@@ -1206,8 +1206,8 @@ async function pollGears(task) {
     teethNote(); drawMechanism();
   }
   // the one verdict of verification.json (as `plantmech gears` prints it) and its findings
-  const ok = res.verdict === "ok";
-  state.gearVerdict = { verdict: res.verdict, headline: res.headline };
+  const ok = res.verdict.ok === true;
+  state.gearVerdict = { ok, headline: res.headline };
   const failed = new Set(res.findings.map((f) => f.gear));
   $("g-verdict").innerHTML = `<div class="${ok ? "ok" : "fail"}" id="g-headline">verdict: ${esc(res.headline)}</div>`
     + (res.findings.length ? `<ol class="findings">${res.findings.map((f) => `<li data-gear="${esc(f.gear)}">${esc(f.text)}</li>`).join("")}</ol>` : "");
