@@ -70,7 +70,7 @@ def test_seeder_make_panel_carries_the_verdict_of_verification_json(page):
     page.click("#g-start")
     page.locator("#g-headline").wait_for(timeout=55000)
     rec = json.loads(download(page, "#g-files a:text-is('verification.json')").read_text())
-    assert rec["verdict"] == "not manufacturable" and rec["findings"]
+    assert rec["verdict"]["label"] == "not manufacturable" and rec["findings"]
     head = page.locator("#g-headline").inner_text()
     assert "not manufacturable" in head and f"{len(rec['findings'])} findings" in head
     assert "not manufacturable" in page.locator("#make-headline").inner_text()

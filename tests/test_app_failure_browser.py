@@ -59,6 +59,32 @@ def app_program(tmp_path_factory):
             p.wait(10)
 
 
+MARKUP = '<img src=x onerror="window.__xss = (window.__xss || 0) + 1">'
+
+
+@pytest.mark.parametrize("start,status", [("#opt-start", "#opt-status"),
+                                          ("#g-start", "#g-status")])
+def test_a_refusal_holding_markup_shows_as_text(app_program, start, status):
+    """The server's words are text, never markup: a design holding a field named like an
+    HTML image with an onerror script is refused by the server, whose message names the
+    field (``design: field '<img ...>': unknown field``); the optimizer's and the gear
+    cutter's status show that message as the characters it is. Before, startOptimize and
+    startGears put it into innerHTML: the image was made and its script ran."""
+    url, p, log = app_program
+    with browser_page(url) as page:
+        load(page, "rice_transplanter")
+        page.evaluate("(k) => { window.__plantmech.design[k] = 1; }", MARKUP)
+        page.click(start)
+        page.wait_for_function("(s) => document.querySelector(s).innerText.includes("
+                               "'unknown field')", arg=status, timeout=30000)
+        text = page.locator(status).inner_text()
+        assert f"field '{MARKUP}': unknown field" in text, text
+        assert page.locator(f"{status} img").count() == 0
+        assert page.evaluate("document.querySelectorAll('img[src=\"x\"]').length") == 0
+        page.wait_for_timeout(300)  # an image's onerror would have run by now
+        assert page.evaluate("window.__xss") is None
+
+
 def test_a_failing_optimization_says_why_without_a_traceback(app_program):
     url, p, log = app_program
     with browser_page(url) as page:

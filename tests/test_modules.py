@@ -72,7 +72,7 @@ def test_a_gear_cut_at_a_non_standard_module_is_a_finding(tmp_path):
     del doc["manufacturing"]["special_module"]
     rec = run_gears(load_design(doc, name="e.toml"), tmp_path, steps=36)
     std = [f for f in rec["findings"] if f["check"] == "standard_module"]
-    assert rec["verdict"] == "not manufacturable"
+    assert rec["verdict"]["label"] == "not manufacturable"
     assert {f["gear"] for f in std} == {"sun_idler1", "idler1_planet"}
     m = rec["gears"][0]["module_mm"]
     # the module: the sun's pitch perimeter (ellipse A = 25, e = 0.18) over 25 pi

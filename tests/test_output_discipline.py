@@ -493,7 +493,7 @@ def test_gears_step_without_the_extra_is_a_finding(tmp_path, capsys):
     lines = capsys.readouterr().out.strip().splitlines()
     rec = json.loads((out / "verification.json").read_text())
     assert rc == 4 and rec["step"].startswith("build123d is not installed")
-    assert rec["verdict"] == "files not written"
+    assert rec["verdict"]["label"] == "files not written" and not rec["verdict"]["ok"]
     assert [f["check"] for f in rec["findings"]] == ["files_not_written"]
     assert lines[-1].startswith("verdict: NOT MET - files not written")
 
@@ -528,7 +528,10 @@ def test_the_gears_report_mesh_row_follows_the_findings(tmp_path, monkeypatch):
     monkeypatch.setattr(report, "write_report", lambda path, summary, *a, **k: seen.update(
         summary=summary, verdict=k["verdict"]) or [Path(path)])
     monkeypatch.setattr(report_cli, "design_animation", lambda d: None)
-    rec = {"verdict": "not manufacturable", "files": [], "gears": [],
+    rec = {"verdict": {"status": "not met", "ok": False, "exit_code": 4,
+                       "failed": ["a_b backlash_min"], "label": "not manufacturable",
+                       "text": "NOT MET - not manufacturable: 1 findings on 1 gears or pairs"},
+           "files": [], "gears": [],
            "all_pairs_mesh": True,
            "mesh": [{"pair": "a_b", "ok": True, "max_interference_mm": 0.0},
                     {"pair": "b_c", "ok": True, "max_interference_mm": 0.0}],
@@ -539,7 +542,24 @@ def test_the_gears_report_mesh_row_follows_the_findings(tmp_path, monkeypatch):
     rows = {r["pair"]: r["ok"] for r in check_rows(seen["summary"]) if "pair" in r}
     assert rows == {"a_b": False, "b_c": True}
     assert seen["summary"]["all_pairs_mesh"] is False and seen["verdict"][0] is False
+    assert seen["verdict"][1] == "verdict: " + rec["verdict"]["text"]  # the record's words
     assert rec["mesh"][0]["ok"] is True  # the record itself is not changed
+
+
+def test_gears_records_the_one_verdict_of_every_command(shared):
+    """`plantmech gears` records its verdict as forward and verify do (``outputs.verdict``:
+    status, ok, exit_code, failed), not as a bare string ("ok" / "not manufacturable", kept
+    as its ``label``), with the line it printed (``text``) and the caveats it rests on."""
+    from plantmech.outputs.verdict import verdict
+    from tests.conftest import gears_cut
+
+    out, rc = gears_cut(shared, "rotary_transplanter_elliptic", ELLIPTIC)
+    rec = json.loads((out / "verification.json").read_text())
+    v = rec["verdict"]
+    assert isinstance(v, dict) and rec["findings"] == [] and rc == 0
+    assert v == {**verdict(), "label": "ok", "caveats": [c["text"] for c in rec["caveats"]],
+                 "text": "ok - every gear can be cut, the pairs mesh, every file is what it "
+                         "claims"}
 
 
 def test_design_accepts_report():

@@ -91,3 +91,49 @@ def test_app_evaluates_and_edits_a_pair_file(pair_file):
     fields = {p["field"]: p for p in editable_parameters(d)}
     k = fields["train.pairs.0.law.constants.k"]
     assert k["value"] == pytest.approx((1 + E) / (1 - E)) and k["min"] < k["value"] < k["max"]
+
+
+def test_verify_names_a_held_carrier_the_frame(pair_file, shared, tmp_path, capsys):
+    """A pair on fixed centres (``carrier.held``): nothing turns at the carrier, so neither
+    the printed lines, nor verification.json, nor the report call anything there the
+    carrier. The angles are the driver's (the sun's) turn; the torque on the held carrier
+    is the frame's, holding the centres (no input): the input torque is the sun's alone
+    (before, the frame's reaction was added to it as a "carrier" drive)."""
+    from plantmech.design import load_design
+    from plantmech.outputs.report import planetary_animation
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+    from tests.conftest import EXAMPLES, gears_cut
+
+    gears, code = gears_cut(shared, "init-pair-backlash-0.1", pair_file, "--backlash", "0.1")
+    assert code == 0
+    ver = tmp_path / "verify"
+    assert main(["verify", str(pair_file), "--gears", str(gears), "--out", str(ver),
+                 "--steps", "180"]) == 0
+    printed = capsys.readouterr().out
+    said = [ln for ln in printed.splitlines() if "carrier" in ln]
+    assert said == ["  carrier held: the frame (fixed centres); the angles are the driver's "
+                    "(the sun's) turn"], said
+    assert "(at driver " in printed and "at arm 1, driver " in printed
+    assert "loads at 360 deg/s of the driver" in printed
+    assert "frame holding the fixed centres" in printed
+    rec = json.loads((ver / "verification.json").read_text())
+    assert rec["angles_of"] == "driver" and rec["carrier"].startswith("held: the frame")
+    loads = rec["loads"]
+    tq = loads["input_torque_N_m"]
+    assert set(tq) == {"sun", "min", "max"}  # the sun drives; the frame is no input
+    assert (tq["min"], tq["max"]) == (tq["sun"]["min"], tq["sun"]["max"])
+    assert set(loads["holding_torque_N_m"]) == {"frame"}
+    assert "the frame held (fixed centres), driven sun" in loads["model"]
+    assert "carrier" not in loads["model"]
+    # the report's animation (forward, gears and design --report)
+    design = load_design(pair_file)
+    a = planetary_animation(design, simulate(build_from_design(design), 360))
+    assert a.title.endswith("one driver turn") and a.origin == "driver axis O (fixed)"
+    assert a.frame_labels[0].startswith("driver angle")
+    assert [lk["label"] for lk in a.links if lk["label"]] == ["frame (fixed centres) and arm 1"]
+    # a train whose carrier turns keeps its words
+    other = load_design(EXAMPLES / "planetary" / "rice_transplanter.toml")
+    b = planetary_animation(other, simulate(build_from_design(other), 360))
+    assert b.title.endswith("one carrier turn") and b.origin == "carrier axis O"
+    assert b.frame_labels[0].startswith("carrier angle")

@@ -57,7 +57,7 @@ def test_design_of_the_manufacturable_transplanter_ends_in_workshop_files(tmp_pa
     assert [st["stage"] for st in s["stages"]] == ["check", "gears"]
     assert all(c["ok"] for c in s["final_checks"]) and len(s["final_checks"]) == 16
     rec = json.loads((out / "gears" / "verification.json").read_text())
-    assert rec["verdict"] == "ok" and rec["findings"] == []
+    assert rec["verdict"]["ok"] and rec["findings"] == []
     for name in ("internal", "planet"):
         mesh = trimesh.load(out / "gears" / f"{name}.stl")
         assert mesh.is_watertight and mesh.volume > 0 and len(mesh.split()) == 1

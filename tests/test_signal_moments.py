@@ -5,7 +5,8 @@ changed output, never a traceback.
 
 ``design``: 20 random moments over the whole job (gear cutting and report included), in four
 parts of five so that no test runs a minute. ``inverse``, ``optimize``, ``verify``, ``report``,
-``schema`` and ``init``: three moments each (one per signal). ``study``: the signal sent to
+``schema`` and ``init``: three moments each (one per signal). The program's start-up,
+before its command runs: one moment per module it imports then. ``study``: the signal sent to
 the whole process group, as a terminal's Ctrl-C or a closed terminal sends it, while its local
 Dask cluster works: no traceback from its worker processes, none left behind.
 (``forward`` and ``gears``: tests/test_output_discipline.py.)"""
@@ -298,6 +299,54 @@ def test_signals_at_random_moments_of_every_other_command(command, shared, tmp_p
     print(f"{command}: a run {full:.3f} s, {calls if full <= 0.5 else '-'} calls; "
           f"(moment, signal, exit): {res}")
     assert sum(rc >= 128 for _, _, rc, _ in res) >= 2, res  # most land inside the run
+
+
+# --- start-up: the program before its command runs ----------------------------------------
+
+#: modules the program imports before its command runs, in the order they finish importing
+#: (each line of PYTHONPROFILEIMPORTTIME is written when its module has been imported)
+STARTUP = ("plantmech.outputs.signals", "argparse", "pathlib", "plantmech.typos",
+           "plantmech.outputs.verdict", "plantmech.interfaces.cli")
+
+
+@pytest.mark.skipif(not Path(sys.executable).with_name("plantmech").exists(),
+                    reason="the program 'plantmech' is not installed beside this Python")
+def test_a_signal_at_start_up_of_the_program(tmp_path):
+    """The program ``plantmech`` (its console script, as a user runs it) gets a signal while
+    it imports the modules of its command, some 70 ms before: a KeyboardInterrupt traceback
+    and exit -2 (SIGTERM: -15, killed) before ``cli.main`` installed its handling. Each
+    moment is the import of one module of ``STARTUP`` (the signal is sent when the
+    interpreter reports that import done, PYTHONPROFILEIMPORTTIME), SIGINT, SIGTERM and
+    SIGHUP in turn: every time exit 128 + the signal, one "interrupted" line, no traceback,
+    nothing written. (The interpreter's own start-up before plantmech's first line, its
+    ``site`` imports, is CPython's and not tried here: interfaces/entry.py.)"""
+    program = str(Path(sys.executable).with_name("plantmech"))
+    work = tmp_path / "w"
+    work.mkdir()
+    (work / "mine.txt").write_text("the user's")
+    env = dict(os.environ, PYTHONPROFILEIMPORTTIME="1")
+    results = []
+    for i, module in enumerate(STARTUP):
+        signum = KINDS[i % 3]
+        before = snapshot(tmp_path)
+        p = subprocess.Popen([program, "init", "seeder", str(work)], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=env)
+        seen = []
+        for line in p.stderr:
+            seen.append(line)
+            if line.startswith("import time:") and line.rstrip().split("|")[-1].strip() \
+                    == module:
+                p.send_signal(signum)
+                break
+        out, err = p.communicate(timeout=60)
+        err = "".join(seen) + err
+        name = signals.NAMES[signum]
+        results.append((module, name, p.returncode))
+        assert "Traceback" not in err, (module, name, err[-2000:])
+        assert p.returncode == 128 + signum, (module, name, p.returncode, err[-2000:])
+        assert f"interrupted ({name}): nothing written" in err, (module, name)
+        assert snapshot(tmp_path) == before, (module, name)
+    print(f"start-up (module imported, signal, exit): {results}")
 
 
 # --- study: the signal to the whole process group -----------------------------------------

@@ -264,8 +264,13 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsy
     assert teeth["gear3"] == round(P["gear3"] / (1.0 * np.pi)) == 169
     assert "module of gear3_planet: 1 mm (ISO 54 series I), 169 teeth" in printed
     assert [c["standard_module_mm"] for c in rec["module_choice"]] == [1.5, 1.0]
-    assert rc == 4 and rec["verdict"] == "not manufacturable"
+    assert rc == 4 and rec["verdict"]["label"] == "not manufacturable"
     assert printed.strip().splitlines()[-1].startswith("verdict: NOT MET - not manufacturable")
+    # the one verdict of every command (outputs.verdict), each finding a reason, printed last
+    v = rec["verdict"]
+    assert v["status"] == "not met" and v["ok"] is False and v["exit_code"] == rc
+    assert v["failed"] == [f"{f['gear']} {f['check']}" for f in rec["findings"]]
+    assert printed.strip().splitlines()[-1] == f"verdict: {v['text']}"
     assert "ok   gear3" not in printed and "FAIL gear3" in printed
     found = {(f["gear"], f["check"]): f for f in rec["findings"]}
     cut = found[("gear3", "cutter_fit")]
@@ -386,7 +391,7 @@ def test_toothed_transplanter_gears_mesh_but_are_undercut(tmp_path):
     assert all(g["stl"]["written"] and g["stl"]["bodies"] == 1 for g in rec["gears"])
     assert [g["teeth"] for g in rec["gears"]] == [80, 20]
     assert [g["teeth_on_outline"] for g in rec["gears"]] == [80, 20]
-    assert rec["verdict"] == "not manufacturable"
+    assert rec["verdict"]["label"] == "not manufacturable"
     # 80 teeth make its module 2.567 mm: no stock cutter (gears/modules.py) either
     assert sorted((f["gear"], f["check"]) for f in rec["findings"]) == [
         ("internal", "undercut"), ("internal_planet", "standard_module"),
@@ -414,7 +419,7 @@ def test_manufacturable_transplanter_example_meets_everything_and_meshes(tmp_pat
     rc = main(["gears", str(path), "--out", str(out)])
     rec = json.loads((out / "verification.json").read_text())
     assert rc == 0, rec["findings"]
-    assert rec["verdict"] == "ok" and rec["findings"] == []
+    assert rec["verdict"]["ok"] and rec["findings"] == []
     assert rec["tooth"] == {"pressure_angle_deg": 25.0, "addendum": 0.8, "dedendum": 1.0}
     (mesh,) = rec["mesh"]
     assert mesh["ok"] and mesh["max_interference_mm"] < 0.01 * rec["gears"][0]["module_mm"]
@@ -485,7 +490,7 @@ def test_a_step_file_that_is_off_or_slow_is_a_finding_never_silent(tmp_path, mon
     assert found[("internal", "step_file")]["value"] == 0.0071
     assert found[("planet", "step_import_time")]["value"] == 7.5
     assert found[("planet", "step_import_time")]["limit"] == gf.STEP_IMPORT_LIMIT_S
-    assert rec["verdict"] == "not manufacturable"
+    assert rec["verdict"]["label"] == "not manufacturable"
     assert "planet.step" in rec["files"] and "internal.step" not in rec["files"]
 
 

@@ -168,9 +168,7 @@ def run_design(design, out: Path, design_input: str, seed: int = 0, progress: bo
         gdir.mkdir()
         gears = run_gears(final, gdir, module=module)
         written += [gdir / f for f in gears["files"]] + [gdir / "verification.json"]
-        from plantmech.gears.findings import VERDICT_OK
-
-        gears_ok = gears["verdict"] == VERDICT_OK
+        gears_ok = gears["verdict"]["ok"]
         stage("gears", ok=gears_ok, files=len(gears["files"]))
         if not gears_ok:
             failed += [f"gears: {f['gear']} {f['check']}" for f in gears["findings"]]

@@ -236,9 +236,12 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
               method: str = "envelope") -> dict:
     """Generate, check and write every gear of ``design`` into ``out`` (``step``: also
     STEP files, build123d: seconds per gear, docs/manufacturing.md); returns the
-    verification record (also written as verification.json) with its ``verdict`` ("ok" /
-    "not manufacturable") and ``findings`` (``gears.findings``): every failed check of the
-    pitch curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
+    verification record (also written as verification.json) with its ``verdict``, the one
+    structure of every command (``outputs.verdict``: status, ok, exit_code, failed: each
+    finding as "gear check"; with ``label`` "ok" / "not manufacturable" / "files not
+    written", ``text`` the line ``plantmech gears`` prints after "verdict: ", and
+    ``caveats``) and ``findings`` (``gears.findings``): every failed check of the pitch
+    curves, the cut outlines, the mesh and the written files. ``outlines``: a dict
     to receive each gear's cut outline and pitch polyline, {name: (polygon, (n, 2) mm)},
     both in the gear's body frame about its centre (the app draws the teeth with them).
     ``method``: how the teeth are generated (``gear_pairs``)."""
@@ -341,8 +344,8 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
         record["files"].append(f"{pair.name}_mesh.png")
     record["all_pairs_mesh"] = all(m["ok"] for m in record["mesh"])
     findings += pitch_curve_findings(design)
-    record["verdict"] = fnd.verdict(findings)
-    from plantmech.outputs.caveats import limits_from_file
+    from plantmech.outputs.caveats import limits_from_file, with_caveats
+    from plantmech.outputs.verdict import verdict
 
     record["caveats"] = limits_from_file(design)  # the file's limits the verdict rests on
     # the modules and tooth counts the command chose for the user (gears.modules)
@@ -352,5 +355,11 @@ def run_gears(design, out, module: float | None = None, face_width: float = 12.0
                  f"{c['pair']} chosen by default (the curve closes at {c['module_mm']:.4f} "
                  "mm; --module or the file's tooth count overrides)"}
         for c in record["module_choice"] if c["source"] == "default"]
+    # the verdict as every command's (forward, verify: outputs.verdict), built once: the
+    # printed line, the report and the app read it
+    v = record["verdict"] = verdict(problems=[f"{f['gear']} {f['check']}" for f in findings])
+    v["label"] = fnd.verdict(findings)
+    v["text"] = fnd.headline(record)
+    with_caveats(v, record["caveats"])
     write_json(out / "verification.json", record)
     return record

@@ -210,12 +210,12 @@ def _gears_child(design_json: dict, out: str, opts: dict, q) -> None:
             teeth = scene.teeth_for_scene(drawn, outlines)
         except Exception as exc:  # noqa: BLE001 - the page then draws pitch curves only
             teeth = {"error": f"{type(exc).__name__}: {exc}"}
-        from plantmech.gears.findings import describe, headline
+        from plantmech.gears.findings import describe
 
         # the verdict of verification.json as `plantmech gears` prints it, with its findings
         q.put(("done", {"record": rec, "files": list(rec["files"]) + ["verification.json"],
                         "all_pairs_mesh": bool(rec["all_pairs_mesh"]), "teeth": teeth,
-                        "verdict": rec["verdict"], "headline": headline(rec),
+                        "verdict": rec["verdict"], "headline": rec["verdict"]["text"],
                         "findings": [{"gear": f["gear"], "check": f["check"],
                                       "text": describe(f)} for f in rec["findings"]]}))
     except Exception as exc:  # noqa: BLE001 - reported to the page, never a traceback

@@ -45,7 +45,8 @@ TWO_PI = 2.0 * np.pi
 class PlanetaryContact:
     """Results over the carrier turn (T steps); per arm j (0-based) and pair k."""
 
-    psi: np.ndarray  # (T,) carrier angle from the start, in the carrier's sense (rad)
+    psi: np.ndarray  # (T,) carrier angle from the start, in the carrier's sense (rad); with
+    # the carrier held (a pair on fixed centres: the frame) the driver's turn (the sun's)
     names: list[tuple[str, str]]  # (driver, follower) gear names of every pair
     pairs: list[list[FreePlay]]  # [arm][pair]: follower against its driver at nominal
     planet_lo: np.ndarray  # (J, T) extreme extra CCW turns of each planet (= its arm), rad
@@ -54,6 +55,13 @@ class PlanetaryContact:
     tip_lo: np.ndarray
     tip_hi: np.ndarray
     dwell: np.ndarray | None = None  # (J, T): the first pair's toothless dwell (seed 000)
+    held: bool = False  # the carrier is held: the frame of a pair on fixed centres
+
+    @property
+    def turning(self) -> str:
+        """What ``psi`` turns (the word of every printed angle and axis): "driver" with
+        the carrier held, where nothing turns at the carrier, else "carrier"."""
+        return "driver" if self.held else "carrier"
 
 
 def gear_file_names(design) -> list[str]:
@@ -132,7 +140,8 @@ def analyse_planetary(design, gears: dict[str, GearOutline], steps: int = 720
     nominal, tip_lo, tip_hi = (np.stack([z[:, i].real, z[:, i].imag], axis=-1)
                                for i in range(3))
     return PlanetaryContact(motion.carrier_angle, names, records, np.asarray(lo_all),
-                            np.asarray(hi_all), nominal, tip_lo, tip_hi, dwell)
+                            np.asarray(hi_all), nominal, tip_lo, tip_hi, dwell,
+                            held=bool(built.train.carrier_held))
 
 
 def _dwell_record(c: PlanetaryContact, j: int, psi_deg, spans) -> dict:
@@ -208,7 +217,13 @@ def planetary_record(c: PlanetaryContact, limits: dict) -> dict:
         if c.dwell is not None and c.dwell[j].any():
             dwells.append(_dwell_record(c, j, psi_deg, _spans))
     rec = {"steps": len(c.psi), "step_deg": float(360.0 / len(c.psi)), "pairs": pairs,
-           "arms": chained}
+           "arms": chained,
+           # what every carrier_angle_deg of the record measures: the carrier's turn, or
+           # with the carrier held (the frame of a pair on fixed centres) the driver's
+           "angles_of": c.turning}
+    if c.held:
+        rec["carrier"] = ("held: the frame (fixed centres); the angles are the driver's "
+                          "(the sun's) turn")
     te = [p["transmission_error_deg"]["max_abs_mid"] for p in pairs]
     te_max = None if None in te else max(te)
     checks = chain_checks(pairs, chained, limits, te_max, "pairs")
@@ -293,8 +308,11 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     K = len(tr.pairs)
     L = float(np.ravel(tr.arm_length)[0]) * 1e-3
     c0 = float(motion.carrier[0, 0, 0])
-    bodies = [Body("carrier", 1.0, 0.1, c0, s * omega, np.zeros(2), np.zeros(2), False)]
-    drives, drive_names = [0], ["carrier"]
+    # the carrier body: driven at s omega, or held (s = 0: the frame of a pair on fixed
+    # centres, its torque the reaction that holds the centres, no input)
+    frame = "frame" if tr.carrier_held else "carrier"
+    bodies = [Body(frame, 1.0, 0.1, c0, s * omega, np.zeros(2), np.zeros(2), False)]
+    drives, drive_names = [0], [frame]
     sun_speed = s + tr.sun_rate  # the sun's absolute turn per unit psi (k s)
     sun_abs = c0 + float(motion.gear_angles[0][0, 0, 0])  # the sun's absolute angle at 0
     sun_body = None
@@ -358,11 +376,13 @@ def planetary_loads(design, gears: dict[str, GearOutline], spec, samples: int = 
     # a dwell's ends are impacts of the rigid model: gamma 0.6 as the seeder's
     # (``loads.seeder_loads``); without impacts the lighter 0.52
     res = solve_loads(bodies, drives, laws, spec, steps, gamma=0.52 if dwell is None else 0.6)
+    driven = ("the frame held (fixed centres), driven sun" if tr.carrier_held else
+              f"driven carrier{' and sun' if sun_body is not None else ''}")
     rec = _record(res, drive_names, laws, bodies, spec,
                   f"{len(bodies)} planar rigid bodies ({J} arm(s) x {K} shaft(s), the last "
-                  f"with the arm and the payload), {len(bodies)} revolute joints, driven "
-                  f"carrier{' and sun' if sun_body is not None else ''}, {len(laws)} mesh "
-                  "constraints (pitch-curve laws)", steps)
+                  f"with the arm and the payload), {len(bodies)} revolute joints, {driven}, "
+                  f"{len(laws)} mesh constraints (pitch-curve laws)", steps,
+                  held=("frame",) if tr.carrier_held else ())
     if dwell is not None:
         # the seeder's treatment (``loads.dwell_impacts``): every arm meets the sun's
         # toothless arc, arm j 2 pi j / J of carrier turn before arm 1

@@ -65,12 +65,17 @@ def _arm_body(name, planet_props, spec: LoadSpec, S: float, angle0, omega0, pivo
 
 
 def _record(res: dict, drive_names: list[str], laws: list[MeshLaw], bodies: list[Body],
-            spec: LoadSpec, model: str, steps: int) -> dict:
-    """The loads record (``verification.json``'s ``loads``) and its series."""
+            spec: LoadSpec, model: str, steps: int, held: tuple[str, ...] = ()) -> dict:
+    """The loads record (``verification.json``'s ``loads``) and its series. ``held``: the
+    drives held still (a held carrier: the frame of a pair on fixed centres), whose torque
+    is the reaction that holds them, no input: recorded as ``holding_torque_N_m``, left
+    out of the input torque."""
     change, ke, work = res["energy_change"], res["kinetic"], res["work"]
-    taus = dict(zip(drive_names, res["input_torques"], strict=True))
-    total = sum(res["input_torques"])
-    return {
+    every = dict(zip(drive_names, res["input_torques"], strict=True))
+    taus = {k: x for k, x in every.items() if k not in held}
+    holding = {k: x for k, x in every.items() if k in held}
+    total = sum(taus.values())
+    rec = {
         "model": f"exudyn {res['version']}: {model}",
         "inputs": spec.model_dump(),
         "masses_kg": {b.name: b.mass for b in bodies[1:]},
@@ -92,9 +97,15 @@ def _record(res: dict, drive_names: list[str], laws: list[MeshLaw], bodies: list
                            "energy_change_over_cycle_J": float(change[-1])},
         "series": {"carrier_angle_deg": np.degrees(res["psi"]),
                    **{f"input_torque_{k}_N_m": x for k, x in taus.items()},
+                   **{f"holding_torque_{k}_N_m": x for k, x in holding.items()},
                    **{f"tooth_force_{k}_N": x for k, x in res["tooth_forces"].items()},
                    "work_J": work, "energy_change_J": change},
     }
+    if holding:
+        rec["holding_torque_N_m"] = {name: {"min": float(x.min()), "max": float(x.max()),
+                                            "rms": float(np.sqrt(np.mean(x**2)))}
+                                     for name, x in holding.items()}
+    return rec
 
 
 def khv_loads(design, gears: dict, spec: LoadSpec, samples: int = 3600,

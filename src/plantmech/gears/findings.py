@@ -161,7 +161,9 @@ def mesh_findings(mesh: dict, module: float, backlash: float,
 
 def verdict(findings: list) -> str:
     """"ok" when nothing was found, "files not written" when the only findings are files
-    asked for and not written, else "not manufacturable"."""
+    asked for and not written, else "not manufacturable": the ``label`` of a gears
+    record's verdict (``workflows.run_gears``; the verdict itself is every command's,
+    ``outputs.verdict``)."""
     if not findings:
         return VERDICT_OK
     if all(f["check"] == NOT_WRITTEN for f in findings):
@@ -170,13 +172,13 @@ def verdict(findings: list) -> str:
 
 
 def headline(record: dict) -> str:
-    """The verdict line of a gears record (``run_gears``), as ``plantmech gears`` prints it
-    after "verdict: " and the app's Make panel shows it."""
-    findings = record["findings"]
-    if record["verdict"] == VERDICT_OK and not findings:
+    """The verdict line of a gears record (``run_gears``: its verdict's ``text``), as
+    ``plantmech gears`` prints it after "verdict: " and the app's Make panel shows it."""
+    findings, v = record["findings"], record["verdict"]
+    if v["ok"] and not findings:
         return "ok - every gear can be cut, the pairs mesh, every file is what it claims"
     places = {f["gear"] for f in findings}
-    return (f"NOT MET - {record['verdict']}: {len(findings)} findings on {len(places)} gears "
+    return (f"NOT MET - {v['label']}: {len(findings)} findings on {len(places)} gears "
             "or pairs")
 
 

@@ -31,8 +31,6 @@ from plantmech.outputs.verdict import (
     EXIT_INFEASIBLE,
     EXIT_INPUT,
     EXIT_NO_SPACE,
-    EXIT_NOT_MET,
-    EXIT_OK,
     verdict,
     verdict_line,
 )
@@ -117,13 +115,10 @@ def ended_by(exc: BaseException) -> int | None:
     output classes (``OutputRun``, ``OutputFile``) have already deleted their temporary
     files and left ``--out`` as it was."""
     from plantmech.outputs.files import is_no_space
-    from plantmech.outputs.signals import NAMES
+    from plantmech.outputs.signals import stopped
 
     if isinstance(exc, KeyboardInterrupt):
-        signum = getattr(exc, "signum", 2)
-        print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it "
-              "was", file=sys.stderr)
-        return getattr(exc, "exit_code", 130)
+        return stopped(exc)
     if is_no_space(exc):
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         print(f"error: no space left on the device{where}: nothing was written, --out left "
@@ -425,7 +420,7 @@ def _gears(args) -> int:
 
 
 def _gears_body(args, design, run) -> int:
-    from plantmech.gears.findings import VERDICT_OK, describe, headline
+    from plantmech.gears.findings import describe
     from plantmech.gears.manufacturability import rules_for
     from plantmech.gears.modules import module_choice_line
     from plantmech.outputs.caveats import lines as caveat_lines
@@ -476,9 +471,9 @@ def _gears_body(args, design, run) -> int:
         print(f"  NOT OK {describe(f)}")
     for line in caveat_lines(rec.get("caveats", [])):
         print(line)
-    ok = rec["verdict"] == VERDICT_OK
-    print(f"verdict: {headline(rec)}")
-    return EXIT_OK if ok else EXIT_NOT_MET
+    v = rec["verdict"]  # the record's (workflows.run_gears), printed as it holds it
+    print(f"verdict: {v['text']}")
+    return v["exit_code"]
 
 
 def _print_forward(s: dict) -> None:

@@ -151,9 +151,8 @@ def gears_report(args, out: Path, design, rec: dict, run=None) -> list[Path]:
                          for m in rec["mesh"]],
                    all_pairs_mesh=bool(rec.get("all_pairs_mesh"))
                    and not failed & {m["pair"] for m in rec["mesh"]})
-    ok = rec["verdict"] == "ok"
-    verdict = (ok, "every gear can be cut, the pairs mesh, every file is what it claims" if ok
-               else f"NOT MET: {rec['verdict']}, {len(rec['findings'])} findings")
+    v = rec["verdict"]  # the record's (workflows.run_gears): the words it printed
+    verdict = (bool(v["ok"]), f"verdict: {v['text']}")
     return _finish(write_report(out / REPORT_NAME, summary, figures, design_animation(design),
                                 verdict=verdict,
                                 gear_drawings=drawings, command=_command(args)), run=run)

@@ -28,7 +28,8 @@ def register(subparsers) -> None:
 
     add_output_options(p)
     p.add_argument("--steps", type=_number(int, 8, strict=False, maximum=36_000), default=720,
-                   help="carrier steps per turn (8-36000; 720: 0.5 deg)")
+                   help="carrier steps per turn (8-36000; 720: 0.5 deg; the driver's turn "
+                   "with the carrier held)")
     p.add_argument("--max-te", type=_number(float, 0.0, maximum=360.0), default=0.5,
                    help="limit on each pair's transmission error (mid band), deg")
     p.add_argument("--max-attitude-error", type=_number(float, 0.0, maximum=360.0), default=1.0,
@@ -51,7 +52,8 @@ def register(subparsers) -> None:
                    default=0.5,
                    help="cane / seedling mass at the tip, kg")
     p.add_argument("--carrier-speed", type=_number(float, 0.0, maximum=36_000.0), default=360.0,
-                   help="carrier speed for the loads, deg/s (the papers': 360)")
+                   help="carrier speed for the loads, deg/s (the papers': 360; the driver's "
+                   "with the carrier held)")
     p.add_argument("--no-loads", action="store_true", help="skip the multibody loads (they "
                    "need plantmech[loads]: without it they are reported not computed, exit 4)")
     p.add_argument("--no-plots", action="store_true", help="skip PNG plots")
@@ -199,7 +201,8 @@ def _arm_plots(out: Path, contact, loads, plot_error) -> list[str]:
     vp.plot_transplanter_tip_band(out / "tip_band.png", contact)
     files = ["transmission_error.png", "tip_band.png"]
     if loads is not None:
-        vp.plot_transplanter_loads(out / "loads.png", loads)
+        vp.plot_transplanter_loads(out / "loads.png", loads,
+                                   getattr(contact, "turning", "carrier"))
         files.append("loads.png")
     return files
 
@@ -276,9 +279,10 @@ def _record_strength(rec: dict, design, gears, loads, face_width_mm: float,
     rec["ok"] = rec["ok"] and all(c["ok"] for c in st["checks"])
 
 
-def _strength_lines(st: dict) -> list[str]:
+def _strength_lines(st: dict, who: str = "carrier") -> list[str]:
     """The printed strength table: per gear the root and flank stress and safety at the
-    worst contact (arm, carrier angle, tooth); the shafts."""
+    worst contact (arm, carrier angle, tooth; ``who``: the driver's angle with the carrier
+    held); the shafts."""
     if "not_computed" in st:
         return [f"  strength not computed: {st['not_computed']}"]
     mat = st["material"]
@@ -290,7 +294,7 @@ def _strength_lines(st: dict) -> list[str]:
             lines.append(
                 f"    {'ok  ' if w['safety'] >= w['min_safety'] else 'FAIL'} {g['gear']:<9} "
                 f"{kind:<5} {w['stress_MPa']:8.1f} MPa  safety {w['safety']:6.2f} (min "
-                f"{w['min_safety']:g})  at arm {w['arm']}, carrier {w['carrier_angle_deg']:.1f}"
+                f"{w['min_safety']:g})  at arm {w['arm']}, {who} {w['carrier_angle_deg']:.1f}"
                 f" deg, tooth {w['tooth'] or '-'} (replacement z {w['equivalent_teeth']:g}, F_t "
                 f"{w['tangential_force_N']:.0f} N)")
     for why in st.get("not_rated", []):
@@ -351,41 +355,50 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
     write_json(out / "verification.json", rec)
     print(f"{design.name}: tooth-contact verification, {rec['steps']} steps "
           f"({rec['step_deg']:.2f} deg), {rec['wall_time_s']:.1f} s")
+    # the word of every angle: the carrier's turn, or the driver's where the carrier is held
+    # (the frame of a pair on fixed centres: nothing turns there)
+    who = rec.get("angles_of", "carrier")
+    if "carrier" in rec:
+        print(f"  carrier {rec['carrier']}")
     for p in rec["pairs"]:
         te, bl = p["transmission_error_deg"], p["backlash_band_deg"]
         print(f"  {p['pair']}: transmission error max |mid| "
               + ("n/a" if te["max_abs_mid"] is None else f"{te['max_abs_mid']:.4f} deg"
-                 + _where(te.get("max_abs_mid_at")))
+                 + _where(te.get("max_abs_mid_at"), who))
               + ", backlash band "
               + ("n/a" if bl["median"] is None else
                  f"{bl['min']:.4f}-{bl['max']:.4f} deg (median {bl['median']:.4f})")
               + f", contact lost {p['contact_lost_steps']} steps, "
               f"interference {p['interference_steps']} steps")
         for s in (p["contact_lost"] + p["interference"])[:4]:
-            print(f"      at carrier {s['carrier_angle_deg'][0]:.1f}-"
+            print(f"      at {who} {s['carrier_angle_deg'][0]:.1f}-"
                   f"{s['carrier_angle_deg'][1]:.1f} deg: "
                   + ", ".join(f"{k} {v}" for k, v in s.items()
                               if k not in ("carrier_angle_deg", "steps")))
     if "dwell" in rec:
         d = rec["dwell"]
         gear = d.get("held_gear", "gear 2")  # a planetary train's record names its gear
-        print(f"  dwell at carrier {d['carrier_angle_deg'][0]:.1f}-"
+        print(f"  dwell at {who} {d['carrier_angle_deg'][0]:.1f}-"
               f"{d['carrier_angle_deg'][1]:.1f} deg: {gear} held {d['locked_steps']} of "
               f"{d['steps']} steps, jammed {d['jammed_steps']} steps"
-              + "".join(f", at carrier {j['carrier_angle_deg'][0]:.1f}-"
+              + "".join(f", at {who} {j['carrier_angle_deg'][0]:.1f}-"
                         f"{j['carrier_angle_deg'][1]:.1f} deg ({gear} tooth "
                         f"{j.get('gear2_tooth', j.get('tooth'))})" for j in d["jammed"][:3]))
     if loads is not None:
         tq = loads["input_torque_N_m"]
         per_input = "".join(f", {k} {v['min']:.2f} to {v['max']:.2f}" for k, v in tq.items()
                             if isinstance(v, dict))
+        per_input += "".join(f", {k} holding the fixed centres {v['min']:.2f} to "
+                             f"{v['max']:.2f} (no input)"
+                             for k, v in loads.get("holding_torque_N_m", {}).items())
         forces = ", ".join(f"{v:.0f} N ({k.removesuffix('_max').replace('_', '-')})"
                            for k, v in loads["tangential_tooth_force_N"].items())
-        print(f"  loads at {args.carrier_speed:g} deg/s ({loads['model'].split(':')[0]}): "
+        speed = f"{args.carrier_speed:g} deg/s" + ("" if who == "carrier" else f" of the {who}")
+        print(f"  loads at {speed} ({loads['model'].split(':')[0]}): "
               f"input torque {tq['min']:.2f} to {tq['max']:.2f} N m{per_input}; "
               f"tangential tooth force up to {forces}")
         for imp in loads.get("dwell_impacts", []):
-            print(f"    dwell impact at carrier {imp['carrier_angle_deg']:.2f} deg (rigid model): "
+            print(f"    dwell impact at {who} {imp['carrier_angle_deg']:.2f} deg (rigid model): "
                   f"kinetic energy {imp['kinetic_energy_jump_J']:+.3f} J, drive work "
                   f"{imp['drive_work_J']:+.3f} J, peak input torque "
                   f"{imp['peak_input_torque_N_m']:.1f} N m")
@@ -393,7 +406,7 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
         print(f"  loads skipped: {rec['loads']['skipped']}" if "skipped" in rec["loads"]
               else f"  loads {rec['loads']['not_computed']}")
     if "strength" in rec:
-        for line in _strength_lines(rec["strength"]):
+        for line in _strength_lines(rec["strength"], who):
             print(line)
     for c in rec["checks"]:
         print(check_line(c, 40, 4))
@@ -403,12 +416,13 @@ def _report(args, design, gears, gears_dir, run, rec, loads) -> int:
     return v["exit_code"]
 
 
-def _where(at: dict | None) -> str:
-    """' (at carrier X deg, <gear> tooth N)' for a located figure, else ''."""
+def _where(at: dict | None, who: str = "carrier") -> str:
+    """' (at carrier X deg, <gear> tooth N)' for a located figure, else '' (``who``: what
+    the angle turns, the driver with the carrier held)."""
     if not at:
         return ""
     tooth = next((f"{k[:-6]} tooth {v}" for k, v in at.items() if k.endswith("_tooth")), "")
-    return f" (at carrier {at['carrier_angle_deg']:.1f} deg, {tooth})"
+    return f" (at {who} {at['carrier_angle_deg']:.1f} deg, {tooth})"
 
 
 def _face_width(gears_dir: Path) -> float:

@@ -41,6 +41,7 @@ class Animation:
     traces: list[dict] = field(default_factory=list)
     frame_labels: list[str] = field(default_factory=list)
     fps: float = 18.0
+    origin: str = "carrier axis O"  # the dot at (0, 0)
 
     @property
     def frames(self) -> int:
@@ -154,7 +155,9 @@ def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
     """A general planetary train (``trains.model.TrainMotion``, P = 1) over one carrier
     turn: every gear's pitch curve at its centre and angle (``trains.placement``: the sun
     once, followers, idlers, compound and derived drivers of every arm), the carrier's
-    line of shafts and the arm of every arm, the tips' paths."""
+    line of shafts and the arm of every arm, the tips' paths. With the carrier held (a pair
+    on fixed centres) nothing turns there: the turn is the driver's (the sun's), the line
+    of shafts the frame's."""
     from plantmech.outputs.transplanter_plots import COLOURS
     from plantmech.trains.curves import TWO_PI
     from plantmech.trains.placement import place_gears
@@ -169,6 +172,8 @@ def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
     links, joints, traces = [], [], []
     shafts = built.shafts[0]
     placed = place_gears(motion, k)
+    held = bool(built.train.carrier_held)
+    turning, line = ("driver", "frame (fixed centres)") if held else ("carrier", "carrier")
     for j in range(motion.tip.shape[1]):
         c = COLOURS[j % len(COLOURS)]
         turn = np.exp(1j * motion.carrier[0, j, k])
@@ -176,13 +181,14 @@ def planetary_animation(design, motion, frames: int = FRAMES) -> Animation:
             links.append({"label": "", "color": "#6b7280", "width": 1,
                           "points": xy(gear.outline(th)[0])})  # a pitch curve: no legend
         chain = np.c_[shafts[None, :] * turn[:, None], motion.tip[0, j, k]]
-        links.append({"label": f"carrier and arm {j + 1}", "color": c, "width": 3,
+        links.append({"label": f"{line} and arm {j + 1}", "color": c, "width": 3,
                       "points": xy(chain)})
         joints.append({"label": f"tip {j + 1}", "color": c, "points": xy(motion.tip[0, j, k])})
         traces.append({"label": f"tip path {j + 1}", "color": c, "width": 1,
                        "dash": "4 3" if j else "", "points": xy(motion.tip[0, j])})
-    labels = [f"carrier angle {np.degrees(motion.carrier_angle[i]):5.1f} deg" for i in k]
-    return Animation(f"{design.name}: one carrier turn", links, joints, traces, labels)
+    labels = [f"{turning} angle {np.degrees(motion.carrier_angle[i]):5.1f} deg" for i in k]
+    return Animation(f"{design.name}: one {turning} turn", links, joints, traces, labels,
+                     origin="driver axis O (fixed)" if held else "carrier axis O")
 
 
 # --- GIF ------------------------------------------------------------------------------
@@ -281,8 +287,8 @@ def _svg_animation(a: Animation) -> str:
         x, y = np.asarray(jt["points"][0], float)
         out.append(f'<circle id="joint-{i}" cx="{x:.2f}" cy="{-y:.2f}" r="{4 * unit:.3f}" '
                    f'fill="{_hex(jt["color"])}"><title>{html.escape(jt["label"])}</title></circle>')
-    out.append(f'<circle cx="0" cy="0" r="{3 * unit:.3f}" fill="#000"><title>carrier axis O'
-               '</title></circle>')
+    out.append(f'<circle cx="0" cy="0" r="{3 * unit:.3f}" fill="#000"><title>'
+               f'{html.escape(a.origin)}</title></circle>')
     out.append("</svg>")
     return "\n".join(out)
 

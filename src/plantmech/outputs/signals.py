@@ -51,6 +51,16 @@ def _handler(signum, frame) -> None:
         raise Interrupted(signum)
 
 
+def stopped(exc: KeyboardInterrupt) -> int:
+    """Say on stderr that a signal (``exc``: an :class:`Interrupted`, or a bare
+    ``KeyboardInterrupt``: Ctrl-C) stopped the command before its results were in place,
+    and return its exit status (130, 143, 129)."""
+    signum = getattr(exc, "signum", signal.SIGINT)
+    print(f"interrupted ({NAMES.get(signum, signum)}): nothing written, --out left as it was",
+          file=sys.stderr)
+    return getattr(exc, "exit_code", 128 + int(signum))
+
+
 def received() -> int | None:
     """The first of the three signals since :func:`handled` began, or None."""
     return _received

@@ -169,7 +169,7 @@ def plot_transplanter_tip_band(path: Path, c) -> None:
     for j in range(len(c.tip_nominal)):
         bx.plot(psi, np.hypot(*(c.tip_hi[j] - c.tip_lo[j]).T), lw=0.8,
                 label=f"arm {j + 1} band width")
-    bx.set_xlabel("carrier angle / deg")
+    bx.set_xlabel(f"{getattr(c, 'turning', 'carrier')} angle / deg")  # held: the driver's
     bx.set_ylabel("tip band / mm")
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
@@ -227,15 +227,16 @@ def plot_train_transmission_error(path: Path, c) -> None:
                      "angle)", fontsize=10)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    _attitude_bands(axes[-1], psi, c, "carrier angle (from the start, in the carrier's sense)"
-                    " / deg")
+    _attitude_bands(axes[-1], psi, c, f"{c.turning} angle (from the start, in the "
+                    f"{c.turning}'s sense) / deg")
     _save(plt, fig, path)
 
 
-def plot_transplanter_loads(path: Path, loads: dict) -> None:
-    """A transplanter's input torque(s) and tangential tooth forces over the carrier turn
+def plot_transplanter_loads(path: Path, loads: dict, turning: str = "carrier") -> None:
+    """A transplanter's (or a general train's) input torque(s) and tangential tooth forces
+    over the turn of the carrier (``turning``: of the driver, with the carrier held),
     (exudyn), and the energy balance (drives' work vs change of kinetic + potential
-    energy)."""
+    energy); a held carrier's torque (the frame's, holding the centres) dashed."""
     plt = _plt()
     s = loads["series"]
     psi = s["carrier_angle_deg"]
@@ -244,20 +245,24 @@ def plot_transplanter_loads(path: Path, loads: dict) -> None:
         if k.startswith("input_torque_"):
             axes[0].plot(psi, v, label=k.removeprefix("input_torque_").removesuffix("_N_m")
                          + " drive")
+        elif k.startswith("holding_torque_"):
+            axes[0].plot(psi, v, "--", label=k.removeprefix("holding_torque_").removesuffix(
+                "_N_m") + " holding the fixed centres (no input)")
         elif k.startswith("tooth_force_"):
             axes[1].plot(psi, v, lw=0.8,
                          label=k.removeprefix("tooth_force_").removesuffix("_N"))
-    axes[0].set_ylabel("input torque / N m")
+    held = any(k.startswith("holding_torque_") for k in s)
+    axes[0].set_ylabel("input and holding torque / N m" if held else "input torque / N m")
     axes[1].set_ylabel("tangential tooth force / N")
     axes[2].plot(psi, s["work_J"], label="work of the drives")
     axes[2].plot(psi, s["energy_change_J"], "--", label="kinetic + potential energy change")
     axes[2].set_ylabel("energy / J")
-    axes[2].set_xlabel("carrier angle / deg")
+    axes[2].set_xlabel(f"{turning} angle / deg")
     _dwell_impacts(axes, loads)
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     err = 100 * loads["energy_balance"]["max_error_fraction_of_energy_range"]
-    axes[0].set_title(f"loads at {loads['inputs']['carrier_speed_deg_s']:g} deg/s, energy "
-                      f"balance error {err:.2f} %", fontsize=10)
+    axes[0].set_title(f"loads at {turning} speed {loads['inputs']['carrier_speed_deg_s']:g} "
+                      f"deg/s, energy balance error {err:.2f} %", fontsize=10)
     _save(plt, fig, path)

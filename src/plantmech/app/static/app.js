@@ -650,7 +650,7 @@ function renderChecks() {
     for (const c of rows) {
       const tr = document.createElement("tr");
       if (c.stale) { tr.className = "stale"; tr.title = "from the last release: updates on release"; }
-      tr.innerHTML = `<td>${c.name.replaceAll("_", " ")}</td><td class="num"></td><td></td><td></td>`;
+      tr.innerHTML = `<td>${esc(c.name.replaceAll("_", " "))}</td><td class="num"></td><td></td><td></td>`;
       tr.dataset.check = c.name;
       tb.appendChild(tr);
     }
@@ -873,9 +873,9 @@ function buildEdit(box, d) {
     const what = (d.mechanism === "planetary" && !d.optimize) || d.mechanism === "rice_transplanter_khv" ? "box" : "search box";
     for (const p of params) {
       const row = document.createElement("div"); row.className = "param";
-      row.innerHTML = `<span>${p.label}</span>`;
+      row.innerHTML = `<span>${esc(p.label)}</span>`;
       row.appendChild(inputFor(p.field, p.unit, `${lim(p.min)}–${lim(p.max)} ${p.unit}`));
-      row.insertAdjacentHTML("beforeend", `<span>${p.unit}</span><span class="lim">${what} ${lim(p.min)} … ${lim(p.max)}</span>`);
+      row.insertAdjacentHTML("beforeend", `<span>${esc(p.unit)}</span><span class="lim">${what} ${esc(lim(p.min))} … ${esc(lim(p.max))}</span>`);
       box.appendChild(row);
     }
   }
@@ -1034,7 +1034,7 @@ function markStale() {
   const h = $("make-headline");
   if (state.gearVerdict) {
     const text = `gears: ${state.gearVerdict.headline}${gStale ? " (for an earlier version)" : ""}`;
-    if (h.textContent !== text) { h.textContent = text; h.className = state.gearVerdict.verdict === "ok" && !gStale ? "good" : "bad"; }
+    if (h.textContent !== text) { h.textContent = text; h.className = state.gearVerdict.ok && !gStale ? "good" : "bad"; }
   }
 }
 
@@ -1055,8 +1055,8 @@ async function startOptimize() {
     markStale();
     pollOptimize(r.task);
   } catch (e) {
-    $("opt-status").innerHTML = `<span class="field-error">${e.message}</span>`;
-    for (const f of (e.data && e.data.fields) || []) { const el = document.querySelector(`#bottom [data-field="${f.field}"]`); if (el) el.classList.add("invalid"); }
+    $("opt-status").innerHTML = `<span class="field-error">${esc(e.message)}</span>`;
+    for (const f of (e.data && e.data.fields) || []) { const el = document.querySelector(`#bottom [data-field="${CSS.escape(String(f.field))}"]`); if (el) el.classList.add("invalid"); }
   }
 }
 
@@ -1072,7 +1072,10 @@ function stagesOf(hist) {
   return out;
 }
 
-function esc(t) { return String(t).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]); }
+// text from the server (messages, names, files) put into HTML: always through esc, so
+// that an error or a name holding markup shows as the text it is
+function esc(t) { return String(t).replace(/[&<>"']/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&#39;" })[c]); }
+const fileUrl = (task, f) => esc(`/api/tasks/${encodeURIComponent(task)}/files/${encodeURIComponent(f)}`);
 
 async function pollOptimize(task) {
   if (!task || task !== state.optTask) return; // another design's run: no longer shown
@@ -1109,8 +1112,8 @@ async function pollOptimize(task) {
   const before = startRows ? checksMet(common.map((c) => ({ ...named.get(c.name), required: c.required }))) : null;
   const worse = before && after[0] < before[0];
   const counts = before ? `checks met: start ${before[0]}/${before[1]} → result ${after[0]}/${after[1]}` : `checks met by the result: ${after[0]}/${after[1]}`;
-  const files = r.files.map((f) => `<a href="/api/tasks/${task}/files/${f}" download>${f}</a>`).join(" ");
-  $("opt-status").innerHTML = `${r.feasible ? '<span class="ok">every objective met</span>' : '<span class="fail">not every objective met</span> (closest design kept)'} — ${r.evaluations} evaluations, ${r.wall_s.toFixed(1)} s. <span class="${worse ? "fail" : ""}" id="opt-counts">${counts}${worse ? " — WORSE than the start" : ""}</span>
+  const files = r.files.map((f) => `<a href="${fileUrl(task, f)}" download>${esc(f)}</a>`).join(" ");
+  $("opt-status").innerHTML = `${r.feasible ? '<span class="ok">every objective met</span>' : '<span class="fail">not every objective met</span> (closest design kept)'} — ${esc(r.evaluations)} evaluations, ${esc(r.wall_s.toFixed(1))} s. <span class="${worse ? "fail" : ""}" id="opt-counts">${esc(counts)}${worse ? " — WORSE than the start" : ""}</span>
     <ul class="opt-summary">${(r.summary || []).map((l) => `<li>${esc(l)}</li>`).join("")}</ul>Files: ${files}`;
   // what the optimizer changed in the design (the best design against the start)
   const changes = [];
@@ -1185,8 +1188,8 @@ async function startGears() {
     markStale();
     pollGears(r.task);
   } catch (e) {
-    $("g-status").innerHTML = `<span class="field-error">${e.message}</span>`;
-    for (const f of (e.data && e.data.fields) || []) { const el = document.querySelector(`#bottom [data-field="${f.field}"]`); if (el) el.classList.add("invalid"); }
+    $("g-status").innerHTML = `<span class="field-error">${esc(e.message)}</span>`;
+    for (const f of (e.data && e.data.fields) || []) { const el = document.querySelector(`#bottom [data-field="${CSS.escape(String(f.field))}"]`); if (el) el.classList.add("invalid"); }
   }
 }
 
@@ -1206,21 +1209,21 @@ async function pollGears(task) {
     teethNote(); drawMechanism();
   }
   // the one verdict of verification.json (as `plantmech gears` prints it) and its findings
-  const ok = res.verdict === "ok";
-  state.gearVerdict = { verdict: res.verdict, headline: res.headline };
+  const ok = res.verdict.ok === true;
+  state.gearVerdict = { ok, headline: res.headline };
   const failed = new Set(res.findings.map((f) => f.gear));
   $("g-verdict").innerHTML = `<div class="${ok ? "ok" : "fail"}" id="g-headline">verdict: ${esc(res.headline)}</div>`
     + (res.findings.length ? `<ol class="findings">${res.findings.map((f) => `<li data-gear="${esc(f.gear)}">${esc(f.text)}</li>`).join("")}</ol>` : "");
   let html = `<table><tr><th>gear</th><th>teeth</th><th>module / mm</th><th>max pressure angle / deg</th><th>undercut</th><th>pointed</th><th>cutter fits</th><th></th></tr>`;
-  for (const g of rec.gears) html += `<tr><td>${g.name}</td><td class="num">${g.teeth}</td><td class="num">${g.module_mm.toFixed(4)}</td><td class="num">${g.max_pressure_angle_deg.toFixed(1)}</td><td class="${g.undercut ? "fail" : "ok"}">${g.undercut ? "yes" : "no"}</td><td class="${g.pointed ? "fail" : "ok"}">${g.pointed ? "yes" : "no"}</td><td class="${g.cutter_fits ? "ok" : "fail"}">${g.cutter_fits ? "yes" : "no"}</td><td class="${failed.has(g.name) ? "fail" : "ok"}">${failed.has(g.name) ? "FAIL" : "ok"}</td></tr>`;
+  for (const g of rec.gears) html += `<tr><td>${esc(g.name)}</td><td class="num">${esc(g.teeth)}</td><td class="num">${g.module_mm.toFixed(4)}</td><td class="num">${g.max_pressure_angle_deg.toFixed(1)}</td><td class="${g.undercut ? "fail" : "ok"}">${g.undercut ? "yes" : "no"}</td><td class="${g.pointed ? "fail" : "ok"}">${g.pointed ? "yes" : "no"}</td><td class="${g.cutter_fits ? "ok" : "fail"}">${g.cutter_fits ? "yes" : "no"}</td><td class="${failed.has(g.name) ? "fail" : "ok"}">${failed.has(g.name) ? "FAIL" : "ok"}</td></tr>`;
   html += `</table><table><tr><th>pair in mesh</th><th>interference / mm</th><th>max backlash / mm</th><th></th></tr>`;
   // a pair is judged by the findings (backlash band, interference), as the CLI judges it
-  for (const m of rec.mesh) { const bad = failed.has(m.pair) || !m.ok; html += `<tr data-pair="${m.pair}"><td>${m.pair}</td><td class="num">${m.max_interference_mm.toFixed(4)}</td><td class="num">${m.max_backlash_mm === null ? "n/a" : m.max_backlash_mm.toFixed(4)}</td><td class="${bad ? "fail" : "ok"}">${bad ? "FAIL" : "meshes"}</td></tr>`; }
+  for (const m of rec.mesh) { const bad = failed.has(m.pair) || !m.ok; html += `<tr data-pair="${esc(m.pair)}"><td>${esc(m.pair)}</td><td class="num">${m.max_interference_mm.toFixed(4)}</td><td class="num">${m.max_backlash_mm === null ? "n/a" : m.max_backlash_mm.toFixed(4)}</td><td class="${bad ? "fail" : "ok"}">${bad ? "FAIL" : "meshes"}</td></tr>`; }
   html += "</table>" + (rec.step ? `<p class="hint">STEP not written: ${esc(rec.step)}</p>` : "");
   $("g-status").innerHTML = html;
-  const links = res.files.filter((f) => !f.endsWith(".png")).map((f) => `<a href="/api/tasks/${task}/files/${f}" download class="${ok ? "" : "not-ok"}"${ok ? "" : ' title="from a set that is not manufacturable: see the findings"'}>${f}</a>`).join(" ");
+  const links = res.files.filter((f) => !f.endsWith(".png")).map((f) => `<a href="${fileUrl(task, f)}" download class="${ok ? "" : "not-ok"}"${ok ? "" : ' title="from a set that is not manufacturable: see the findings"'}>${esc(f)}</a>`).join(" ");
   $("g-files").innerHTML = ok ? `Download: ${links}` : `<span class="fail">Download (NOT MANUFACTURABLE as cut — see the findings above):</span> ${links}`;
-  $("g-images").innerHTML = res.files.filter((f) => f.endsWith(".png")).map((f) => `<img alt="${f}" src="/api/tasks/${task}/files/${f}">`).join("");
+  $("g-images").innerHTML = res.files.filter((f) => f.endsWith(".png")).map((f) => `<img alt="${esc(f)}" src="${fileUrl(task, f)}">`).join("");
   markStale();
 }
 
