@@ -50,6 +50,11 @@ def test_check_rows_and_verdict_from_a_summary():
     s["objectives"][1]["ok"] = True
     assert rp.summary_verdict(s) == (True, "every objective and check met (4 of 4)")
     assert rp.summary_verdict({"feasible": False})[0] is False
+    # nothing checked (a gear pair's forward run): neither met nor failed, said so
+    ok, text = rp.summary_verdict({"name": "pair", "tip": {"x_mm": [0.0]}})
+    assert ok is None and text.startswith("nothing checked")
+    page = rp.build_report({"name": "pair"})
+    assert 'class="verdict none"' in page and "&#10003;" not in page
 
 
 def test_seeder_animation_links_have_the_train_lengths(table4_job):

@@ -353,6 +353,7 @@ h1 { font-size: 1.5em; margin-bottom: 0.2em; } h2 { margin-top: 1.6em; }
 .verdict { font-size: 1.25em; font-weight: 600; padding: 0.6em 1em; border-radius: 6px; }
 .verdict.ok { background: #e3f4e1; color: #1b5e20; border: 1px solid #66bb6a; }
 .verdict.fail { background: #fdecea; color: #8e1c1c; border: 1px solid #e57373; }
+.verdict.none { background: #f1f1f1; color: #333; border: 1px solid #9e9e9e; }
 table { border-collapse: collapse; width: 100%; font-size: 0.92em; }
 th, td { border-bottom: 1px solid #ddd; padding: 0.3em 0.5em; text-align: left;
          vertical-align: top; }
@@ -411,9 +412,11 @@ def check_rows(summary: dict) -> list[dict]:
     return rows
 
 
-def summary_verdict(summary: dict) -> tuple[bool, str]:
+def summary_verdict(summary: dict) -> tuple[bool | None, str]:
     """(everything met, one sentence) from a job summary: infeasible designs, objectives
-    and checks that are required (``required`` not False) and not ok, meshes that fail."""
+    and checks that are required (``required`` not False) and not ok, meshes that fail;
+    None when the summary holds no objective or check at all (a gear pair's forward run):
+    nothing was checked, which is not "met"."""
     if summary.get("feasible") is False:
         return False, "INFEASIBLE: no gear train can produce this trajectory (see diagnostics)"
     rows = [r for r in check_rows(summary) if r.get("required", True) is not False]
@@ -423,6 +426,9 @@ def summary_verdict(summary: dict) -> tuple[bool, str]:
     if bad:
         shown = ", ".join(dict.fromkeys(str(b) for b in bad))
         return False, f"NOT MET: {len(bad)} of {len(rows)} checks fail ({shown})"
+    if not rows:
+        return None, ("nothing checked: this run evaluates no objective and no check "
+                      "(the file's train has no objective set); see the figures")
     return True, f"every objective and check met ({len(rows)} of {len(rows)})"
 
 
@@ -470,7 +476,8 @@ def _legend(a: Animation) -> str:
 
 def build_report(summary: dict, figures=(), animation: Animation | None = None,
                  gear_drawings=(), title: str | None = None, command: str = "",
-                 verdict: tuple[bool, str] | None = None, gif: str | Path | None = None) -> str:
+                 verdict: tuple[bool | None, str] | None = None,
+                 gif: str | Path | None = None) -> str:
     """The report as one HTML string (no external resource).
 
     ``summary``: the job's summary dict; ``figures``: (caption, Figure or image path)
@@ -489,8 +496,10 @@ def build_report(summary: dict, figures=(), animation: Animation | None = None,
              f"<h1>{html.escape(title)}</h1>",
              f'<p class="meta">{html.escape(command)} &middot; plantmech {__version__} '
              f"&middot; {when}</p>",
-             f'<div id="verdict" class="verdict {"ok" if ok else "fail"}">'
-             f'{"&#10003;" if ok else "&#10007;"} {html.escape(text)}</div>']
+             f'<div id="verdict" class="verdict '
+             f'{"none" if ok is None else "ok" if ok else "fail"}">'
+             f'{"&#8211;" if ok is None else "&#10003;" if ok else "&#10007;"} '
+             f'{html.escape(text)}</div>']
     if summary.get("caveats"):  # what the verdict rests on (outputs/caveats.py)
         parts.append('<ul id="caveats" class="meta">' + "".join(
             f"<li>caveat: {html.escape(str(c['text'] if isinstance(c, dict) else c))}</li>"
