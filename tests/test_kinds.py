@@ -6,8 +6,8 @@ it does per kind by a lookup there, never by branching on the kind's name.
 - a branch on a mechanism's name (a comparison, ``in``, ``match`` or ``str`` method on a
   design's ``mechanism`` field, or on one of the papers' mechanism names) outside the
   design loader, the registry and the objective sets fails ``test_no_branch_on_a_kind``;
-  the modules not yet moved to the registry are listed in ``NOT_YET`` with their count, so
-  a new branch anywhere else, or one more in them, fails.
+  ``NOT_YET`` (empty since every module moved to the registry) would list a module not
+  yet moved with its count, so any new branch fails.
 """
 
 from __future__ import annotations
@@ -32,12 +32,9 @@ ALLOWED = ("design.py", "design_planetary.py", "design_reference.py", "kinds.py"
            "objectives/")
 
 #: modules with branches on a kind's name not yet moved to the registry (issue 28): their
-#: count may only fall. On main before the registry: 68 branches in 19 modules.
-NOT_YET = {
-    "mechanisms/gear_pairs.py": 3,         # the teeth of each dedicated train
-    "contact/strength.py": 3,              # the contact geometry per transplanter, seeder
-    "interfaces/report_cli.py": 2,         # the report's animation per kind
-}
+#: count may only fall. On main before the registry: 68 branches in 19 modules; none now
+#: (the gear pairs, the strength table's contacts and the report's animation are hooks).
+NOT_YET: dict[str, int] = {}
 
 
 def _is_mechanism(node) -> bool:

@@ -11,7 +11,8 @@ looked up here, never decided by comparing the kind's name:
 - ``fixed_gear``: the design field of a transplanter's fixed non-circular gear (errors and
   the app's radius fields point there; the standard-module scaling scales it);
 - ``hooks``: for each capability (the app's scene and edit panel, the forward and inverse
-  commands, the single-design forward job, the report's parts, the study model, ``verify``)
+  commands, the single-design forward job, the report's parts and animation, the study
+  model, the toothed gear pairs, the contact geometry the strength table rates, ``verify``)
   the function that does it, named ``"module:attribute"`` and imported on first use, so this
   module (layer "design", ``tests/test_layers.py``) imports nothing above it.
 
@@ -44,6 +45,11 @@ CAPABILITIES = (
     "verify_run",       # (args, design, gears, out) -> verification record (with _loads)
     "require_train",    # (design) -> None, or ValueError: the file gives no train to run
     "optimizer_check",  # (design, tooth_fit) -> {all_met, objectives} at full resolution
+    "gear_pairs",       # (design, module, backlash, samples, min_teeth, tooth, method)
+                        #   -> [(GearPair, ToothSpec)] of ``plantmech gears``
+    "strength_contacts",  # (design, psi, gears) -> the contact geometry per mesh that
+                          #   ``contact.strength.strength_record`` rates
+    "animation",        # (design) -> the mechanism animated over one cycle (--report)
 )
 
 
@@ -108,6 +114,7 @@ def _seeder_problem(design) -> str:
 
 _TRANSPLANTER_HOOKS = {
     "app_scene": "plantmech.app.server:_transplanter",
+    "animation": "plantmech.pipeline:_animation_transplanter",
     "forward_cli": "plantmech.interfaces.cli:_forward_transplanter",
     "forward_job": "plantmech.workflows:run_transplanter",
     "report_parts": "plantmech.pipeline:_job_parts_transplanter",
@@ -134,13 +141,18 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
              "verify_gears": "plantmech.interfaces.verify_cli:seeder_gear_names",
              "verify_run": "plantmech.interfaces.verify_cli:_run_seeder",
              "optimizer_check": "plantmech.optimize.jobs:_check_seeder",
+             "gear_pairs": "plantmech.mechanisms.gear_pairs:seeder_pairs",
+             "strength_contacts": "plantmech.contact.strength:seeder_contacts",
+             "animation": "plantmech.pipeline:_animation_seeder",
          }),
     Kind("rice_transplanter", "differential rice transplanter",
          problems=("transplanter",), fixed_gear="internal_gear", section="internal_gear",
          standard_module_scaling=True, choose_problem=lambda design: "transplanter",
          hooks={**_TRANSPLANTER_HOOKS,
                 "app_parameters": "plantmech.app.server:_transplanter_parameters",
-                "verify_gears": "plantmech.interfaces.verify_cli:transplanter_gear_names"}),
+                "verify_gears": "plantmech.interfaces.verify_cli:transplanter_gear_names",
+                "gear_pairs": "plantmech.mechanisms.gear_pairs:differential_pairs",
+                "strength_contacts": "plantmech.contact.strength:differential_contacts"}),
     Kind("rice_transplanter_khv", "K-H-V rice transplanter",
          # the sun's radii, the carrier's start, the arm and the box, as the differential's
          problems=("transplanter",), fixed_gear="sun_gear", section="sun_gear",
@@ -148,7 +160,9 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          hooks={**_TRANSPLANTER_HOOKS,
                 "app_parameters": "plantmech.app.server:_khv_parameters",
                 "verify_gears": "plantmech.interfaces.verify_cli:khv_gear_names",
-                "verify_run": "plantmech.interfaces.verify_cli:_run_khv"}),
+                "verify_run": "plantmech.interfaces.verify_cli:_run_khv",
+                "gear_pairs": "plantmech.mechanisms.gear_pairs:khv_pairs",
+                "strength_contacts": "plantmech.contact.strength:khv_contacts"}),
     Kind("planetary", "general planetary train",
          problems=("planetary",),
          commands=("forward", "gears", "optimize", "inverse", "study", "design", "verify"),
@@ -171,6 +185,9 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
              "verify_run": "plantmech.interfaces.verify_cli:_run_planetary",
              "require_train": "plantmech.pipeline:_require_planetary_curves",
              "optimizer_check": "plantmech.optimize.planetary_problem:verify",
+             "gear_pairs": "plantmech.trains.gearing:gear_pairs",
+             "strength_contacts": "plantmech.contact.strength:planetary_contacts",
+             "animation": "plantmech.pipeline:_animation_planetary",
          }),
 )}
 

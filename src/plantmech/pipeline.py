@@ -305,6 +305,31 @@ def _job_parts_transplanter(design):
     return _job_parts(run_transplanter(design))
 
 
+def _animation_seeder(design):
+    """The seeder's train animated over one cycle (its forward run)."""
+    from plantmech.outputs.report import seeder_forward_animation
+    from plantmech.workflows import run_seeder_forward
+
+    return seeder_forward_animation(run_seeder_forward(design))
+
+
+def _animation_transplanter(design):
+    """A rice transplanter (differential or K-H-V) animated over one cycle."""
+    from plantmech.outputs.report import transplanter_animation
+    from plantmech.workflows import run_transplanter
+
+    return transplanter_animation(run_transplanter(design))
+
+
+def _animation_planetary(design):
+    """A general planetary train animated over one cycle at the file's resolution."""
+    from plantmech.outputs.report import planetary_animation
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+
+    return planetary_animation(design, simulate(build_from_design(design), design.samples))
+
+
 def _planetary_parts(design):
     """(summary, figures, animation) of a general planetary train for the report: its
     forward run at the file's resolution (as ``plantmech forward``)."""

@@ -42,6 +42,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from plantmech.kinds import kind_of
+
 TWO_PI = 2.0 * np.pi
 
 
@@ -336,12 +338,13 @@ def shaft_rating(gear: str, bore_mm: float | None, torque_N_m: float, normal_for
 # --- contact geometry of each family ---------------------------------------------------
 
 
-def differential_contacts(design, psi) -> dict:
+def differential_contacts(design, psi, gears: dict | None = None) -> dict:
     """Per arm j ("internal_planet_{j+1}"): at carrier angles ``psi`` (rad, clockwise from the
     start) the signed radii of curvature (mm) of the planet (gear 1) and the internal gear
     (gear 2, a ring where it wraps the planet) at the contact, the planet's pitch radius and
     the lean mu (rad), the body angles of the contact in the gear files' frames
-    (``contact/transplanter.py``: internal -p / n, planet -Q(p)), and the module (mm)."""
+    (``contact/transplanter.py``: internal -p / n, planet -Q(p)), and, given the gear files
+    ``gears``, the module (mm) they were cut with (``_module_of``)."""
     from plantmech.contact.transplanter import planet_turn
     from plantmech.geometry.periodic import polar_curvature_radius
     from plantmech.mechanisms.transplanter_design import design_param, simulate_transplanter
@@ -373,6 +376,10 @@ def differential_contacts(design, psi) -> dict:
             "rho": (at(rho_pl), -at(rho_int)),
             "radius_driven": at(rp[0]), "mu": at(mu),
             "body_angle": (np.mod(-planet_turn(pair, ph), TWO_PI), np.mod(-ph / n, TWO_PI))}
+    if gears is not None:
+        m = _module_of(design, gears)
+        for g in out.values():
+            g["module_mm"] = m
     return out
 
 
@@ -619,17 +626,8 @@ def strength_record(design, gears: dict, loads: dict, face_width_mm: float,
     alpha = rules.alpha
     series = loads["series"]
     psi = np.radians(np.asarray(series["carrier_angle_deg"], dtype=float))
-    if design.mechanism == "rice_transplanter":
-        geo = differential_contacts(design, psi)
-        m = _module_of(design, gears)
-        for g in geo.values():
-            g["module_mm"] = m
-    elif design.mechanism == "rice_transplanter_khv":
-        geo = khv_contacts(design, psi, gears)
-    elif design.mechanism == "sugarcane_seeder":
-        geo = seeder_contacts(design, psi, gears)
-    else:
-        geo = planetary_contacts(design, psi, gears)
+    # the contact geometry of the design's kind (plantmech.kinds: "strength_contacts")
+    geo = kind_of(design).hook("strength_contacts")(design, psi, gears)
     # a toothless dwell's ends are impacts of the rigid model (``contact/loads.
     # dwell_impacts``): the force there is the solver's spread over its steps, not the
     # mesh's (it depends on a stiffness the model has not got): left out, as the energy

@@ -74,20 +74,11 @@ def forward_report(args, out: Path, job, figures, run=None) -> list[Path]:
 def design_animation(design):
     """The mechanism of a design simulated forward for the animation, or None (with the
     reason printed) when it cannot be simulated."""
-    from plantmech.outputs.report import seeder_forward_animation, transplanter_animation
-    from plantmech.workflows import run_seeder_forward, run_transplanter
+    from plantmech.kinds import kind_of
 
+    animate = kind_of(design).hook("animation")  # the kind's own (plantmech.pipeline)
     try:
-        if design.mechanism == "planetary":
-            from plantmech.outputs.report import planetary_animation
-            from plantmech.trains.model import simulate
-            from plantmech.trains.spec import build_from_design
-
-            return planetary_animation(design, simulate(build_from_design(design),
-                                                        design.samples))
-        if design.mechanism == "sugarcane_seeder":
-            return seeder_forward_animation(run_seeder_forward(design))
-        return transplanter_animation(run_transplanter(design))
+        return animate(design)
     except Exception as exc:  # noqa: BLE001 - the report says why the animation is missing
         print(f"  report: no animation ({type(exc).__name__}: {exc})", file=sys.stderr)
         return None
