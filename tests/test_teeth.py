@@ -396,22 +396,21 @@ def test_toothed_transplanter_gears_mesh_but_are_undercut(tmp_path):
     assert z_eq["planet"] == pytest.approx(9.6, abs=0.1)
 
 
-def test_manufacturable_transplanter_example_meets_everything_and_meshes(tmp_path):
+def test_manufacturable_transplanter_example_meets_everything_and_meshes(shared):
     """The same design optimized with manufacturability required (stub 25 deg teeth, its
     [manufacturing] table): every objective and check met, and `plantmech gears` cuts it with
     no finding (exit 0): no undercut at the stub limit 1.6 / sin^2 25 deg = 8.96."""
     import json
 
     from plantmech.design import load_design
-    from plantmech.interfaces.cli import main
     from plantmech.workflows import run_transplanter
-    from tests.conftest import EXAMPLES
+    from tests.conftest import EXAMPLES, gears_cut
 
     path = EXAMPLES / "rice_transplanter_manufacturable.toml"
     objs = run_transplanter(load_design(path)).summary["objectives"]
     assert len(objs) == 16 and all(o["ok"] for o in objs), [o for o in objs if not o["ok"]]
-    out = tmp_path / "g"
-    rc = main(["gears", str(path), "--out", str(out)])
+    # `plantmech gears` on it, once per test run (tests/test_cli_verify.py verifies the files)
+    out, rc = gears_cut(shared, "rice_transplanter_manufacturable", path)
     rec = json.loads((out / "verification.json").read_text())
     assert rc == 0, rec["findings"]
     assert rec["verdict"] == "ok" and rec["findings"] == []
