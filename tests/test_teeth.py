@@ -236,7 +236,7 @@ def test_dxf_is_closed_and_in_mm_and_stl_is_watertight(tmp_path):
     assert (tmp_path / "g.svg").read_text().startswith("<svg")
 
 
-def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsys):
+def test_gears_cli_writes_every_file_and_the_verification_record(shared):
     """The published Table 4 gears at the default modules (gears.modules.choose_teeth:
     gear 2 - sun 81 teeth at 1.4977 mm, the largest standard module in their 1-1.84 mm
     window; gear 3 - planet 169 teeth at 0.9974 mm, the design's smallest module where the
@@ -247,12 +247,11 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsy
     undercut, and the teeth of gear 3 and the planet overlapping there."""
     import json
 
-    from plantmech.interfaces.cli import main
-    from tests.conftest import EXAMPLES
+    from tests.conftest import EXAMPLES, gears_cut
 
-    out = tmp_path / "g"
-    rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out)])
-    printed = capsys.readouterr().out
+    # `plantmech gears` on it, once per test run (tests/test_cli_verify.py verifies the files)
+    out, rc, printed = gears_cut(shared, "sugarcane_table4", EXAMPLES / "sugarcane_table4.toml",
+                                 printed=True)
     rec = json.loads((out / "verification.json").read_text())
     # each mate is cut by its partner, with stations spaced by the relative motion and
     # the partial sun's last position included (docs/validation.md)
