@@ -24,11 +24,12 @@ test: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
 	$(PY) -m pytest $(PYTEST_XDIST) --durations=20
 
-# The quick loop for engineers: everything but the tests listed in tests/slow.txt.
-# `make test` and CI still run everything.
+# The quick loop for engineers: everything but the tests listed in tests/slow.txt and the
+# wheel's install (tests/test_install.py, marked `install`). `make test` and CI still run
+# everything.
 test-quick: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks
-	$(PY) -m pytest $(PYTEST_XDIST) -m "not slow" --durations=10
+	$(PY) -m pytest $(PYTEST_XDIST) -m "not slow and not install" --durations=10
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py

@@ -164,15 +164,25 @@ def assert_file_refused(doc: dict, field: str, tmp_path, capsys) -> None:
     assert re.search(field, capsys.readouterr().err)
 
 
-def gears_cut(shared: Shared, key: str, design, *options) -> tuple[Path, int]:
+def gears_cut(shared: Shared, key: str, design, *options, printed: bool = False):
     """``plantmech gears design --out <folder> *options`` once per test run (its folder is
     read, never written, by the tests that share it; a test that alters gear files copies
-    them first): (the output folder, the exit status)."""
+    them first): (the output folder, the exit status), and with ``printed`` what the
+    command printed (its standard output, kept with the folder: the test that reads it
+    need not be the one that ran the command)."""
+    import contextlib
+    import io
+
     from plantmech.interfaces.cli import main
 
-    path, code = shared.dir(f"gears-{key}", lambda p: main(
-        ["gears", str(design), "--out", str(p / "gears"), *options]))
-    return path / "gears", code
+    def cut(p):
+        text = io.StringIO()
+        with contextlib.redirect_stdout(text):
+            code = main(["gears", str(design), "--out", str(p / "gears"), *options])
+        return code, text.getvalue()
+
+    path, (code, text) = shared.dir(f"gears-{key}", cut)
+    return (path / "gears", code, text) if printed else (path / "gears", code)
 
 
 def _lines(g) -> list:

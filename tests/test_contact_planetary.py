@@ -142,7 +142,7 @@ def test_loads_of_a_circular_train_are_its_weight(tmp_path):
     assert np.abs(tau - expected).max() < 0.01 * np.abs(expected).max()
 
 
-def test_loads_of_the_khv_train_as_a_planetary_file_match_the_dedicated_model(tmp_path):
+def test_loads_of_the_khv_train_as_a_planetary_file_match_the_dedicated_model(shared):
     """Seed 001's K-H-V train written as a planetary file (examples/planetary/) and its
     dedicated model (contact/transplanter_loads.khv_loads), each on its own cut gear
     files: the same input torque and tooth forces within 1 % (the middle gears' masses
@@ -153,11 +153,13 @@ def test_loads_of_the_khv_train_as_a_planetary_file_match_the_dedicated_model(tm
 
     general = EXAMPLES / "planetary" / "rice_transplanter_khv.toml"
     dedicated = EXAMPLES / "rice_transplanter_khv.toml"
-    for f, out in ((general, tmp_path / "g"), (dedicated, tmp_path / "d")):
-        main(["gears", str(f), "--out", str(out)])  # exit 4: undercut, files written
+    # `plantmech gears` on each, once per test run (exit 4: undercut, files written; the
+    # dedicated file's cut is the one tests/test_cli_verify.py verifies)
+    g_dir, _ = gears_cut(shared, "planetary-rice_transplanter_khv", general)
+    d_dir, _ = gears_cut(shared, "rice_transplanter_khv", dedicated)
     dg, dd = load_design(general), load_design(dedicated)
-    a = planetary_loads(dg, _gears(dg, tmp_path / "g"), LoadSpec(), samples=1440, steps=720)
-    b = khv_loads(dd, {n: read_gear_dxf(tmp_path / "d" / f"{n}.dxf", n)
+    a = planetary_loads(dg, _gears(dg, g_dir), LoadSpec(), samples=1440, steps=720)
+    b = khv_loads(dd, {n: read_gear_dxf(d_dir / f"{n}.dxf", n)
                        for n in ("sun", "middle", "planet")}, LoadSpec(), samples=1440,
                   steps=720)
     ta, tb = a["input_torque_N_m"]["carrier"], b["input_torque_N_m"]["carrier"]

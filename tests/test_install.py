@@ -6,6 +6,7 @@ a wheel and a virtualenv (about a minute on an idle 2-core machine, 3-4 under lo
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -65,58 +66,86 @@ def test_installed_package_is_not_the_repository(installed):
         assert str(ROOT) not in line and "site-packages" in line
 
 
-def test_init_then_every_command(installed):
-    exe, _, work = installed
-    for kind in ("seeder", "seeder-train", "transplanter"):
-        r = _run([str(exe), "init", kind, "designs"], work)
-        assert r.returncode == 0, r.stderr
-    seeder, train, rice = (work / "designs" / f for f in
-                           ("seeder.toml", "seeder_train.toml", "transplanter.toml"))
+KINDS = ("seeder", "seeder-train", "transplanter")
+
+
+@pytest.fixture(scope="module")
+def designs(shared, installed):
+    """The starting designs ``plantmech init`` writes (seeder, seeder train, transplanter),
+    written once per test run into a directory the tests below read, never write:
+    (the designs folder, [(exit status, stderr) of each init])."""
+    exe, _, _ = installed
+
+    def init(base):
+        return [(r.returncode, r.stderr) for r in
+                (_run([str(exe), "init", kind, "designs"], base) for kind in KINDS)]
+
+    base, runs = shared.dir("first_hour_designs", init)
+    return base / "designs", runs
+
+
+def test_init_writes_the_examples_and_never_overwrites(installed, designs, tmp_path):
+    exe, _, _ = installed
+    work = tmp_path
+    folder, runs = designs
+    for kind, (code, err) in zip(KINDS, runs, strict=True):
+        assert code == 0, (kind, err)
+    seeder, rice = folder / "seeder.toml", folder / "transplanter.toml"
     # the written files are the shipped examples under a header of comments
     assert seeder.read_text().endswith((EXAMPLES / "sugarcane_seeder.toml").read_text())
     assert rice.read_text().startswith("# Starting design written by `plantmech init")
-    # init never overwrites
+    # init never overwrites (in a copy: the shared folder is read only)
+    shutil.copytree(folder, work / "designs")
     r = _run([str(exe), "init", "seeder", "designs"], work)
     assert r.returncode == 2 and "never overwrites" in r.stderr
-    runs = {
-        "inverse": [str(exe), "inverse", str(seeder), "--out", "o/inverse", "--verify",
-                    "--no-plots"],
-        "forward seeder": [str(exe), "forward", str(seeder), "--out", "o/forward",
-                           "--no-plots"],
-        "forward train": [str(exe), "forward", str(train), "--out", "o/train", "--report"],
-        "forward rice": [str(exe), "forward", str(rice), "--out", "o/rice", "--no-plots"],
-        "optimize": [str(exe), "optimize", str(rice), "--problem", "transplanter",
-                     "--generations", "1", "--pop", "4", "--quiet", "--out", "o/opt"],
-        "optimize seeder": [str(exe), "optimize", str(seeder), "--problem", "seeder-layer1",
-                            "--generations", "1", "--pop", "4", "--quiet", "--out",
-                            "o/opt_seeder"],
-        "gears": [str(exe), "gears", str(rice), "--module", "6", "--out", "o/gears"],
-    }
-    expected = {"inverse": ["summary.json", "pitch_curves.csv"],
-                "forward seeder": ["summary.json", "motion.csv"],
-                "forward train": ["summary.json", "report.html", "mechanism.gif",
-                                  "speed.png"],
-                "forward rice": ["summary.json"],
-                "optimize": ["best.toml", "run.json", "pareto.csv", "convergence.png"],
-                "optimize seeder": ["best.toml", "run.json"],
-                "gears": ["verification.json", "ring.dxf"]}
-    outs = {"inverse": "o/inverse", "forward seeder": "o/forward", "forward train": "o/train",
-            "forward rice": "o/rice", "optimize": "o/opt", "optimize seeder": "o/opt_seeder",
-            "gears": "o/gears"}
-    for name, cmd in runs.items():
-        r = _run(cmd, work)
-        text = r.stdout + r.stderr
-        # 0: done and met; 4: ran, an objective not met (an optimization of 1 generation)
-        assert r.returncode in (0, 4), f"{name}: exit {r.returncode}\n{text[-2000:]}"
-        assert not any(b in text for b in BAD), f"{name}:\n{text[-2000:]}"
-        for f in expected[name]:
-            if name == "gears" and f == "ring.dxf":
-                assert any((work / outs[name]).glob("*.dxf")), name
-                continue
-            assert (work / outs[name] / f).is_file(), f"{name}: {f} missing"
-    # optimize's new design is itself a valid input
-    r = _run([str(exe), "forward", "o/opt/best.toml", "--out", "o/best", "--no-plots"], work)
-    assert r.returncode in (0, 4), r.stderr
+
+
+# every command on the written files, one test each (they share the designs and run on
+# both cores): the arguments (the designs by name), the files each must write
+COMMANDS = {
+    "inverse": (["inverse", "seeder", "--out", "o/inverse", "--verify", "--no-plots"],
+                ["summary.json", "pitch_curves.csv"]),
+    "forward-seeder": (["forward", "seeder", "--out", "o/forward", "--no-plots"],
+                       ["summary.json", "motion.csv"]),
+    "forward-train": (["forward", "train", "--out", "o/train", "--report"],
+                      ["summary.json", "report.html", "mechanism.gif", "speed.png"]),
+    "forward-rice": (["forward", "rice", "--out", "o/rice", "--no-plots"], ["summary.json"]),
+    "optimize": (["optimize", "rice", "--problem", "transplanter", "--generations", "1",
+                  "--pop", "4", "--quiet", "--out", "o/opt"],
+                 ["best.toml", "run.json", "pareto.csv", "convergence.png"]),
+    "optimize-seeder": (["optimize", "seeder", "--problem", "seeder-layer1", "--generations",
+                         "1", "--pop", "4", "--quiet", "--out", "o/opt_seeder"],
+                        ["best.toml", "run.json"]),
+    "gears": (["gears", "rice", "--module", "6", "--out", "o/gears"],
+              ["verification.json", "ring.dxf"]),
+}
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_every_command_on_the_written_designs(name, installed, designs, tmp_path):
+    exe, _, _ = installed
+    work = tmp_path  # a work directory of its own
+    folder, _ = designs
+    files = {"seeder": folder / "seeder.toml", "train": folder / "seeder_train.toml",
+             "rice": folder / "transplanter.toml"}
+    args, expected = COMMANDS[name]
+    out = work / args[args.index("--out") + 1]
+    cmd = [str(exe), args[0], str(files[args[1]]), *args[2:]]
+    r = _run(cmd, work)
+    text = r.stdout + r.stderr
+    # 0: done and met; 4: ran, an objective not met (an optimization of 1 generation)
+    assert r.returncode in (0, 4), f"{name}: exit {r.returncode}\n{text[-2000:]}"
+    assert not any(b in text for b in BAD), f"{name}:\n{text[-2000:]}"
+    for f in expected:
+        if name == "gears" and f == "ring.dxf":
+            assert any(out.glob("*.dxf")), name
+            continue
+        assert (out / f).is_file(), f"{name}: {f} missing"
+    if name == "optimize":
+        # optimize's new design is itself a valid input
+        r = _run([str(exe), "forward", "o/opt/best.toml", "--out", "o/best", "--no-plots"],
+                 work)
+        assert r.returncode in (0, 4), r.stderr
 
 
 def test_base_install_has_the_docs_and_names_each_missing_extra(installed):

@@ -236,7 +236,7 @@ def test_dxf_is_closed_and_in_mm_and_stl_is_watertight(tmp_path):
     assert (tmp_path / "g.svg").read_text().startswith("<svg")
 
 
-def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsys):
+def test_gears_cli_writes_every_file_and_the_verification_record(shared):
     """The published Table 4 gears at the default modules (gears.modules.choose_teeth:
     gear 2 - sun 81 teeth at 1.4977 mm, the largest standard module in their 1-1.84 mm
     window; gear 3 - planet 169 teeth at 0.9974 mm, the design's smallest module where the
@@ -247,12 +247,11 @@ def test_gears_cli_writes_every_file_and_the_verification_record(tmp_path, capsy
     undercut, and the teeth of gear 3 and the planet overlapping there."""
     import json
 
-    from plantmech.interfaces.cli import main
-    from tests.conftest import EXAMPLES
+    from tests.conftest import EXAMPLES, gears_cut
 
-    out = tmp_path / "g"
-    rc = main(["gears", str(EXAMPLES / "sugarcane_table4.toml"), "--out", str(out)])
-    printed = capsys.readouterr().out
+    # `plantmech gears` on it, once per test run (tests/test_cli_verify.py verifies the files)
+    out, rc, printed = gears_cut(shared, "sugarcane_table4", EXAMPLES / "sugarcane_table4.toml",
+                                 printed=True)
     rec = json.loads((out / "verification.json").read_text())
     # each mate is cut by its partner, with stations spaced by the relative motion and
     # the partial sun's last position included (docs/validation.md)
@@ -401,22 +400,21 @@ def test_toothed_transplanter_gears_mesh_but_are_undercut(tmp_path):
     assert z_eq["planet"] == pytest.approx(9.6, abs=0.1)
 
 
-def test_manufacturable_transplanter_example_meets_everything_and_meshes(tmp_path):
+def test_manufacturable_transplanter_example_meets_everything_and_meshes(shared):
     """The same design optimized with manufacturability required (stub 25 deg teeth, its
     [manufacturing] table): every objective and check met, and `plantmech gears` cuts it with
     no finding (exit 0): no undercut at the stub limit 1.6 / sin^2 25 deg = 8.96."""
     import json
 
     from plantmech.design import load_design
-    from plantmech.interfaces.cli import main
     from plantmech.workflows import run_transplanter
-    from tests.conftest import EXAMPLES
+    from tests.conftest import EXAMPLES, gears_cut
 
     path = EXAMPLES / "rice_transplanter_manufacturable.toml"
     objs = run_transplanter(load_design(path)).summary["objectives"]
     assert len(objs) == 16 and all(o["ok"] for o in objs), [o for o in objs if not o["ok"]]
-    out = tmp_path / "g"
-    rc = main(["gears", str(path), "--out", str(out)])
+    # `plantmech gears` on it, once per test run (tests/test_cli_verify.py verifies the files)
+    out, rc = gears_cut(shared, "rice_transplanter_manufacturable", path)
     rec = json.loads((out / "verification.json").read_text())
     assert rc == 0, rec["findings"]
     assert rec["verdict"]["ok"] and rec["findings"] == []
@@ -608,8 +606,8 @@ def test_a_dwell_sun_is_cut_when_its_polyline_wanders_over_the_toothless_arc():
 
     d = load_design(EXAMPLES / "sugarcane_seeder_dwell.toml")
     d.trajectory.samples = 360
-    # --module 6 (a 6 mm cutter gives gear 2 the 5.93 mm its 23 whole teeth close at): the
-    # cases were found at that module, the default now cuts ~130 teeth at a standard one
+    # at module 6, the module the cases were found at (the default since issue 32, the
+    # design's 1 mm, cuts 136 and 129 teeth: 16x the time for the same pitch curves)
     (sun_pair, _), _ = gear_pairs(d, module=6.0)
     assert sun_pair.gear_b.is_valid and sun_pair.gear_b.geom_type == "Polygon"
     # gear 2: 23 teeth on its perimeter, which includes its 19 mm radial step at the lock
@@ -638,7 +636,9 @@ def test_a_dwell_sun_closes_over_its_toothless_arc_within_gear2s_radii():
     tr = train_from_inverse(run_seeder_inverse(d, manufacturability=False).result)
     assert sun_rolling_start(tr) == tr.gear2.theta0  # the lock point, not a hair before
     r2 = tr.gear2(np.linspace(0, 2 * np.pi, 7200))
-    (pair, _), _ = gear_pairs(d, module=6.0)  # the pitch curves do not depend on the module
+    # the pitch curves do not depend on the module: cut at 6 mm (23 and 22 teeth, not the
+    # default 1 mm's 136 and 129)
+    (pair, _), _ = gear_pairs(d, module=6.0)
     rb = np.hypot(*np.asarray(pair.pitch_b.xy).T)
     assert rb.min() >= tr.a1 - r2.max() - 0.05 and rb.max() <= tr.a1 - r2.min() + 0.05
     rolled = np.degrees(abs(pair.phi_b[-1] - pair.phi_b[0]))
