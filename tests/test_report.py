@@ -52,7 +52,7 @@ def test_check_rows_and_verdict_from_a_summary():
     assert rp.summary_verdict({"feasible": False})[0] is False
     # nothing checked (a gear pair's forward run): neither met nor failed, said so
     ok, text = rp.summary_verdict({"name": "pair", "tip": {"x_mm": [0.0]}})
-    assert ok is None and text.startswith("nothing checked")
+    assert ok is None and text.startswith("nothing checked beyond the train closing")
     page = rp.build_report({"name": "pair"})
     assert 'class="verdict none"' in page and "&#10003;" not in page
 

@@ -427,8 +427,9 @@ def summary_verdict(summary: dict) -> tuple[bool | None, str]:
         shown = ", ".join(dict.fromkeys(str(b) for b in bad))
         return False, f"NOT MET: {len(bad)} of {len(rows)} checks fail ({shown})"
     if not rows:
-        return None, ("nothing checked: this run evaluates no objective and no check "
-                      "(the file's train has no objective set); see the figures")
+        return None, ("nothing checked beyond the train closing and running: no objective "
+                      "and no limit applies (the file gives no [limits] and its train no "
+                      "objective set); see the figures")
     return True, f"every objective and check met ({len(rows)} of {len(rows)})"
 
 
