@@ -13,7 +13,8 @@ cd), round_trip, estimate (the inverse design's error estimate on a known ellipt
 table4 (both closures of Table 4, with the radial offset's phases), table4_record (why the
 radial offset's largest distance was first recorded as 36.7 mm), table4_reading (the
 alternative reading and the tip-speed floor), transplanter (seed 001 and the K-H-V example),
-convexity, optimized (the shipped layered optimum re-simulated); expensive: table4_fit (the
+convexity, optimized (the shipped layered optimum re-simulated), forward_checks (the forward
+model against closed forms); expensive: table4_fit (the
 radial offset's phases refitted), table4_grid (the phase grid on the population model),
 seed001 (the seed 001 optimization run again).
 
@@ -38,6 +39,8 @@ DOC = ROOT / "docs" / "validation.md"
 #: the phases (gear 2, gear 3; deg) of Table 4's radial-offset column: the pair whose path
 #: lies closest to the plan (RMS), as ``table4_fit`` finds them, rounded to 0.01 deg
 RADIAL_OFFSET_PHASES = (305.30, 10.23)
+#: seed 000's seeding-section peak speed (m/s; QUOTES checks it against the paper's text)
+PAPER_SEEDING_PEAK = 1.33
 
 
 @dataclass
@@ -108,7 +111,20 @@ QUOTES = [
      "angular displacement is less than 28° , the seed sowing section of the seed pendulum "
      "angular displacement is less than 16° , and the seed sowing angle is -27.5°"),
     ("000", "the paper's carrier speed 360 deg/s", "360^\\circ/\\text{s}$"),
+    ("000", "The paper's seeding peak of 1.33 m/s",
+     "the peak velocity of the seeding section is 1.33 m/s"),
+    ("000", "reaches the paper's 1.33 m/s seeding peak",
+     "the peak velocity of the seeding section is 1.33 m/s"),
+    ("000", "said the pair (1.33, 1.14)",
+     ("the peak velocity of the seeding section is 1.33 m/s",
+      "corresponding to the static trajectory is 1.14 m/s")),
+    ("000", "the paper's 1.26 m/s (> its static 1.14)",
+     ("the minimum speed corresponding to the dynamic trajectory is 1.26 m/s",
+      "corresponding to the static trajectory is 1.14 m/s")),
     ("001", "| arm I picking | 82-94 deg |", "the stage of picking seedlings was (82° , 94°)"),
+    ("001", "(226 is the depth calibration)", "$(226^\\circ, 243^\\circ)$"),
+    ("001", "enters the ground at the published 226 deg", "$(226^\\circ, 243^\\circ)$"),
+    ("001", "The **trajectory height** of 245 mm", "with a trajectory height of 245 mm"),
     ("001", "| arm I conveying | 94-226 deg |", "the stage of conveying was (94° , 226°)"),
     ("001", "| arm I planting | 226-243 deg |", "$(226^\\circ, 243^\\circ)$"),
     ("001", "| arm II / III picking | 322-334 / 202-214 deg |",
@@ -610,6 +626,8 @@ def table4() -> list[Figure]:
 def table4_reading() -> list[Figure]:
     """The alternative reading of Table 4 (gear 2 closes with a 38.8 deg sector; the rows'
     log ratio) and the tip-speed floor at d."""
+    from plantmech.gears.closure import mate_turn
+    from plantmech.geometry.periodic import RadiusCurve
     from plantmech.objectives.seeder import speed_lower_bound
 
     d = load_design(EX / "sugarcane_table4.toml")
@@ -637,16 +655,55 @@ def table4_reading() -> list[Figure]:
                    f"row 4, r2 = {r2[3]:.1f} / r3 = {r3[3]:.1f}, gives {ratio[3]:.4f})"),
             Figure("row 3's logarithms", float(la),
                    f"including row 3 where both logarithms are small ({la:.3f} and {lb:.3f})")]
+    g3 = {f["pair"]: f for f in s["closure_restoration"]}["gear 3 - planet"]
+    step = float(np.diff(t.gear3.angles_deg)[0])
+    # the gear-3 column read as the planet's radii: gear 3 is then a - r3, the planet r3
+    as_planet = float(np.degrees(mate_turn(RadiusCurve.from_samples(
+        np.radians(t.gear3.angles_deg), t.a2_mm - r3, kind=t.interpolation), t.a2_mm)))
+    k = int(np.argmin(r3))
+    q58 = [x["dynamic_speed_m_s"] for x in s["return_points_speed"]
+           if x["point"] in ("q5", "q6", "q7", "q8")]
+    out += [Figure("the file's radii, L1 and the printed a1, a2", t.a1_mm,
+                   f"radii stay as printed, L1 = {t.L1_mm:.0f} stays"),
+            fig("the printed a1 (mm)", t.a1_mm, "does close at the printed a1 = {:.0f} mm"),
+            fig("the printed a (mm)", t.a1_mm, "samples of a split ratio law at a = {:.0f} mm"),
+            fig("the printed a2 (mm)", t.a2_mm, "what was simulated at a2 = {:.0f} with"),
+            Figure("gear 3's closure at the printed a2", g3["turn_as_given_deg"],
+                   f"gear 3's closure ({g3['turn_as_given_deg']:.1f} deg instead of "
+                   f"{g3['required_turn_deg']:.0f} at {t.a2_mm:.0f} mm)"),
+            Figure("the sector and the gear-3 column read as the planet's radii", as_planet,
+                   f"consistent with the {t.dwell.sector_deg:.0f} deg sector; the gear-3 column "
+                   f"is not consistent with uniform {step:.0f} deg angles at any reading we "
+                   f"found (as the planet's radii it turns {as_planet:.1f} deg)"),
+            Figure("gear 3's radii around its smallest", float(r3[k]),
+                   f"gear 3 drops from {r3[k - 1]:.0f} to {r3[k]:.0f} to {r3[k + 1]:.0f} mm "
+                   f"within {2 * step:.0f} deg"),
+            Figure("dynamic speeds at q5..q8 (m/s)", min(q58),
+                   f"type-value points q5..q8 after e the dynamic speeds are "
+                   f"{min(q58):.2f}-{max(q58):.2f} m/s"),
+            fig("the shaft off the carrier line, the solved centre distances (deg)",
+                s["train"]["shaft_offset_deg"], "the solved centre distances and the shaft "
+                "{:.2f} deg off the carrier line"),
+            Figure("the inputs of the tip-speed floor", t.L1_mm,
+                   f"With L1 = {t.L1_mm:.0f}, L2 = {t.L2_mm:.0f} mm at "
+                   f"{d.operation.carrier_speed_deg_s:.0f} deg/s")]
     q0 = np.array(d.trajectory.points[d.trajectory.sections.d])
     rho = float(np.hypot(*q0))
     out.append(fig("rho at d (mm)", rho, "rho = {:.1f} mm) has"))
     out.append(fig("v_min at d (m/s)", speed_lower_bound(rho, t.L1_mm, t.L2_mm, 360.0),
                    "v_min = {:.3f} m/s"))
+    out.append(fig("the seeding peak's floor at d (m/s)",
+                   speed_lower_bound(rho, t.L1_mm, t.L2_mm, 360.0),
+                   "every path through d has a seeding peak of at least {:.2f} m/s"))
     pts = np.array(d.trajectory.points)
     de = pts[d.trajectory.sections.d:d.trajectory.sections.e + 1]
     floor = speed_lower_bound(np.hypot(*de.T), t.L1_mm, t.L2_mm, 360.0)
     out.append(Figure("v_min at q0..q4 (m/s)", float(floor[0]),
                       "(q0..q4: " + ", ".join(f"{v:.2f}" for v in floor) + " m/s)"))
+    below = [i for i, v in enumerate(floor) if v < PAPER_SEEDING_PEAK]
+    out.append(Figure("where the floor drops below the paper's seeding peak", float(len(below)),
+                      f"the floor drops below {PAPER_SEEDING_PEAK} only at e" if below == [
+                          len(floor) - 1] else f"BELOW {PAPER_SEEDING_PEAK} AT {below}"))
     return out
 
 
@@ -878,6 +935,37 @@ def transplanter() -> list[Figure]:
             Figure("arms II / III planting (deg)", float(arms[1][0, 0]),
                    f"| {arms[1][0, 0]:.1f}-{arms[1][0, 1]:.1f} / {arms[1][1, 0]:.1f}-"
                    f"{arms[1][1, 1]:.1f} deg |")]
+    d = load_design(EX / "rice_transplanter.toml")
+    g = d.internal_gear
+    y = job.motion.B[0, 0].imag  # the tip of one arm, in the frame of the box
+    extent = float(y.max() - y.min())
+    paper_height = 245.0  # (vii), QUOTES
+    depth = 25.0
+    d.field.planting_depth_mm = depth
+    deep = run_transplanter(d).summary
+    ob = {x["name"]: x["value"] for x in deep["objectives"]}
+    out += [Figure("the tip's extent, lowest to highest (mm)", extent,
+                   f"| {s['trajectory_height_mm']:.1f} mm above the ground ({extent:.1f} lowest "
+                   "to highest)"),
+            Figure("the ground the published height needs, and the path at 25 mm depth",
+                   extent - paper_height,
+                   f"equals ours only if the ground lies {extent - paper_height:.1f} mm above "
+                   f"the lowest point ({deep['trajectory_height_mm']:.1f} mm at {depth:.0f} mm "
+                   f"depth), but at that depth planting would begin at "
+                   f"{deep['stages_deg']['arm_III']['planting'][0]:.0f} deg, not 226, the hole "
+                   f"at 180 mm spacing would be {deep['hole_width_by_spacing_mm']['180']:.1f} mm "
+                   f"(> 30) and the gearbox would be {ob['gearbox_clearance']:.0f} mm above the "
+                   "ground (< 20)"),
+            Figure("the ring's control radii per lobe", float(len(g.radii_mm)),
+                   f"The internal gear has {len(g.radii_mm)} control radii within each "
+                   f"{360 / g.lobes:.0f} deg lobe"),
+            Figure("why the three arms repeat", float(g.lobes),
+                   f"three arms identical after {360 / 3:.0f} deg | \"completely consistent\" "
+                   f"| {max(s['arm_phase_deviation_mm']):.1e} mm | holds because 3 divides n - 1 "
+                   f"= {g.lobes - 1}" if (g.lobes - 1) % 3 == 0 else "3 DOES NOT DIVIDE n - 1"),
+            Figure("closure of the internal pair: the test's bound", float(s["closure_error_rad"]),
+                   f"| {s['closure_error_rad']:.0e} rad (a = {s['centre_distance_mm']:.3f} mm) | "
+                   f"tested to {_bound(s['closure_error_rad'], 1e-9)} |")]
     # K-H-V for comparison (illustrative)
     k = load_design(EX / "rice_transplanter_khv.toml")
     r = np.asarray(k.sun_gear.radii_mm)
@@ -991,6 +1079,108 @@ def teeth() -> list[Figure]:
     return out
 
 
+
+
+
+
+def _bound(value: float, bound: float) -> str:
+    """``bound`` as the page writes it (1e-9) where ``value`` is within it, else the value
+    and the words ABOVE THE BOUND."""
+    text = f"{bound:.0e}".replace("e-0", "e-")
+    return text if abs(value) <= bound else f"{value:.1e} ABOVE THE BOUND {text}"
+
+
+def forward_checks() -> list[Figure]:
+    """The forward model's checks against closed forms (the table "Forward model checks"):
+    circular trains against the epicycle's phasors, the analytic velocity against central
+    differences of the path, three random three-bar trajectories round-tripped, and the
+    closure restorations of a circle (seconds)."""
+    from plantmech.gears.closure import mate_turn, solve_radial_offset, solve_scale
+    from plantmech.geometry.periodic import RadiusCurve
+    from plantmech.geometry.trajectory import ClosedTrajectory
+    from plantmech.mechanisms.seeder_forward import SeederTrain, simulate, solve_centre_distance
+    from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
+    from plantmech.verification import train_from_inverse
+
+    th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    L1, L2, phi0, arm0, a = 254.0, 498.0, 0.4, 1.0, 120.0
+    w = 2 * np.pi  # 360 deg/s
+
+    def circles(r2, r3):
+        return SeederTrain(L1=L1, L2=L2, a1=a, a2=a,
+                           gear2=RadiusCurve.from_samples(th, np.full(8, r2)),
+                           gear3=RadiusCurve.from_samples(th, np.full(8, r3)),
+                           gear2_contact0=0.0, gear3_contact0=0.0, carrier0=phi0, arm0=arm0)
+
+    def epicycle(f, k):  # the tip and its speed from the two rotating phasors
+        psi = f.carrier_angle
+        arm = arm0 - (1 - k) * psi
+        tip = L1 * np.exp(1j * (phi0 - psi)) + L2 * np.exp(1j * arm)
+        v = np.abs(-1j * L1 * w * np.exp(1j * (phi0 - psi))
+                   - 1j * (1 - k) * L2 * w * np.exp(1j * arm)) / 1000.0
+        return np.abs(f.tip[:, 0] + 1j * f.tip[:, 1] - tip).max(), v
+
+    f = simulate(circles(a / 2, a / 2), samples=720)
+    path, v = epicycle(f, 1.0)
+    speed = f.speed(360.0)
+    out = [Figure("equal circles: the path and the speed L1 omega", float(speed.mean()),
+                  f"| equal circular gears (r = a/2): tip = L1 e^{{i(phi0 - psi)}} + L2 "
+                  f"e^{{i arm0}}, speed L1 omega | path to {_bound(path, 1e-9)} mm; speed "
+                  f"{speed.mean():.4f} m/s = "
+                  f"{L1 / 1000:.3f} m x 2 pi/s to "
+                  f"{_bound(np.abs(speed - L1 * w / 1000).max(), 1e-6)} |")]
+    r1, r2, r3, r4 = 70.0, 50.0, 40.0, 80.0
+    f = simulate(circles(r2, r3), samples=720)
+    k = (r1 / r2) * (r3 / r4)
+    path, v = epicycle(f, k)
+    rel = np.abs(f.speed(360.0) / v - 1).max()
+    out.append(Figure("unequal circles: the planet's turn, the path and the speed", k,
+                      f"| unequal circles ({r1:.0f}/{r2:.0f}, {r3:.0f}/{r4:.0f}): planet turns "
+                      f"{np.mean(f.total_ratio):.1f} psi; path and speed vs the phasor formula | "
+                      f"{_bound(path, 1e-8)} mm, {_bound(rel, 1e-9)} relative |"))
+    rng = np.random.default_rng(5)
+    g2 = RadiusCurve.from_samples(th, 60 + rng.uniform(-6, 6, 8), kind="hermite")
+    g3 = RadiusCurve.from_samples(th, 60 + rng.uniform(-6, 6, 8))
+    a1, a2 = solve_centre_distance(g2), solve_centre_distance(g3)
+    n = 7200
+    f = simulate(SeederTrain(L1=a1 + a2, L2=450.0, a1=a1, a2=a2, gear2=g2, gear3=g3,
+                             gear2_contact0=np.pi, gear3_contact0=0.0, carrier0=0.3, arm0=0.3),
+                 samples=n)
+    fd = (np.roll(f.tip, -1, axis=0) - np.roll(f.tip, 1, axis=0)) / (2 * 2 * np.pi / n)
+    rel = np.abs(fd - f.tip_rate).max() / np.abs(f.tip_rate).max()
+    out.append(Figure("the analytic velocity against central differences", rel,
+                      f"| analytic velocity (Eq. 16) vs central differences of the path, {n} "
+                      f"samples | {_bound(rel, 1e-5)} relative |"))
+    worst = 0.0
+    for seed in (0, 1, 2):  # three random three-bar trajectories (tests/test_seeder_forward.py)
+        rng = np.random.default_rng(seed)
+        t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+        A, B = rng.uniform(0.1, 0.35), rng.uniform(-0.15, 0.15)
+        l1, l2 = rng.uniform(80, 200), rng.uniform(300, 500)
+        c = 0.3 - t
+        ang = c + t + A * np.sin(t) + B * np.sin(2 * t) + rng.uniform(0, 6)
+        pts = np.c_[l1 * np.cos(c) + l2 * np.cos(ang), l1 * np.sin(c) + l2 * np.sin(ang)]
+        res = inverse_design(ClosedTrajectory.through(pts), InverseSettings(samples=3600))
+        fwd = simulate(train_from_inverse(res), samples=3600)
+        worst = max(worst, float(np.hypot(*(fwd.tip - res.tip).T).max()))
+    out.append(Figure("round trip on three random three-bar trajectories (mm)", worst,
+                      "| round trip on three random three-bar trajectories | "
+                      + ("< 0.01" if worst < 0.01 else f"{worst:.3f} NOT < 0.01") + " mm each"))
+    # a circle of 50 mm at a = 120 mm turns its mate 50 / 70 of a turn: closed by an offset
+    # of the radii or a scale
+    r, a = 50.0, 120.0
+    circle = RadiusCurve.from_samples(th, np.full(8, r))
+    off, scale = solve_radial_offset(circle, a), solve_scale(circle, a)
+    residual = max(abs(mate_turn(RadiusCurve.from_samples(th, np.full(8, r + off)), a) - w),
+                   abs(mate_turn(RadiusCurve.from_samples(th, np.full(8, r * scale)), a) - w))
+    exact = abs(off - (a / 2 - r)) < 1e-9 and abs(scale - a / 2 / r) < 1e-12
+    out.append(Figure("closure restorations of a circle", off,
+                      f"| closure restorations | residual < {_bound(residual, 1e-10)} rad; circle "
+                      f"{r:.0f} mm at a = {a:.0f}: offset {off:+.0f} mm, scale {scale:.1f} "
+                      + ("exactly" if exact else "NOT EXACTLY") + " |"))
+    return out
+
+
 def optimized() -> list[Figure]:
     """examples/sugarcane_seeder_optimized.toml re-simulated from its pitch curves by the
     forward model (the seed 000 optimization table's shipped column)."""
@@ -1061,7 +1251,8 @@ def convexity() -> list[Figure]:
 CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": round_trip,
          "estimate": estimate, "table4": table4, "table4_reading": table4_reading,
          "transplanter": transplanter, "convexity": convexity, "optimized": optimized,
-         "table4_record": table4_record, "paper": paper}
+         "table4_record": table4_record, "paper": paper,
+         "forward_checks": forward_checks}
 EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001,
              "teeth": teeth}
 
@@ -1075,12 +1266,14 @@ def run(names) -> list[tuple[str, Figure, bool]]:
 
 # --- which numbers of the document have a section ------------------------------------------
 
-#: a number that names rather than measures: "issue 34", "gear 2", "gears 2 and 3", "Table 4",
-#: "Eq. 5", "§3.4", "seed 000", "layer-2", "stage 1", "row 4", "section 4.1", "Figures 7-9";
+#: a number that names rather than measures: "issue 34", "gear 2", "gears 2 and 3", "the gear-2
+#: column", "Table 4", "Eq. 5", "§3.4", "seed 000", "layer-2", "layer 1", "stage 1", "row 4",
+#: "section 4.1", "section-4.1", "objectives 4 and 5", "Figures 7-9";
 #: a list's "(1)", "(2)"; and every `code span` (a command, a file, a commit)
 REFERENCE = re.compile(
-    r"`[^`]*`|\(\d\)|(?:\b(?:issues?|gears?|Tables?|Eqs?\.|seed|Figures?|Fig\.|layer-|stages?|rows?|"
-    r"sections?)\s*|§)\d+(?:\.\d+)?(?:\s*(?:,|and|-|/)\s*\d+(?:\.\d+)?)*", re.IGNORECASE)
+    r"`[^`]*`|\(\d\)|(?:\b(?:issues?|gears?|Tables?|Eqs?\.|seed|Figures?|Fig\.|layers?|stages?|rows?|"
+    r"sections?|objectives?)[\s-]*|§)\d+(?:\.\d+)?(?:\s*(?:,|and|-|/)\s*\d+(?:\.\d+)?)*",
+    re.IGNORECASE)
 NUMBER = re.compile(r"(?<![\w.])-?\d+(?:,\d{3})*(?:\.\d+)?(?:e-?\d+)?(?![A-Za-z_\d])")
 #: the document's numbers that no section re-measures, one a line (``--coverage`` prints
 #: them; tests/test_validation_numbers.py fails on any number neither covered nor listed

@@ -26,7 +26,8 @@ def script():
 
 
 SECTIONS = ["paper", "table2", "inverse", "dwell", "round_trip", "estimate", "table4",
-            "table4_record", "table4_reading", "transplanter", "convexity", "optimized"]
+            "table4_record", "table4_reading", "transplanter", "convexity", "optimized",
+            "forward_checks"]
 
 
 @pytest.fixture(scope="module")
