@@ -16,7 +16,9 @@ alternative reading and the tip-speed floor), transplanter (seed 001 and the K-H
 convexity, optimized (the shipped layered optimum re-simulated), forward_checks (the forward
 model against closed forms); expensive: table4_fit (the
 radial offset's phases refitted), table4_grid (the phase grid on the population model),
-seed001 (the seed 001 optimization run again).
+seed001 (the seed 001 optimization run again), teeth (Table 4's and the toothed
+transplanter's rows of the teeth record re-cut), teeth_cases (its closed-form cases),
+teeth_rows (its rows of the bundled seeder and transplanter examples).
 
 ``--coverage`` lists the numbers of the page that no section re-measures (they are kept in
 scripts/validation_unmeasured.txt, ``--write-unmeasured`` rewrites it; the test keeps it exact).
@@ -1042,18 +1044,39 @@ def teeth() -> list[Figure]:
     """Two rows of the teeth record re-cut (``plantmech gears``, about a minute): Table 4's
     train at the default module, and the transplanter re-optimized with the tooth fit."""
     v = _gears("sugarcane_table4.toml")
+    sim = {x["pair"]: x for x in _gears("sugarcane_table4.toml", "--teeth", "simulated")["mesh"]}
     g = {x["name"]: x for x in v["gears"]}
     mesh = {x["pair"]: x for x in v["mesh"]}
+    failed = [p for p, x in mesh.items() if not x["ok"]]
+    limit = v["limits"]["max_interference"] * min(x["module_mm"] for x in g.values())
+    pointed = [n for n in ("gear2", "sun", "gear3", "planet") if g[n]["pointed"]]
+    v4 = _gears("sugarcane_table4.toml", "--module", "4")
+    m4 = {x["pair"]: x for x in v4["mesh"]}
+    g4 = {x["name"]: x for x in v4["gears"]}
     out = [Figure("Table 4 train: teeth, modules, interference", float(g["gear2"]["teeth"]),
                   f"default module (z = {g['gear2']['teeth']} / {g['gear3']['teeth']}, m "
                   f"{g['gear2']['module_mm']:.2f} / {g['gear3']['module_mm']:.2f} mm): gear2-sun "
-                  f"{mesh['gear2_sun']['max_interference_mm']:.1f} mm, gear3-planet "
-                  f"{mesh['gear3_planet']['max_interference_mm']:.1f} mm with the mates by the "
-                  "envelope"),
+                  f"{mesh['gear2_sun']['max_interference_mm']:.2f} mm, gear3-planet "
+                  f"{mesh['gear3_planet']['max_interference_mm']:.2f} mm with the mates by the "
+                  f"envelope, {sim['gear2_sun']['max_interference_mm']:.2f} / "
+                  f"{sim['gear3_planet']['max_interference_mm']:.2f} mm by the simulated cut: "
+                  + (" and ".join(p.replace("_", " - ") for p in failed) + " fails"
+                     if failed else "both pass")
+                  + f" (limit {limit:.3f} mm)"),
            Figure("Table 4 train: the free play", mesh["gear3_planet"]["max_normal_gap_mm"],
                   f"(largest normal gap {max(m['max_normal_gap_mm'] for m in v['mesh']):.2f} mm; "
                   f"the circumferential free play reaches "
-                  f"{mesh['gear3_planet']['max_backlash_mm']:.1f} mm where gear 3's flanks part")]
+                  f"{mesh['gear3_planet']['max_backlash_mm']:.1f} mm where gear 3's flanks part"),
+           Figure("Table 4 train at --module 4", float(g4["gear2"]["teeth"]),
+                  f"`--module 4` ({g4['gear2']['teeth']} / {g4['gear3']['teeth']} teeth): "
+                  f"{m4['gear2_sun']['max_interference_mm']:g} and "
+                  f"{m4['gear3_planet']['max_interference_mm']:g} mm"),
+           Figure("Table 4 train: the flags", g["gear3"]["min_concave_curvature_radius_mm"],
+                  f"Flags stay: gear 3 has a "
+                  f"{g['gear3']['min_concave_curvature_radius_mm']:.1f} mm concave radius "
+                  + ("no cutter fits" if not g["gear3"]["cutter_fits"] else "A CUTTER FITS")
+                  + f", working pressure angle up to {g['gear3']['max_pressure_angle_deg']:.0f} "
+                  f"deg, the {' and the '.join(pointed) or 'NONE'} pointed")]
     v = _gears("rice_transplanter_toothed.toml")
     g = {x["name"]: x for x in v["gears"]}
     m = v["mesh"][0]
@@ -1079,8 +1102,265 @@ def teeth() -> list[Figure]:
     return out
 
 
+def _within(value: float, bound: float, fmt: str) -> str:
+    """``fmt`` with ``bound`` where ``value`` is within it, else with the value and the word
+    ABOVE (so that a bound the page states and the code no longer meets is not found)."""
+    return fmt.format(bound) if abs(value) <= bound else fmt.format(value) + " ABOVE THE BOUND"
 
 
+def _play(lo: float, hi: float) -> str:
+    """A range of free play as the page prints it: one value where both ends round alike."""
+    return f"{lo:.3f}" if f"{lo:.3f}" == f"{hi:.3f}" else f"{lo:.3f}-{hi:.3f}"
+
+
+def teeth_cases() -> list[Figure]:
+    """The teeth record's closed-form cases cut again (``gears.teeth``, about two minutes):
+    a circle by the shaper and the rack against the analytic involute gear, the ellipse
+    about its focus with its twin, the same pair with gear B a half pitch off, the wavy
+    100-tooth curve with its 40-tooth mate (and the rack on it), and the circular internal
+    pairs of a 40-tooth ring."""
+    import inspect
+
+    import shapely
+    from scipy.special import ellipe
+
+    from plantmech.gears.closure import solve_centre_distance
+    from plantmech.gears.teeth import (
+        PitchPolyline,
+        ToothSpec,
+        _arc_to_angle,
+        cut_gear,
+        gear_checks,
+        make_pair,
+        mesh_check,
+        spur_gear_polygon,
+    )
+    from plantmech.geometry.periodic import RadiusCurve
+    from plantmech.workflows import run_gears
+
+    th = np.linspace(0, 2 * np.pi, 3001)
+    steps = inspect.signature(run_gears).parameters["steps"].default
+    out = [Figure("mesh check: a full cycle's steps", float(steps),
+                  f"over a full cycle ({steps} steps)")]
+
+    # a circle, r = 30 mm at m = 2, cut by the simulated shaper and the simulated rack
+    r0, m = 30.0, 2.0
+    pitch = PitchPolyline.from_polar(th[:-1], np.full(3000, r0))
+    circle = shapely.Point(0, 0).buffer(r0, 2048).exterior
+    band = shapely.Point(0, 0).buffer(r0 + 1.5, 2048).difference(
+        shapely.Point(0, 0).buffer(r0 - 1.0, 2048))
+    cut = {}
+    for cutter in ("shaper", "rack"):
+        spec = ToothSpec(module=m, cutter=cutter, method="simulated")
+        g = cut_gear(pitch, spec)
+        z = int(round(2 * r0 / m))
+        rad = np.hypot(*np.asarray(g.exterior.coords).T)
+        ref = spur_gear_polygon(z, spec)
+        cut[cutter] = (z, g.intersection(circle).length / z - np.pi * m / 2, rad.max(),
+                       rad.min(), g.intersection(band).symmetric_difference(
+                           ref.intersection(band)).area)
+    z, dt, tip, _, area = cut["shaper"]
+    _, dt_r, _, root, area_r = cut["rack"]
+    out.append(Figure("circle: shaper and rack (simulated cut)", area,
+                      f"| circle r = {r0:.0f} mm, m = {m:.0f} (z = {z}) | shaper: tooth thickness "
+                      f"on the pitch circle pi m / 2 {_within(dt, 0.02, 'to {:.2f}')} mm, "
+                      f"addendum circle {tip:.2f} mm, flanks "
+                      f"{_within(area, 1.0, 'within {:.0f}')} mm^2 of the analytic involute gear "
+                      f"in the working band ({area:.2f} mm^2). Rack: thickness "
+                      f"{_within(dt_r, 0.01, 'to {:.2f}')} mm, root circle {root:.2f} mm (r - "
+                      f"{(r0 - root) / m:.2f} m), flanks within {area_r:.2f} mm^2"))
+
+    # the ellipse about its focus, 32 teeth at m = 2, with its twin
+    e, n = 0.35, 32
+    A = np.pi * m * n / (4 * ellipe(e**2))
+    r = A * (1 - e**2) / (1 - e * np.cos(th))
+    pair = make_pair("ellipse", th, r, 2 * A, ToothSpec(module=m, backlash_mm=0.1))
+    ratio = np.diff(pair.phi_a) / -np.diff(pair.phi_b)
+    turns = -pair.phi_b[-1] / (2 * np.pi)
+    mc = mesh_check(pair, steps)
+    lo, hi = ratio.min(), ratio.max()
+    ok = (abs(lo - (1 - e) / (1 + e)) < 5e-4 and abs(hi - (1 + e) / (1 - e)) < 5e-3)
+    out.append(Figure("ellipse with its twin", float(lo),
+                      f"| ellipse about its focus, e = {e:g}, {pair.teeth_a} teeth, with its twin "
+                      f"| {'convex' if pair.spec.cutter == 'rack' else 'concave'}: "
+                      f"{pair.spec.cutter}-cut. Closes {pair.teeth_a // pair.teeth_b}:"
+                      f"{round(turns)}; ratio {lo:.4f}-{hi:.4f} "
+                      + ("(analytic (1-e)/(1+e), (1+e)/(1-e))" if ok else "NOT THE ANALYTIC")
+                      + ("; no interference" if mc["max_interference_mm"] == 0 else
+                         f"; interference {mc['max_interference_mm']:.3f} mm")
+                      + f" over a full turn; backlash "
+                      f"{_play(mc['min_normal_gap_mm'], mc['max_normal_gap_mm'])} mm for a "
+                      f"{pair.spec.backlash_mm:g} mm allowance |"))
+    # its gear B cut a tooth where a space belongs
+    pair.gear_b = cut_gear(pair.pitch_b, ToothSpec(module=m),
+                           tooth_at=_arc_to_angle(pair.pitch_b, pair.phi_b[0]))
+    wrong = mesh_check(pair, steps)
+    out.append(Figure("wrong tooth phase", wrong["max_interference_mm"],
+                      f"| wrong tooth phase (tooth against tooth) | "
+                      f"{'caught' if not wrong['ok'] else 'NOT CAUGHT'}: "
+                      f"{wrong['max_interference_mm']:.1f} mm interference |"))
+
+    # r = 1 + 0.08 cos 5 theta scaled to 100 teeth at m = 2, its mate turning 5 pi
+    k, lobes = 0.08, 5
+    r = 1 + k * np.cos(lobes * th)
+    r = r * (100 * np.pi * m / PitchPolyline.from_polar(th[:-1], r[:-1]).perimeter)
+    a = solve_centre_distance(RadiusCurve.from_samples(th[:-1], r[:-1]), turn=lobes * np.pi)
+    pair = make_pair("wavy", th, r, a, ToothSpec(module=m, backlash_mm=0.1), samples=4000)
+    c = gear_checks("wavy", pair.pitch_a, pair.spec, pair.teeth_a)
+    R0 = r.max() / (1 + k)
+    t = np.linspace(0, 2 * np.pi, 200001)
+    rr, r1, r2 = (R0 * (1 + k * np.cos(lobes * t)), -k * lobes * R0 * np.sin(lobes * t),
+                  -k * lobes**2 * R0 * np.cos(lobes * t))
+    den = rr**2 + 2 * r1**2 - rr * r2
+    analytic = -float(((rr**2 + r1**2) ** 1.5 / den)[den < 0].max())
+    rho = c["min_concave_curvature_radius_mm"]
+    mw = mesh_check(pair, steps)
+    rack = ToothSpec(module=m, backlash_mm=0.1, cutter="rack")
+    pair.gear_a = cut_gear(pair.pitch_a, rack, tooth_at=_arc_to_angle(pair.pitch_a, th[0]))
+    gouged = mesh_check(pair, steps)
+    out.append(Figure("wavy curve and its mate; the rack on it", rho,
+                      f"| r = 1 + {k:g} cos {lobes} theta, {pair.teeth_a} teeth, with its "
+                      f"{pair.teeth_b}-tooth mate | {pair.spec.cutter_teeth}-tooth shaper "
+                      f"{'fits' if c['cutter_fits'] else 'DOES NOT FIT'} the concave spans (min "
+                      f"concave radius {rho:.1f} mm, "
+                      + ("analytic" if abs(rho / analytic - 1) < 5e-3 else
+                         f"analytic {analytic:.1f}")
+                      + ("); no interference" if mw["max_interference_mm"] == 0 else
+                         f"); interference {mw['max_interference_mm']:.3f} mm")
+                      + f", backlash <= {mw['max_normal_gap_mm']:.3f} mm. The rack (the naive "
+                      f"whole-rack sweep) on the same curve gouges the concave spans: backlash "
+                      f"{gouged['max_normal_gap_mm']:.2f} mm |"))
+
+    # circular internal pairs: a 40-tooth ring at m = 2, planets of 32 to 39 teeth
+    th = np.linspace(0, 2 * np.pi, 721)[:-1]
+    ring, cells, internal_steps = 40, [], 120
+    for zp in (32, 33, 36, 38, 39):
+        p = make_pair("ring_planet", th, np.full_like(th, ring * m / 2),
+                      (ring - zp) * m / 2, ToothSpec(m, backlash_mm=0.1), internal=True)
+        res = mesh_check(p, steps=internal_steps)
+        depth = res["max_interference_mm"]
+        if zp == 32:
+            cells.append(f"planet {p.teeth_b} teeth (difference {p.teeth_a - p.teeth_b}): "
+                         + (f"clean (backlash {res['max_normal_gap_mm']:.3f} mm)" if res["ok"]
+                            else f"FOULS {depth:.3f} mm"))
+        else:
+            cells.append(f"{p.teeth_b} ({p.teeth_a - p.teeth_b}): "
+                         + (f"{depth:.3f} mm" if depth < 0.1 else f"{depth:.2f} mm"))
+    out.append(Figure("circular internal pairs", float(ring),
+                      f"| circular internal pairs, {ring}-tooth ring, m = {m:.0f} | "
+                      + "; ".join(cells) + ", fouling away from the line of centres (planet cut "
+                      f"by the ring, {internal_steps} steps)"))
+    return out
+
+
+def teeth_rows() -> list[Figure]:
+    """The teeth record's rows of the bundled examples cut again by ``plantmech gears``
+    (several minutes): the seeder's inverse design and its optimum at ``--module 6``, both
+    ways (the mates by the envelope, the default, and by the simulated cut), the optimum
+    at its default module, the published transplanter both ways, and the K-H-V example."""
+    from plantmech.workflows import run_transplanter
+
+    def mesh(v):
+        return {x["pair"]: x for x in v["mesh"]}
+
+    def gears(v):
+        return {x["name"]: x for x in v["gears"]}
+
+    def limit(v):  # the mesh check's interference limit: a fraction of each pair's module
+        return min(v["limits"]["max_interference"] * g["module_mm"] for g in v["gears"])
+
+    out = []
+    env, sim = (_gears("sugarcane_seeder.toml", "--module", "6", *o)
+                for o in ((), ("--teeth", "simulated")))
+    me, ms, g = mesh(env), mesh(sim), gears(env)
+    concave = [g[n]["min_concave_curvature_radius_mm"] for n in ("gear2", "gear3")]
+    angles = [g[n]["max_pressure_angle_deg"] for n in g]
+    out += [Figure("seeder inverse design at --module 6: the meshes both ways",
+                   me["gear2_sun"]["max_interference_mm"],
+                   f"meshes at `--module 6` ({g['gear2']['teeth']} / {g['gear3']['teeth']} "
+                   f"teeth): gear2-sun {me['gear2_sun']['max_interference_mm']:.1f} mm, "
+                   f"gear3-planet {me['gear3_planet']['max_interference_mm']:.1f} mm with the "
+                   f"mates by the envelope (issue 16; least free play "
+                   f"{me['gear2_sun']['min_circumferential_backlash_mm']:.3f} / "
+                   f"{me['gear3_planet']['min_circumferential_backlash_mm']:.3f} mm); by the "
+                   f"simulated cut {ms['gear2_sun']['max_interference_mm']:.3f} / "
+                   f"{ms['gear3_planet']['max_interference_mm']:.3f} mm (limit {limit(sim):.3f}), "
+                   f"whose sun's scallops also bound the free play to "
+                   f"{ms['gear2_sun']['min_circumferential_backlash_mm']:.3f} mm"),
+            Figure("seeder inverse design: why it is not a drive", min(concave),
+                   f"cusps (concave radii {min(concave):.2f}-{max(concave):.1f} mm, "
+                   + ("no cutter fits" if not any(g[n]["cutter_fits"] for n in ("gear2", "gear3"))
+                      else "A CUTTER FITS")
+                   + f"), working pressure angles of {min(angles):.0f}-{max(angles):.0f} deg"),
+            Figure("seeder inverse design: the widest gap", me["gear3_planet"]["max_normal_gap_mm"],
+                   f"pointed and undercut teeth, backlash up to "
+                   f"{max(m['max_normal_gap_mm'] for m in env['mesh']):.0f} mm where the flanks "
+                   "of the cusps part")]
+    out[-1].text = out[-1].text if all(x["pointed"] and x["undercut"] for x in g.values()) \
+        else "NOT EVERY GEAR POINTED AND UNDERCUT"
+
+    env, sim = (_gears("sugarcane_seeder_optimized.toml", "--module", "6", *o)
+                for o in ((), ("--teeth", "simulated")))
+    me, ms, g = mesh(env), mesh(sim), gears(env)
+    every = all(x["pointed"] and x["undercut"] for x in g.values())
+    out.append(Figure("seeder optimum at --module 6: the meshes both ways",
+                      ms["gear3_planet"]["max_interference_mm"],
+                      f"| at `--module 6`: gear2-sun {me['gear2_sun']['max_interference_mm']:.1f} "
+                      f"mm, gear3-planet "
+                      f"{me['gear3_planet']['max_interference_mm']:.1f} mm with the mates by the "
+                      f"envelope (issue 16; by the simulated cut "
+                      f"{ms['gear2_sun']['max_interference_mm']:.4f} / "
+                      f"{ms['gear3_planet']['max_interference_mm']:.4f} mm) (limit "
+                      f"{limit(env):.3f}); pressure angle "
+                      f"{g['gear2']['max_pressure_angle_deg']:.0f} / "
+                      f"{g['gear3']['max_pressure_angle_deg']:.0f} deg, a "
+                      f"{g['gear3']['min_concave_curvature_radius_mm']:.1f} mm concave radius on "
+                      "gear 3 " + ("no cutter fits" if not g["gear3"]["cutter_fits"] else
+                                   "A CUTTER FITS")
+                      + (", every gear pointed and undercut (flagged)" if every else
+                         ", NOT EVERY GEAR POINTED AND UNDERCUT")))
+    v = _gears("sugarcane_seeder_optimized.toml")
+    md, g = mesh(v), gears(v)
+    out.append(Figure("seeder optimum at its default module", md["gear3_planet"][
+        "max_interference_mm"],
+        f"At its default module ({g['gear2']['module_mm']:.1f} mm, {g['gear2']['teeth']} / "
+        f"{g['gear3']['teeth']} teeth) the teeth interfere: "
+        f"{md['gear2_sun']['max_interference_mm']:.3f} / "
+        f"{md['gear3_planet']['max_interference_mm']:.2f} mm against {limit(v):.3f}"))
+
+    env, sim = (_gears("rice_transplanter.toml", *o) for o in ((), ("--teeth", "simulated")))
+    (me,), (ms,), g = env["mesh"], sim["mesh"], gears(env)
+    pa = max(x["max_pressure_angle_deg"] for x in g.values())
+    o = {x["name"]: x["value"] for x in run_transplanter(
+        load_design(EX / "rice_transplanter.toml")).summary["objectives"]}
+    out += [Figure("published transplanter: the mesh both ways", ms["max_interference_mm"],
+                   f"meshes at its {g['internal']['teeth']} / {g['planet']['teeth']} teeth (m "
+                   f"{g['internal']['module_mm']:.2f} mm): {ms['max_interference_mm']:.3f} mm with "
+                   f"the planet by the simulated cut, {me['max_interference_mm']:.4f} mm with it "
+                   "by the envelope within the same reach"),
+            fig("published transplanter: the limit (mm)", limit(env), "(limit {:.3f};"),
+            Figure("published transplanter: the working pressure angle", pa,
+                   f"its working pressure angle reaches {pa:.0f} deg, where a flank keeps "
+                   f"{100 * np.cos(np.radians(pa)):.0f} % of the backlash as normal clearance"),
+            Figure("published transplanter: objectives (xiii)-(xv)", o["equivalent_teeth"],
+                   f"its tightest spans are spur gears of {o['equivalent_teeth']:.2f} teeth "
+                   f"(objective (xiii)), teeth difference {o['internal_teeth_difference']:.2f} "
+                   f"((xv)), pressure angle {o['working_pressure_angle']:.0f} deg ((xiv))")]
+
+    v = _gears("rice_transplanter_khv.toml")
+    g = gears(v)
+    zeq = [f["limit"] for f in v["findings"] if f["check"] == "undercut"]
+    clean = all(m["max_interference_mm"] == 0 for m in v["mesh"])
+    out.append(Figure("K-H-V example", float(g["sun"]["teeth"]),
+                      f"sun, middle, planet {g['sun']['teeth']} teeth each (m "
+                      f"{g['sun']['module_mm']:.2f} mm)" if len({x["teeth"] for x in g.values()})
+                      == 1 else "NOT ONE TOOTH COUNT"))
+    out.append(Figure("K-H-V example: the meshes", max(m["max_normal_gap_mm"] for m in v["mesh"]),
+                      ("both meshes clean (0 interference" if clean else "NOT CLEAN (")
+                      + f", backlash <= {max(m['max_normal_gap_mm'] for m in v['mesh']):.3f} mm); "
+                      + ("all three" if len(zeq) == 3 else f"{len(zeq)}")
+                      + f" flagged for undercut (z_eq < {min(zeq):.0f}"))
+    return out
 
 
 def _bound(value: float, bound: float) -> str:
@@ -1254,7 +1534,7 @@ CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": rou
          "table4_record": table4_record, "paper": paper,
          "forward_checks": forward_checks}
 EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001,
-             "teeth": teeth}
+             "teeth": teeth, "teeth_cases": teeth_cases, "teeth_rows": teeth_rows}
 
 
 def run(names) -> list[tuple[str, Figure, bool]]:
@@ -1290,14 +1570,55 @@ EXPENSIVE_TEXTS = {
                     "the lowest, # m/s (phases #/# deg), belongs to a path # mm RMS from the "
                     "plan"],
     "teeth": ["default module (z = # / #, m # / # mm): gear2-sun # mm, gear3-planet # mm with "
-              "the mates by the envelope",
+              "the mates by the envelope, # / # mm by the simulated cut: gear3 - planet fails "
+              "(limit # mm)",
               "(largest normal gap # mm; the circumferential free play reaches # mm where gear "
               "3's flanks part",
+              "`--module #` (# / # teeth): # and # mm",
+              "Flags stay: gear # has a # mm concave radius no cutter fits, working pressure "
+              "angle up to # deg, the sun pointed",
               "# / # teeth, m # mm; no interference, backlash <= # mm (ring shaper-cut, # mm "
               "shaper; planet its envelope)",
               "`plantmech gears` on it says not manufacturable (# findings): both gears undercut "
               "(# and # equivalent teeth against #), module # mm not a standard one, "
               "cuttable-module margin # mm"],
+    "teeth_cases": [
+        "over a full cycle (# steps)",
+        "| circle r = # mm, m = # (z = #) | shaper: tooth thickness on the pitch circle pi m / # "
+        "to # mm, addendum circle # mm, flanks within # mm^# of the analytic involute gear in "
+        "the working band (# mm^#). Rack: thickness to # mm, root circle # mm (r - # m), flanks "
+        "within # mm^#",
+        "| ellipse about its focus, e = #, # teeth, with its twin | convex: rack-cut. Closes #:#; "
+        "ratio #-# (analytic (#-e)/(#+e), (#+e)/(#-e)); no interference over a full turn; "
+        "backlash # mm for a # mm allowance |",
+        "| wrong tooth phase (tooth against tooth) | caught: # mm interference |",
+        "| r = # + # cos # theta, # teeth, with its #-tooth mate | #-tooth shaper fits the "
+        "concave spans (min concave radius # mm, analytic); no interference, backlash <= # mm. "
+        "The rack (the naive whole-rack sweep) on the same curve gouges the concave spans: "
+        "backlash # mm |",
+        "| circular internal pairs, #-tooth ring, m = # | planet # teeth (difference #): clean "
+        "(backlash # mm); # (#): # mm; # (#): # mm; # (#): # mm; # (#): # mm, fouling away from "
+        "the line of centres (planet cut by the ring, # steps)"],
+    "teeth_rows": [
+        "meshes at `--module #` (# / # teeth): gear2-sun # mm, gear3-planet # mm with the mates"
+        " by the envelope (issue #; least free play # / # mm); by the simulated cut # / # mm "
+        "(limit #), whose sun's scallops also bound the free play to # mm",
+        "cusps (concave radii #-# mm, no cutter fits), working pressure angles of #-# deg",
+        "pointed and undercut teeth, backlash up to # mm where the flanks of the cusps part",
+        "| at `--module #`: gear2-sun # mm, gear3-planet # mm with the mates by the envelope "
+        "(issue #; by the simulated cut # / # mm) (limit #); pressure angle # / # deg, a # mm "
+        "concave radius on gear # no cutter fits, every gear pointed and undercut (flagged)",
+        "At its default module (# mm, # / # teeth) the teeth interfere: # / # mm against #",
+        "meshes at its # / # teeth (m # mm): # mm with the planet by the simulated cut, # mm "
+        "with it by the envelope within the same reach",
+        "(limit #;",
+        "its working pressure angle reaches # deg, where a flank keeps # % of the backlash as "
+        "normal clearance",
+        "its tightest spans are spur gears of # teeth (objective (xiii)), teeth difference # "
+        "((xv)), pressure angle # deg ((xiv))",
+        "sun, middle, planet # teeth each (m # mm)",
+        "both meshes clean (# interference, backlash <= # mm); all three flagged for undercut "
+        "(z_eq < #"],
     "seed001": ["every objective (i)-(xv) and the cuttable-module margin met and re-checked "
                 "at full resolution",
                 "after # evaluations in four CMA-ES stages (#, #, # and #)",
