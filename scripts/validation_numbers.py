@@ -428,8 +428,11 @@ def round_trip() -> list[Figure]:
     job = run_seeder_inverse(load_design(EX / "sugarcane_seeder.toml"),
                              manufacturability=False)
     r = rt(job)
+    n = load_design(EX / "sugarcane_seeder.toml").trajectory.samples
     out.append(fig("sugarcane_seeder.toml: max tip deviation (mm)",
-                   r["round_trip_max_deviation_mm"], "| 3600 | {:.1e} mm |"))
+                   r["round_trip_max_deviation_mm"], f"| {n} | {{:.1e}} mm |"))
+    out.append(fig("the same, in the forward model checks (mm)", r["round_trip_max_deviation_mm"],
+                   f"| round trip inverse -> forward, bundled example, {n} samples | {{:.1e}} mm"))
     out.append(fig("closure, stage 1 (rad)", r["round_trip_closure_error_rad"]["stage1"],
                    "closes to {:.1e} rad (stage 1)"))
     out.append(fig("closure, stage 2 (rad)", r["round_trip_closure_error_rad"]["stage2"],
@@ -536,6 +539,9 @@ def table4() -> list[Figure]:
            Figure("the radial-offset column's phases", RADIAL_OFFSET_PHASES[0],
                   f"| gear 2: {RADIAL_OFFSET_PHASES[0]:.2f} deg, gear 3: "
                   f"{RADIAL_OFFSET_PHASES[1]:.2f} deg |"),
+           Figure("the radial-offset column's phases, in the prose", RADIAL_OFFSET_PHASES[1],
+                  f"and the phases {RADIAL_OFFSET_PHASES[0]:.2f} and "
+                  f"{RADIAL_OFFSET_PHASES[1]:.2f} deg (table above;"),
            Figure("the radial offset at the centre-distance phases", c["max_speed_seeding_m_s"],
                   f"with the centre-distance phases that column would read "
                   f"{c['max_speed_seeding_m_s']:.2f} / {c['min_speed_return_static_m_s']:.2f} / "
@@ -759,7 +765,13 @@ def table4_record() -> list[Figure]:
             fig("RMS at 10.20 deg above the fitted optimum's (mm)",
                 walk[10.20]["rms_tip_to_plan"] - fitted, "and {:.4f} mm above its RMS"),
             Figure("the first record at (305.30, 10.20) deg", float(s["max_speed_seeding_m_s"]),
-                   "every figure of the first record reproduces: " + record)]
+                   "every figure of the first record reproduces: " + record),
+            Figure("a fit stopped short along the valley", 10.225 - 10.20,
+                   f"a fit stopped {10.225 - 10.20:.2f} deg short along that flat valley (its "
+                   f"RMS {walk[10.20]['rms_tip_to_plan'] - fitted:.4f} mm higher, the same "
+                   f"{walk[10.20]['rms_tip_to_plan']:.1f} mm as printed)"),
+            fig("the column's largest distance at the fitted phases (mm)", by_n[0],
+                "keeps the fitted phases and so {:.1f} mm")]
 
 
 def table4_fit() -> list[Figure]:
@@ -965,6 +977,13 @@ def transplanter() -> list[Figure]:
                    f"three arms identical after {360 / 3:.0f} deg | \"completely consistent\" "
                    f"| {max(s['arm_phase_deviation_mm']):.1e} mm | holds because 3 divides n - 1 "
                    f"= {g.lobes - 1}" if (g.lobes - 1) % 3 == 0 else "3 DOES NOT DIVIDE n - 1"),
+            fig("hole width between the samples (mm)", o_h["hole_width"],
+                "its ground crossings: {:.3f}"),
+            Figure("the module against the planet's smallest radius", s["module_mm"],
+                   f"with module {s['module_mm']:.1f} mm a "
+                   f"{s['planet_pitch_radius_mm']['min']:.1f} mm pitch radius"),
+            fig("(v) missed by, in the prose (deg)", limit_v - o_h["angle_difference"],
+                "and report the {:.3f} deg miss"),
             Figure("closure of the internal pair: the test's bound", float(s["closure_error_rad"]),
                    f"| {s['closure_error_rad']:.0e} rad (a = {s['centre_distance_mm']:.3f} mm) | "
                    f"tested to {_bound(s['closure_error_rad'], 1e-9)} |")]
@@ -1487,6 +1506,8 @@ def optimized() -> list[Figure]:
         Figure("the paper's margins against ours (m/s)", s["max_speed_seeding_m_s"],
                f"it reports 1.33 / 1.26 m/s, we reach {s['max_speed_seeding_m_s']:.3f} / "
                f"{s['min_speed_return_dynamic_m_s']:.3f} m/s"),
+        Figure("samples per turn of the re-simulation", float(s["samples"]),
+               f"re-simulated from its pitch curves at {s['samples']} samples"),
         Figure("working pressure angles (deg)", o["working_pressure_angle_sun_gear2"],
                f"pressure angle {o['working_pressure_angle_sun_gear2']:.0f} / "
                f"{o['working_pressure_angle_gear3_planet']:.0f} deg")]
