@@ -43,6 +43,8 @@ DOC = ROOT / "docs" / "validation.md"
 RADIAL_OFFSET_PHASES = (305.30, 10.23)
 #: seed 000's seeding-section peak speed (m/s; QUOTES checks it against the paper's text)
 PAPER_SEEDING_PEAK = 1.33
+#: seed 000's L1 and L2 (mm; QUOTES checks them against the paper's text)
+PAPER_L1, PAPER_L2 = 254.0, 498.0
 
 
 @dataclass
@@ -88,6 +90,7 @@ QUOTES = [
      "cane seed in the sowing section is -20° , and the sowing angle of the cane seed is -35.5°"),
     ("000", "| sowing angle (at e) | -35.5 |", "the sowing angle of the cane seed is -35.5°"),
     ("000", "| cd central angle | 45 |", "cd corresponding to a 45° centroid angle"),
+    ("000", "(the paper quotes 45 deg for cd", "cd corresponding to a 45° centroid angle"),
     ("000", "(Table 3: 37, 20, -35.5)", "before inverse optimization 37 20 -35.5"),
     ("000", "q3 = (319.07, **-219.36**)", "q_3 319.07 -219.36"),
     ("000", "neighbours q2 (y = -279.09)", "q_2 350.48 -279.09"),
@@ -293,6 +296,14 @@ def table2() -> list[Figure]:
     out.append(Figure("the readings off the samples before issue 34", g_s,
                       f"they were read off the samples before issue 34: {g_s:.3f} and "
                       f"{_sampled_readings(p)[0]:.3f})"))
+    rc = _exit_status("inverse", EX / "sugarcane_table2_as_printed.toml")
+    out.append(Figure("as printed: the exit status of plantmech inverse", float(rc),
+                      f"out/printed` exits with status {rc}"))
+    above = pts[3, 1] - pts[[2, 4], 1]
+    out.append(Figure("as printed: q3 above its neighbours (mm)", float(above.min()),
+                      f"sits {above.min():.0f}-{above.max():.0f} mm above its neighbours"))
+    out.append(fig("the inverse design's sampling step (deg)", 360.0 / d.trajectory.samples,
+                   "the ratio law's spline between the {:.1f} deg samples"))
     worst_feasible = min(g for g, _ in feasible)
     cells = [f"{g:.3f}" for g, _ in row[:4]] + [f"{worst_feasible:.3f}"] + [
         f"{g:.3f}" for g, _ in row[4:]]
@@ -326,6 +337,15 @@ def inverse() -> list[Figure]:
     ours = [att["picking_ab"]["change"], att["transport_bc"]["change"],
             att["transport_cd"]["end"], att["seeding_de"]["change"], att["sowing_angle"]]
     worst = max(abs(a - b) for a, b in zip(ours, (37, -7.5, -15.5, -20, -35.5), strict=True))
+    beta = ini["arm_angle_deg"] - ini["carrier_angle_deg"]
+    ys = np.arange(-275.0, -305.0 - 1e-9, -5.0)  # q3's feasible range (table2)
+    moved = []
+    for y in ys:
+        d = load_design(EX / "sugarcane_seeder.toml")
+        d.trajectory.points[3] = [d.trajectory.points[3][0], float(y)]
+        a = run_seeder_inverse(d, manufacturability=False).summary["attitude_deg"]
+        moved.append((a["sowing_angle"], a["seeding_de"]["change"], a["transport_cd"]["end"]))
+    spread = float(np.ptp(np.array(moved), axis=0).max())
     return [
         fig("L1 (mm)", s["L1_mm"], "| 254 | {:.2f} |"),
         fig("L2 (mm)", s["L2_mm"], "| 498 | {:.2f} |"),
@@ -334,6 +354,21 @@ def inverse() -> list[Figure]:
         fig("B x (mm)", ini["point_B_mm"][0], "| (264, 89) | ({:.2f}, "),
         fig("B y (mm)", ini["point_B_mm"][1], ", {:.2f}) |"),
         fig("initial tip x (mm)", ini["tip_mm"][0], "q20.12 ({:.1f}, "),
+        Figure("initial tip y (mm), beta_10", ini["tip_mm"][1],
+               f", {ini['tip_mm'][1]:.1f}) | beta_10 = {beta:.0f} requires"),
+        Figure("beta_10 (deg)", beta, f"| beta_10 | 0 | {beta:.0f} (by construction) |"),
+        Figure("a1 = a2 against the paper's L1 / 2", s["a1_mm"],
+               f"| a1 = a2 | {PAPER_L1 / 2:.0f} | {s['a1_mm']:.2f} | L1/2; {PAPER_L1 / 2:.0f} + "
+               f"{PAPER_L1 / 2:.0f} < {s['L1_mm']:.2f} would not reach the planet axis |"),
+        Figure("L1, L2 against the paper's", s["L2_mm"] - PAPER_L2,
+               f"| {s['L2_mm']:.2f} | idem; the issue's "
+               + ("1 mm tolerance holds for both" if max(abs(s["L1_mm"] - PAPER_L1),
+                                                        abs(s["L2_mm"] - PAPER_L2)) < 1
+                  else "1 mm tolerance DOES NOT HOLD") + " |"),
+        Figure("q3 over its feasible range: the attitudes at d and e (deg)", spread,
+               f"moving q3 over the whole feasible range {ys[0]:.0f}...{ys[-1]:.0f} changes the "
+               "sowing angle, the de swing and the attitude at d by less than "
+               + ("0.001 deg" if spread < 1e-3 else f"{spread:.4f} deg, NOT 0.001")),
         fig("picking ab swing (deg)", att["picking_ab"]["change"], "| 37 | {:.2f} |"),
         fig("transport bc (deg)", att["transport_bc"]["change"], "| -7.5 | {:.2f} |"),
         fig("end of transport d (deg)", att["transport_cd"]["end"], "| -15.5 | {:.2f} |"),
@@ -390,10 +425,12 @@ def inverse() -> list[Figure]:
 
 
 def dwell() -> list[Figure]:
+    from plantmech.mechanisms.seeder_inverse import DWELL_LOCK_TOLERANCE_MM
     from plantmech.mechanisms.seeder_trains import inverse_design_of
 
     d = load_design(EX / "sugarcane_seeder_dwell.toml")
     _, res = inverse_design_of(d)
+    rc = _exit_status("inverse", EX / "sugarcane_seeder_dwell.toml")
     pts = np.asarray(d.trajectory.points, dtype=float)
     w = res.dwell
     e = w["edge_pitch_radii"]
@@ -417,6 +454,9 @@ def dwell() -> list[Figure]:
         fig("gear 2 where meshing resumes (mm)", e["meshing_start"]["r2"],
             "and {:.2f} mm where it resumes"),
         fig("gear 2's step at the lock (mm)", w["lock_radius_jump"], "a step of {:.2f} mm"),
+        Figure("the run's exit status and the lock's tolerance", float(rc),
+               f"the run says so and is not met (exit {rc}, `dwell_lock_radius_jump_mm` "
+               f"against {DWELL_LOCK_TOLERANCE_MM:g} mm"),
     ]
 
 
@@ -1041,6 +1081,22 @@ def seed001() -> list[Figure]:
                    f"arm clearances {o['arms_clearance']:.1f} / {o['arm_box_clearance']:.1f} mm, "
                    f"working pressure angle {o['working_pressure_angle']:.1f} deg, "
                    f"cuttable-module margin {o['cuttable_module_margin']:.2f} mm")]
+
+
+def _exit_status(command: str, example: Path) -> int:
+    """``plantmech COMMAND EXAMPLE`` into a temporary directory: its exit status."""
+    import contextlib
+    import io
+    import tempfile
+
+    from plantmech.interfaces.cli import main as cli
+
+    with tempfile.TemporaryDirectory() as tmp:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            try:
+                return int(cli([command, str(example), "--out", f"{tmp}/o"]) or 0)
+            except SystemExit as e:
+                return int(e.code or 0)
 
 
 def _gears(example: str, *options: str) -> dict:
