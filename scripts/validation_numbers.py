@@ -14,7 +14,8 @@ table4 (both closures of Table 4, with the radial offset's phases), table4_recor
 radial offset's largest distance was first recorded as 36.7 mm), table4_reading (the
 alternative reading and the tip-speed floor), transplanter (seed 001 and the K-H-V example),
 convexity, optimized (the shipped layered optimum re-simulated), forward_checks (the forward
-model against closed forms); expensive: table4_fit (the
+model against closed forms), table4_planetary (Table 4's train in the general model);
+expensive: table4_fit (the
 radial offset's phases refitted), table4_grid (the phase grid on the population model),
 seed001 (the seed 001 optimization run again), teeth (Table 4's and the toothed
 transplanter's rows of the teeth record re-cut), teeth_cases (its closed-form cases),
@@ -476,7 +477,10 @@ def round_trip() -> list[Figure]:
     out.append(fig("closure, stage 1 (rad)", r["round_trip_closure_error_rad"]["stage1"],
                    "closes to {:.1e} rad (stage 1)"))
     out.append(fig("closure, stage 2 (rad)", r["round_trip_closure_error_rad"]["stage2"],
-                   "and {:.1e} rad (stage 2)"))
+                   f"and {{:.1e}} rad (stage 2) at {n} samples"))
+    tab = max(job.summary["closure_error_rad"].values())
+    out.append(fig("the tabulated pitch curves' closure, both pairs (rad)", tab,
+                   "the tabulated pitch curves close to {:.0e} rad (both pairs)"))
     job = run_seeder_inverse(load_design(EX / "sugarcane_seeder_dwell.toml"),
                              manufacturability=False)
     r = rt(job)
@@ -753,6 +757,36 @@ def table4_reading() -> list[Figure]:
                       f"the floor drops below {PAPER_SEEDING_PEAK} only at e" if below == [
                           len(floor) - 1] else f"BELOW {PAPER_SEEDING_PEAK} AT {below}"))
     return out
+
+
+def table4_planetary() -> list[Figure]:
+    """examples/planetary/sugarcane_table4.toml (the same train in the general model, with
+    the sun's sector as the first pair's dwell) against mechanisms/seeder_forward on
+    examples/sugarcane_table4.toml: the largest differences of tip, arm angle, tip rate and
+    the two stage rates, and whether the first stage stands still exactly in the dwell."""
+    from plantmech.mechanisms.seeder_forward import simulate as seeder_simulate
+    from plantmech.trains.model import simulate
+    from plantmech.trains.spec import build_from_design
+    from plantmech.workflows import train_from_design
+
+    tr, _ = train_from_design(load_design(EX / "sugarcane_table4.toml"))
+    d = load_design(EX / "planetary" / "sugarcane_table4.toml")
+    m = simulate(build_from_design(d), d.samples)
+    ref = seeder_simulate(tr, d.samples)
+    tip = np.abs(m.tip[0, 0] - (ref.tip[:, 0] + 1j * ref.tip[:, 1])).max()
+    arm = np.abs(m.arm_angle[0, 0] - ref.arm_angle).max()
+    rate = np.abs(m.tip_rate[0, 0] - (ref.tip_rate[:, 0] + 1j * ref.tip_rate[:, 1])).max()
+    s1 = np.abs(-m.gear_rates[1][0, 0] - ref.stage1_rate).max()
+    s2 = np.abs(m.gear_rates[2][0, 0] - ref.total_ratio).max()
+    still = np.array_equal(m.gear_rates[1][0, 0] == 0.0, ref.in_dwell)
+    return [Figure("the general model against seeder_forward: tip and arm", float(tip),
+                   f"reproduces `mechanisms/seeder_forward` to {tip:.1e} mm (tip), {arm:.0e} rad "
+                   "(arm angle)".replace("e-0", "e-")),
+            Figure("the general model against seeder_forward: the rates", float(rate), (
+                   f"{rate:.1e} mm/rad (tip rate) and {s1:.0e} / {s2:.0e} (stage 1 and 2 rates, "
+                   + ("0 in the dwell)" if still else "NOT 0 IN THE DWELL)")).replace("e-0", "e-")),
+            fig("the sector as the first pair's dwell (deg)", d.train.pairs[0].dwell.sector_deg,
+                "the {:.0f} deg sector as the first pair's")]
 
 
 def table4_record() -> list[Figure]:
@@ -1453,9 +1487,17 @@ def forward_checks() -> list[Figure]:
     from plantmech.gears.closure import mate_turn, solve_radial_offset, solve_scale
     from plantmech.geometry.periodic import RadiusCurve
     from plantmech.geometry.trajectory import ClosedTrajectory
-    from plantmech.mechanisms.seeder_forward import SeederTrain, simulate, solve_centre_distance
+    from plantmech.mechanisms.seeder_batch import simulate_population
+    from plantmech.mechanisms.seeder_forward import (
+        GearPoints,
+        SeederTrain,
+        assemble_train,
+        simulate,
+        solve_centre_distance,
+    )
     from plantmech.mechanisms.seeder_inverse import InverseSettings, inverse_design
     from plantmech.verification import train_from_inverse
+    from plantmech.workflows import evaluate_seeder_population, run_seeder_forward
 
     th = np.linspace(0, 2 * np.pi, 8, endpoint=False)
     L1, L2, phi0, arm0, a = 254.0, 498.0, 0.4, 1.0, 120.0
@@ -1521,6 +1563,39 @@ def forward_checks() -> list[Figure]:
     out.append(Figure("round trip on three random three-bar trajectories (mm)", worst,
                       "| round trip on three random three-bar trajectories | "
                       + ("< 0.01" if worst < 0.01 else f"{worst:.3f} NOT < 0.01") + " mm each"))
+    # the population model against the single-design model: Hermite curves, a dwell, the
+    # centre distances solved (four random trains, tests/test_seeder_batch.py)
+    rng = np.random.default_rng(11)
+    nodes = np.radians(np.arange(8) * 45.0)
+    R2, R3 = 60 + rng.uniform(-6, 6, (4, 8)), 62 + rng.uniform(-6, 6, (4, 8))
+    start, sector = np.radians(70.0), np.radians(45.0)
+    pop = simulate_population(nodes, R2, R3, 240.0, 498.0, None, None, 0.36, 0.36,
+                              contact2_0=5.5, contact3_0=0.2, samples=720, kind="hermite",
+                              dwell_start=start, dwell_sector=sector)
+    tips = rates = 0.0
+    for p in range(4):
+        tr, _ = assemble_train(240.0, 498.0, 127.0, 127.0, GearPoints(nodes, R2[p], 5.5),
+                               GearPoints(nodes, R3[p], 0.2), 0.36, 0.36, start, sector,
+                               kind="hermite", closure="centre_distance")
+        single = simulate(tr, samples=720)
+        tips = max(tips, float(np.abs(pop.tip[p] - single.tip).max()))
+        rates = max(rates, float(np.abs(pop.tip_rate[p] - single.tip_rate).max()))
+    out.append(Figure("the population model against the single-design model", tips,
+                      "| population model vs single-design model (Hermite, dwell, solved a) | "
+                      f"tips {_bound(tips, 1e-5)} mm, rates {_bound(rates, 1e-3)} mm/rad |"))
+    # the population's objectives against the single-design job, on Table 4
+    design = load_design(EX / "sugarcane_table4.toml")
+    job = run_seeder_forward(design)
+    ev = evaluate_seeder_population(design, samples=3600, dense=4096).evaluation
+    single = {c.name: c.value for c in job.checks}
+    diff = {n: abs(v - single[n]) for n, v, u in zip(ev.names, ev.values[0], ev.units,
+                                                      strict=True)
+            if "speed" in n or (u == "deg" and "pressure" not in n)}
+    speeds = max(v for n, v in diff.items() if "speed" in n)
+    angles = max(v for n, v in diff.items() if "speed" not in n)
+    out.append(Figure("the population's objectives against the single-design job", speeds,
+                      "| population objectives vs the single-design job (Table 4) | speeds "
+                      f"{_bound(speeds, 2e-3)} m/s, angles {_bound(angles, 1e-3)} deg |"))
     # a circle of 50 mm at a = 120 mm turns its mate 50 / 70 of a turn: closed by an offset
     # of the radii or a scale
     r, a = 50.0, 120.0
@@ -1609,7 +1684,7 @@ CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": rou
          "estimate": estimate, "table4": table4, "table4_reading": table4_reading,
          "transplanter": transplanter, "convexity": convexity, "optimized": optimized,
          "table4_record": table4_record, "paper": paper,
-         "forward_checks": forward_checks}
+         "forward_checks": forward_checks, "table4_planetary": table4_planetary}
 EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001,
              "teeth": teeth, "teeth_cases": teeth_cases, "teeth_rows": teeth_rows}
 

@@ -27,7 +27,7 @@ def script():
 
 SECTIONS = ["paper", "table2", "inverse", "dwell", "round_trip", "estimate", "table4",
             "table4_record", "table4_reading", "transplanter", "convexity", "optimized",
-            "forward_checks"]
+            "forward_checks", "table4_planetary"]
 
 
 @pytest.fixture(scope="module")
