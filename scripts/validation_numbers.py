@@ -461,6 +461,46 @@ def dwell() -> list[Figure]:
     ]
 
 
+def _kernels_against_numpy() -> Figure:
+    """The inverse design's numba kernels against its NumPy path (``fused=False``) on every
+    bundled seeder example with a trajectory, at 360 and 3600 samples: the largest
+    difference over every array of the result (tests/test_seeder_inverse_kernel.py)."""
+    from plantmech.geometry.trajectory import ClosedTrajectory
+    from plantmech.mechanisms.seeder_inverse import inverse_design
+    from plantmech.workflows import inverse_settings
+
+    arrays = ("u", "tip", "carrier_abs", "arm_angle", "planet_rel", "total_ratio",
+              "stage1_ratio", "stage2_ratio", "gear2_angle", "r1", "r2", "r3", "r4",
+              "planet_rel_realized", "arm_angle_realized", "tip_realized", "point_carrier_angle")
+    worst, same = 0.0, True
+    counts = (360, 3600)
+    for path in sorted(EX.glob("sugarcane_*.toml")):
+        design = load_design(path)
+        if design.trajectory is None:
+            continue
+        traj = ClosedTrajectory.through(np.asarray(design.trajectory.points, dtype=float))
+        settings = inverse_settings(design)
+        for n in counts:
+            settings.samples = n
+            ref, new = inverse_design(traj, settings, fused=False), inverse_design(traj, settings)
+            same &= new.feasible == ref.feasible
+            for key in arrays:
+                a, b = getattr(ref, key), getattr(new, key)
+                if a is None or b is None:
+                    same &= a is None and b is None
+                    continue
+                same &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
+                ok = ~np.isnan(a)
+                if ok.any():
+                    worst = max(worst, float(np.abs(a[ok] - b[ok]).max()))
+    return Figure("the kernels against the NumPy path: the largest difference", worst,
+                  f"on every bundled seeder example, at {counts[0]} and {counts[1]} samples, "
+                  "every array of the result (tip, angles, ratios, pitch radii, realized "
+                  "motion) " + ("equals" if same and worst <= 1e-6 else "DOES NOT EQUAL")
+                  + f" the NumPy path's (`inverse_design(..., fused=False)`; the test allows "
+                  f"1e-6, the measured difference is {worst:g})")
+
+
 def round_trip() -> list[Figure]:
     from plantmech.verification import round_trip as rt
     from plantmech.workflows import run_seeder_inverse
@@ -479,6 +519,7 @@ def round_trip() -> list[Figure]:
     out.append(fig("closure, stage 2 (rad)", r["round_trip_closure_error_rad"]["stage2"],
                    f"and {{:.1e}} rad (stage 2) at {n} samples"))
     tab = max(job.summary["closure_error_rad"].values())
+    out.append(_kernels_against_numpy())
     out.append(fig("the tabulated pitch curves' closure, both pairs (rad)", tab,
                    "the tabulated pitch curves close to {:.0e} rad (both pairs)"))
     job = run_seeder_inverse(load_design(EX / "sugarcane_seeder_dwell.toml"),
@@ -486,6 +527,9 @@ def round_trip() -> list[Figure]:
     r = rt(job)
     out.append(fig("sugarcane_seeder_dwell.toml vs the train's own path (mm)",
                    r["round_trip_vs_gear_train_mm"], "| 3600 | {:.1e} mm (was 0.69 mm"))
+    out.append(fig("the dwell example's path from the plan (mm)",
+                   job.result.dwell["max_tip_deviation"],
+                   "vs the train's own path (the plan is {:.1f} mm away by design)"))
     return out
 
 
@@ -1061,6 +1105,21 @@ def transplanter() -> list[Figure]:
             Figure("closure of the internal pair: the test's bound", float(s["closure_error_rad"]),
                    f"| {s['closure_error_rad']:.0e} rad (a = {s['centre_distance_mm']:.3f} mm) | "
                    f"tested to {_bound(s['closure_error_rad'], 1e-9)} |")]
+    # r11 is not printed (99.5 mm, the mean of its neighbours): 98-101 mm moves nothing much
+    base = run_transplanter(load_design(EX / "rice_transplanter.toml")).evaluation
+    moved = {"mm": 0.0, "deg": 0.0}
+    r11s = np.arange(98.0, 101.0 + 1e-9, 0.5)
+    for r11 in r11s:
+        d = load_design(EX / "rice_transplanter.toml")
+        d.internal_gear.radii_mm = [*d.internal_gear.radii_mm[:11], float(r11)]
+        ev = run_transplanter(d).evaluation
+        for u, a, b in zip(base.units, base.values[0], ev.values[0], strict=True):
+            if u in moved:
+                moved[u] = max(moved[u], abs(a - b))
+    out.append(Figure("r11 over 98-101 mm: the largest change of an objective (mm, deg)",
+                      moved["mm"],
+                      f"r11 is missing ({r11s[0]:.0f}-{r11s[-1]:.0f} mm moves nothing by more than "
+                      f"{moved['mm']:.1f} mm / {moved['deg']:.1f} deg)"))
     # K-H-V for comparison (illustrative)
     k = load_design(EX / "rice_transplanter_khv.toml")
     r = np.asarray(k.sun_gear.radii_mm)
@@ -1548,7 +1607,7 @@ def forward_checks() -> list[Figure]:
     out.append(Figure("the analytic velocity against central differences", rel,
                       f"| analytic velocity (Eq. 16) vs central differences of the path, {n} "
                       f"samples | {_bound(rel, 1e-5)} relative |"))
-    worst = 0.0
+    worst, n_rt = 0.0, 3600
     for seed in (0, 1, 2):  # three random three-bar trajectories (tests/test_seeder_forward.py)
         rng = np.random.default_rng(seed)
         t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
@@ -1557,9 +1616,12 @@ def forward_checks() -> list[Figure]:
         c = 0.3 - t
         ang = c + t + A * np.sin(t) + B * np.sin(2 * t) + rng.uniform(0, 6)
         pts = np.c_[l1 * np.cos(c) + l2 * np.cos(ang), l1 * np.sin(c) + l2 * np.sin(ang)]
-        res = inverse_design(ClosedTrajectory.through(pts), InverseSettings(samples=3600))
-        fwd = simulate(train_from_inverse(res), samples=3600)
+        res = inverse_design(ClosedTrajectory.through(pts), InverseSettings(samples=n_rt))
+        fwd = simulate(train_from_inverse(res), samples=n_rt)
         worst = max(worst, float(np.hypot(*(fwd.tip - res.tip).T).max()))
+    out.append(Figure("the same, in the round trip's table (mm)", worst,
+                      f"| three random known-motion trajectories (tests) | {n_rt} | "
+                      + ("< 0.01" if worst < 0.01 else f"{worst:.3f} NOT < 0.01") + " mm |"))
     out.append(Figure("round trip on three random three-bar trajectories (mm)", worst,
                       "| round trip on three random three-bar trajectories | "
                       + ("< 0.01" if worst < 0.01 else f"{worst:.3f} NOT < 0.01") + " mm each"))
