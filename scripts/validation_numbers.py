@@ -19,7 +19,9 @@ expensive: table4_fit (the
 radial offset's phases refitted), table4_grid (the phase grid on the population model),
 seed001 (the seed 001 optimization run again), teeth (Table 4's and the toothed
 transplanter's rows of the teeth record re-cut), teeth_cases (its closed-form cases),
-teeth_rows (its rows of the bundled seeder and transplanter examples).
+teeth_rows (its rows of the bundled seeder and transplanter examples),
+table4_planetary_gears (Table 4's train in the general model's file cut against the
+dedicated file's).
 
 ``--coverage`` lists the numbers of the page that no section re-measures (they are kept in
 scripts/validation_unmeasured.txt, ``--write-unmeasured`` rewrites it; the test keeps it exact).
@@ -582,7 +584,8 @@ def estimate() -> list[Figure]:
     res = first_order_inverse(ClosedTrajectory.through(pts), "short", "external", -1, 3600)
     m = len(res.sun_radii)
     phi = 2 * np.pi * np.arange(m) / m
-    true = 25.0 * (1 - 0.2**2) / (1 - 0.2 * np.cos(phi - phase))
+    A1, e1 = 25.0, 0.2  # the known train's sun (the file's comment)
+    true = A1 * (1 - e1**2) / (1 - e1 * np.cos(phi - phase))
     found = np.interp(np.mod(phi - np.radians(res.sun_phase_deg), 2 * np.pi), phi,
                       res.sun_radii, period=2 * np.pi)
     est = first_order_estimate(pts, res, "short", "external", -1, 3600)
@@ -590,6 +593,10 @@ def estimate() -> list[Figure]:
                 "first_order_inverse.toml` (24 points) | {:.2f} mm |"),
             fig("first_order_inverse.toml: estimate, sun (mm)", est["pitch_radius_mm"]["sun"],
                 f"(24 points) | {np.abs(found - true).max():.2f} mm | {{:.3g}} mm")]
+    rc = _exit_status("inverse", EX / "planetary" / "first_order_inverse.toml")
+    out.append(Figure("first_order_inverse.toml: the exit status, the known train", float(rc),
+                      f"not met: the example exits {rc} (A = {A1:.0f} mm, e = {e1:g}, arm "
+                      f"{res.arm_length:.0f} mm)"))
     return out
 
 
@@ -831,6 +838,37 @@ def table4_planetary() -> list[Figure]:
                    + ("0 in the dwell)" if still else "NOT 0 IN THE DWELL)")).replace("e-0", "e-")),
             fig("the sector as the first pair's dwell (deg)", d.train.pairs[0].dwell.sector_deg,
                 "the {:.0f} deg sector as the first pair's")]
+
+
+def table4_planetary_gears() -> list[Figure]:
+    """``plantmech gears``' cut (workflows.run_gears, default module) of Table 4's train in
+    the general model's file against the dedicated file's: the tooth counts and modules,
+    and the largest distance between corresponding outlines (Hausdorff, each in its body
+    frame; about two minutes)."""
+    import tempfile
+
+    from plantmech.workflows import run_gears
+
+    cut = {}
+    for key, path in (("dedicated", EX / "sugarcane_table4.toml"),
+                      ("general", EX / "planetary" / "sugarcane_table4.toml")):
+        outlines: dict = {}
+        with tempfile.TemporaryDirectory() as tmp:
+            rec = run_gears(load_design(path), Path(tmp), outlines=outlines)
+        cut[key] = ({g["name"]: g for g in rec["gears"]}, outlines)
+    (gd, od), (gg, og) = cut["dedicated"], cut["general"]
+    same = {"gear2": "gear1", "sun": "sun", "gear3": "gear1b", "planet": "planet"}
+    far = max(od[a][0].hausdorff_distance(og[b][0]) for a, b in same.items())
+    teeth = all(gd[a]["teeth"] == gg[b]["teeth"] and abs(gd[a]["module_mm"] - gg[b]["module_mm"])
+                < 1e-6 for a, b in same.items())
+    return [Figure("the general file's teeth: gear 2 and the sun", float(gg["gear1"]["teeth"]),
+                   "cuts the dedicated file's teeth (gear 2 and the sun z = "
+                   f"{gg['gear1']['teeth']} at m = {gg['gear1']['module_mm']:.4f} mm, gear 3 and "
+                   "the planet z = "
+                   f"{gg['gear1b']['teeth']} at {gg['gear1b']['module_mm']:.4f} mm;"
+                   if teeth else "DOES NOT CUT THE DEDICATED FILE'S TEETH"),
+            Figure("the outlines' largest distance (um)", 1000 * far,
+                   f"the outlines within {1000 * far:.1f} um of the dedicated ones)")]
 
 
 def table4_record() -> list[Figure]:
@@ -1426,6 +1464,7 @@ def teeth_rows() -> list[Figure]:
     (several minutes): the seeder's inverse design and its optimum at ``--module 6``, both
     ways (the mates by the envelope, the default, and by the simulated cut), the optimum
     at its default module, the published transplanter both ways, and the K-H-V example."""
+    from plantmech.gears.envelope import MATE_REACH_PITCHES
     from plantmech.workflows import run_transplanter
 
     def mesh(v):
@@ -1443,7 +1482,10 @@ def teeth_rows() -> list[Figure]:
     me, ms, g = mesh(env), mesh(sim), gears(env)
     concave = [g[n]["min_concave_curvature_radius_mm"] for n in ("gear2", "gear3")]
     angles = [g[n]["max_pressure_angle_deg"] for n in g]
-    out += [Figure("seeder inverse design at --module 6: the meshes both ways",
+    out += [Figure("the mesh check's limit (a fraction of the module)",
+                   env["limits"]["max_interference"],
+                   f"less than {env['limits']['max_interference']:g} m of interference"),
+            Figure("seeder inverse design at --module 6: the meshes both ways",
                    me["gear2_sun"]["max_interference_mm"],
                    f"meshes at `--module 6` ({g['gear2']['teeth']} / {g['gear3']['teeth']} "
                    f"teeth): gear2-sun {me['gear2_sun']['max_interference_mm']:.1f} mm, "
@@ -1467,6 +1509,7 @@ def teeth_rows() -> list[Figure]:
     out[-1].text = out[-1].text if all(x["pointed"] and x["undercut"] for x in g.values()) \
         else "NOT EVERY GEAR POINTED AND UNDERCUT"
 
+    seeder_angles = angles
     env, sim = (_gears("sugarcane_seeder_optimized.toml", "--module", "6", *o)
                 for o in ((), ("--teeth", "simulated")))
     me, ms, g = mesh(env), mesh(sim), gears(env)
@@ -1510,6 +1553,20 @@ def teeth_rows() -> list[Figure]:
             Figure("published transplanter: the working pressure angle", pa,
                    f"its working pressure angle reaches {pa:.0f} deg, where a flank keeps "
                    f"{100 * np.cos(np.radians(pa)):.0f} % of the backlash as normal clearance"),
+            fig("published transplanter: (xv) again", o["internal_teeth_difference"],
+                "(xv) predicts (teeth difference {:.2f})"),
+            Figure("the simulated cut's reach", MATE_REACH_PITCHES,
+                   f"only within {MATE_REACH_PITCHES:g} pitches of arc of the contact"),
+            Figure("the reach at the transplanter's module and at 1 mm (mm)",
+                   MATE_REACH_PITCHES * np.pi * g["internal"]["module_mm"],
+                   f"{MATE_REACH_PITCHES * np.pi * g['internal']['module_mm']:.0f} mm at m = "
+                   f"{g['internal']['module_mm']:.1f}, so that zone lies inside the window and "
+                   f"the ring cuts the planet there; {MATE_REACH_PITCHES * np.pi * 1.0:.1f} mm "
+                   "at m = 1"),
+            Figure("the papers' pitch curves: pressure angles and spans",
+                   o["equivalent_teeth"],
+                   f"(pressure angles of {pa:.0f}-{max(seeder_angles):.0f} deg, cusps, pointed "
+                   f"teeth, spans equivalent to spur gears of {o['equivalent_teeth']:.0f} teeth)"),
             Figure("published transplanter: objectives (xiii)-(xv)", o["equivalent_teeth"],
                    f"its tightest spans are spur gears of {o['equivalent_teeth']:.2f} teeth "
                    f"(objective (xiii)), teeth difference {o['internal_teeth_difference']:.2f} "
@@ -1748,7 +1805,8 @@ CHEAP = {"table2": table2, "inverse": inverse, "dwell": dwell, "round_trip": rou
          "table4_record": table4_record, "paper": paper,
          "forward_checks": forward_checks, "table4_planetary": table4_planetary}
 EXPENSIVE = {"table4_fit": table4_fit, "table4_grid": table4_grid, "seed001": seed001,
-             "teeth": teeth, "teeth_cases": teeth_cases, "teeth_rows": teeth_rows}
+             "teeth": teeth, "teeth_cases": teeth_cases, "teeth_rows": teeth_rows,
+             "table4_planetary_gears": table4_planetary_gears}
 
 
 def run(names) -> list[tuple[str, Figure, bool]]:
@@ -1814,6 +1872,7 @@ EXPENSIVE_TEXTS = {
         "(backlash # mm); # (#): # mm; # (#): # mm; # (#): # mm; # (#): # mm, fouling away from "
         "the line of centres (planet cut by the ring, # steps)"],
     "teeth_rows": [
+        "less than # m of interference",
         "meshes at `--module #` (# / # teeth): gear2-sun # mm, gear3-planet # mm with the mates"
         " by the envelope (issue #; least free play # / # mm); by the simulated cut # / # mm "
         "(limit #), whose sun's scallops also bound the free play to # mm",
@@ -1828,11 +1887,21 @@ EXPENSIVE_TEXTS = {
         "(limit #;",
         "its working pressure angle reaches # deg, where a flank keeps # % of the backlash as "
         "normal clearance",
+        "(xv) predicts (teeth difference #)",
+        "only within # pitches of arc of the contact",
+        "# mm at m = #, so that zone lies inside the window and the ring cuts the planet there;"
+        " # mm at m = #",
+        "(pressure angles of #-# deg, cusps, pointed teeth, spans equivalent to spur gears of #"
+        " teeth)",
         "its tightest spans are spur gears of # teeth (objective (xiii)), teeth difference # "
         "((xv)), pressure angle # deg ((xiv))",
         "sun, middle, planet # teeth each (m # mm)",
         "both meshes clean (# interference, backlash <= # mm); all three flagged for undercut "
         "(z_eq < #"],
+    "table4_planetary_gears": [
+        "cuts the dedicated file's teeth (gear # and the sun z = # at m = # mm, gear # and the "
+        "planet z = # at # mm;",
+        "the outlines within # um of the dedicated ones)"],
     "seed001": ["every objective (i)-(xv) and the cuttable-module margin met and re-checked "
                 "at full resolution",
                 "after # evaluations in four CMA-ES stages (#, #, # and #)",
