@@ -868,7 +868,51 @@ def table4_planetary_gears() -> list[Figure]:
                    f"{gg['gear1b']['teeth']} at {gg['gear1b']['module_mm']:.4f} mm;"
                    if teeth else "DOES NOT CUT THE DEDICATED FILE'S TEETH"),
             Figure("the outlines' largest distance (um)", 1000 * far,
-                   f"the outlines within {1000 * far:.1f} um of the dedicated ones)")]
+                   f"the outlines within {1000 * far:.1f} um of the dedicated ones)"),
+            _design_checks_of_the_general_file()]
+
+
+WORDS = {1: "one", 2: "two", 3: "three", 4: "four"}
+
+
+def _design_checks_of_the_general_file() -> Figure:
+    """``plantmech design`` on examples/planetary/sugarcane_table4.toml (its final checks
+    at full resolution) against the dedicated file's pitch-curve checks (run_seeder_forward):
+    the same checks fail in both."""
+    import contextlib
+    import io
+    import json
+    import tempfile
+
+    from plantmech.interfaces.cli import main as cli
+    from plantmech.workflows import run_seeder_forward
+
+    with tempfile.TemporaryDirectory() as tmp:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            cli(["design", str(EX / "planetary" / "sugarcane_table4.toml"), "--out",
+                 f"{tmp}/d", "--quiet"])
+        checks = json.loads(Path(f"{tmp}/d/summary.json").read_text(encoding="utf-8"))[
+            "final_checks"]
+    general = {c["name"]: c for c in checks}
+    dedicated = {o["name"]: o for o in run_seeder_forward(
+        load_design(EX / "sugarcane_table4.toml")).summary["objectives"]}
+    # the general file names gear 2 "gear1" and gear 3 "gear1b"
+    names = {"working_pressure_angle_sun_gear1": "working_pressure_angle_sun_gear2",
+             "cuttable_module_sun_gear1": "cuttable_module_sun_gear2",
+             "working_pressure_angle_gear1b_planet": "working_pressure_angle_gear3_planet",
+             "cuttable_module_gear1b_planet": "cuttable_module_gear3_planet"}
+    failed = sorted(names[n] for n, c in general.items() if not c["ok"])
+    same = failed == sorted(names[n] for n in names if not dedicated[names[n]]["ok"])
+    return Figure("plantmech design on the general file: the checks it fails",
+                  float(len(failed)),
+                  f"fails the same {WORDS.get(len(failed), len(failed))} pitch-curve checks "
+                  f"(working pressure angles "
+                  f"{general['working_pressure_angle_sun_gear1']['value']:.2f} and "
+                  f"{general['working_pressure_angle_gear1b_planet']['value']:.2f} deg, gear 3 - "
+                  "planet's cuttable module "
+                  f"{general['cuttable_module_gear1b_planet']['value']:.3f} mm, the dedicated "
+                  f"{dedicated['cuttable_module_gear3_planet']['value']:.3f} mm from its own "
+                  "sampling)" if same else "DOES NOT FAIL THE SAME CHECKS")
 
 
 def table4_record() -> list[Figure]:
@@ -886,6 +930,11 @@ def table4_record() -> list[Figure]:
             d.train.samples = samples
         return run_seeder_forward(d).summary["deviation_from_trajectory_mm"]
 
+    import inspect
+
+    from plantmech.geometry.deviation import trajectory_deviation
+
+    plan_points = inspect.signature(trajectory_deviation).parameters["samples"].default
     by_n = [dev(RADIAL_OFFSET_PHASES, n)["max_tip_to_plan"] for n in (3600, 7200, 14400)]
     g2 = RADIAL_OFFSET_PHASES[0]
     walk = {p3: dev((g2, p3)) for p3 in (10.20, 10.22, 10.24)}
@@ -927,7 +976,9 @@ def table4_record() -> list[Figure]:
                    f"RMS {walk[10.20]['rms_tip_to_plan'] - fitted:.4f} mm higher, the same "
                    f"{walk[10.20]['rms_tip_to_plan']:.1f} mm as printed)"),
             fig("the column's largest distance at the fitted phases (mm)", by_n[0],
-                "keeps the fitted phases and so {:.1f} mm")]
+                "keeps the fitted phases and so {:.1f} mm"),
+            fig("the plan's points in the distance", plan_points,
+                "(the plan at {:,.0f} points as always)")]
 
 
 def table4_fit() -> list[Figure]:
@@ -1901,7 +1952,9 @@ EXPENSIVE_TEXTS = {
     "table4_planetary_gears": [
         "cuts the dedicated file's teeth (gear # and the sun z = # at m = # mm, gear # and the "
         "planet z = # at # mm;",
-        "the outlines within # um of the dedicated ones)"],
+        "the outlines within # um of the dedicated ones)",
+        "fails the same three pitch-curve checks (working pressure angles # and # deg, gear # - "
+        "planet's cuttable module # mm, the dedicated # mm from its own sampling)"],
     "seed001": ["every objective (i)-(xv) and the cuttable-module margin met and re-checked "
                 "at full resolution",
                 "after # evaluations in four CMA-ES stages (#, #, # and #)",
