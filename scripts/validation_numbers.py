@@ -341,6 +341,13 @@ def inverse() -> list[Figure]:
             att["transport_cd"]["end"], att["seeding_de"]["change"], att["sowing_angle"]]
     worst = max(abs(a - b) for a, b in zip(ours, (37, -7.5, -15.5, -20, -35.5), strict=True))
     beta = ini["arm_angle_deg"] - ini["carrier_angle_deg"]
+    # where the path crosses itself (the "8"), against c = q26: on 4000 chords of the curve
+    from plantmech.geometry.trajectory import ClosedTrajectory, segment_self_intersections
+
+    curve = ClosedTrajectory.through(pts)
+    xy = curve(np.linspace(0.0, curve.period, 4001)[:-1])
+    c = load_design(EX / "sugarcane_seeder.toml").trajectory.sections.c
+    crossing = min(float(np.hypot(*(p - pts[c]))) for _, _, p in segment_self_intersections(xy))
     ys = np.arange(-275.0, -305.0 - 1e-9, -5.0)  # q3's feasible range (table2)
     moved = []
     for y in ys:
@@ -359,6 +366,8 @@ def inverse() -> list[Figure]:
         fig("initial tip x (mm)", ini["tip_mm"][0], "q20.12 ({:.1f}, "),
         Figure("initial tip y (mm), beta_10", ini["tip_mm"][1],
                f", {ini['tip_mm'][1]:.1f}) | beta_10 = {beta:.0f} requires"),
+        Figure("the crossing of the 8 from c (mm)", crossing,
+               f"the crossing of the \"8\" lies {crossing:.2f} mm from q{c}, so c is unambiguous"),
         Figure("beta_10 (deg)", beta, f"| beta_10 | 0 | {beta:.0f} (by construction) |"),
         Figure("a1 = a2 against the paper's L1 / 2", s["a1_mm"],
                f"| a1 = a2 | {PAPER_L1 / 2:.0f} | {s['a1_mm']:.2f} | L1/2; {PAPER_L1 / 2:.0f} + "
@@ -578,6 +587,10 @@ def estimate() -> list[Figure]:
             i, j = est["worst_points"]
             out.append(fig("36 points: largest at carrier angle (deg)",
                            est["worst_carrier_angle_deg"], f"{{:.1f}} deg, q{i}-q{j}"))
+            k = int(np.argmin(np.hypot(*pts.T)))
+            out.append(fig("36 points: the nearest point's carrier angle (deg)",
+                           res.point_carrier_angle_deg[k],
+                           f"(the nearest point, q{k}, at {{:.0f}} deg)"))
     # the bundled example: 24 points of a known train (A = 25 mm, e = 0.2, arm 20 mm)
     d = load_design(EX / "planetary" / "first_order_inverse.toml")
     pts = np.asarray(d.trajectory.points, dtype=float)
