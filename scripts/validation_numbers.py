@@ -1,7 +1,8 @@
 """Re-measure the numbers of docs/validation.md (issues 17 and 34).
 
-Run: ``python scripts/validation_numbers.py [SECTION ...] [--all] [--check]``. Without a
-section, every cheap section runs (about half a minute); ``--all`` adds the expensive ones
+Run: ``python scripts/validation_numbers.py [SECTION ...] [--all] [--check] [--coverage]
+[--write-unmeasured]`` (``-h`` / ``--help``: this text). Without a section, every cheap
+section runs (seconds once numba's kernels are compiled); ``--all`` adds the expensive ones
 (the Table 4 phase fit and the 36 x 36 phase grid, minutes). Each figure is printed with
 the text it has in docs/validation.md and whether that text is there; ``--check`` exits 1
 if one is not (tests/test_validation_numbers.py runs the cheap sections so).
@@ -2028,7 +2029,18 @@ def unmeasured_listed() -> list[str]:
             if line and not line.startswith("#")]
 
 
+OPTIONS = ("--all", "--check", "--coverage", "--write-unmeasured")
+
+
 def main(argv: list[str]) -> int:
+    if "-h" in argv or "--help" in argv:
+        print(__doc__)
+        return 0
+    bad = [a for a in argv if a.startswith("-") and a not in OPTIONS]
+    if bad:
+        print(f"unknown option(s) {bad}; options: {', '.join(OPTIONS)}, -h / --help",
+              file=sys.stderr)
+        return 2
     names = [a for a in argv if not a.startswith("--")]
     unknown = [n for n in names if n not in CHEAP and n not in EXPENSIVE]
     if unknown:
