@@ -1160,6 +1160,7 @@ def transplanter() -> list[Figure]:
     job = run_transplanter(load_design(EX / "rice_transplanter.toml"))
     s = job.summary
     arms = st["picking"][0], st["planting"][0]
+    sampled = _read_off_the_samples(EX / "rice_transplanter.toml")
     out += [Figure("closure of the internal pair (rad)", float(s["closure_error_rad"]),
                    f"| {s['closure_error_rad']:.0e} rad (a = {s['centre_distance_mm']:.3f} mm) |"),
             fig("three arms identical after 120 deg (mm)", max(s["arm_phase_deviation_mm"]),
@@ -1200,6 +1201,10 @@ def transplanter() -> list[Figure]:
                    f"= {g.lobes - 1}" if (g.lobes - 1) % 3 == 0 else "3 DOES NOT DIVIDE n - 1"),
             fig("hole width between the samples (mm)", o_h["hole_width"],
                 "its ground crossings: {:.3f}"),
+            fig("hole width off the samples (mm)", sampled["hole_width"],
+                "({:.3f} off the samples)"),
+            fig("forward inclination off the samples (deg)", sampled["forward_inclination"],
+                "both ends located between samples ({:.1f} read off the samples)"),
             Figure("the module against the planet's smallest radius", s["module_mm"],
                    f"with module {s['module_mm']:.1f} mm a "
                    f"{s['planet_pitch_radius_mm']['min']:.1f} mm pitch radius"),
@@ -1238,6 +1243,24 @@ def transplanter() -> list[Figure]:
             Figure("K-H-V: objectives not met", float((~ev.ok[0]).sum()),
                    f"{int((~ev.ok[0]).sum())} of {ev.ok.shape[1]} objectives fail")]
     return out
+
+
+def _read_off_the_samples(path: Path) -> dict:
+    """The transplanter's objectives with (viii) and (ix) read off the samples, as before
+    issue 34: objectives.transplanter's two functions called without the tip rate (their
+    refinement between the samples), for this one evaluation."""
+    import plantmech.objectives.transplanter as T
+    from plantmech.workflows import run_transplanter
+
+    incl, hole = T._forward_inclination, T._hole_width
+    T._forward_inclination = (lambda B, kmin, ground, fwd, adv, h, rate=None:
+                              incl(B, kmin, ground, fwd, adv, h))
+    T._hole_width = lambda B, s, e, fwd, adv, rate=None, ground=None: hole(B, s, e, fwd, adv)
+    try:
+        return {x["name"]: x["value"] for x in run_transplanter(load_design(path)).summary[
+            "objectives"]}
+    finally:
+        T._forward_inclination, T._hole_width = incl, hole
 
 
 def seed001() -> list[Figure]:
