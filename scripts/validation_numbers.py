@@ -1660,6 +1660,13 @@ def teeth_rows() -> list[Figure]:
                    f"(objective (xiii)), teeth difference {o['internal_teeth_difference']:.2f} "
                    f"((xv)), pressure angle {o['working_pressure_angle']:.0f} deg ((xiv))")]
 
+    v = _gears("rice_transplanter.toml", "--module", "1", "--teeth", "simulated")
+    (m1,), g1 = v["mesh"], gears(v)
+    out.append(Figure("published transplanter at --module 1, simulated cut",
+                      m1["max_interference_mm"],
+                      f"At `--module 1` ({g1['internal']['teeth']} / {g1['planet']['teeth']} "
+                      f"teeth) it " + ("fails" if not m1["ok"] else "PASSES")
+                      + f": {m1['max_interference_mm']:.2f} mm"))
     v = _gears("rice_transplanter_khv.toml")
     g = gears(v)
     zeq = [f["limit"] for f in v["findings"] if f["check"] == "undercut"]
@@ -1983,6 +1990,7 @@ EXPENSIVE_TEXTS = {
         " teeth)",
         "its tightest spans are spur gears of # teeth (objective (xiii)), teeth difference # "
         "((xv)), pressure angle # deg ((xiv))",
+        "At `--module #` (# / # teeth) it fails: # mm",
         "sun, middle, planet # teeth each (m # mm)",
         "both meshes clean (# interference, backlash <= # mm); all three flagged for undercut "
         "(z_eq < #"],
