@@ -26,7 +26,8 @@ def script():
 
 
 SECTIONS = ["paper", "table2", "inverse", "dwell", "round_trip", "estimate", "table4",
-            "table4_record", "table4_reading", "transplanter", "convexity", "optimized"]
+            "table4_record", "table4_reading", "transplanter", "convexity", "optimized",
+            "forward_checks", "table4_planetary"]
 
 
 @pytest.fixture(scope="module")
@@ -60,6 +61,9 @@ def test_a_changed_number_in_the_document_is_found(script, tmp_path, monkeypatch
     assert script.main(["table2", "--check"]) == 1
     assert "NOT IN docs/validation.md" in capsys.readouterr().out
     assert script.main(["nonsense"]) == 2
+    assert script.main(["table2", "--chek"]) == 2  # a misspelt option is refused, not ignored
+    assert "unknown option(s) ['--chek']" in capsys.readouterr().err
+    assert script.main(["--help"]) == 0 and "--write-unmeasured" in capsys.readouterr().out
 
 
 def test_every_number_of_the_document_has_a_section_or_is_listed(script, rows):
