@@ -128,12 +128,28 @@ def test_sun_turned_by_half_a_tooth_fails(gear_dir, tmp_path, capsys):
     assert "FAIL transmission error" in capsys.readouterr().out
 
 
-def test_sun_toothless_arc_is_where_the_train_dwells(gear_dir):
+@pytest.fixture(params=["module-6", "default-module"])
+def toothless_gear_dir(request, shared):
+    """The Table 4 gears at --module 6 (20 teeth a gear) and at the default standard
+    module (1.5 mm on the sun, 81 teeth: tests/test_teeth.py's shared cut)."""
+    if request.param == "module-6":
+        return request.getfixturevalue("gear_dir")
+    out, code = gears_cut(shared, "sugarcane_table4", SEEDER)
+    assert code in (0, 4) and (out / "sun.dxf").is_file()  # written (4: with findings)
+    return out
+
+
+def test_sun_toothless_arc_is_where_the_train_dwells(toothless_gear_dir):
     """The sun's uncut (locking) arc on the written outline sits where gear 2 is held.
     Frame-free: the sun's pitch radius along its rolling arc, measured from the middle of
     the outline's toothless gap, must be the design's a1 - r2 rolled from gear 2's body
     angle in the dwell (the forward model's, integrated here by the trapezoid rule). With
-    the gap placed at gear 2's theta0 instead, this profile was 43 deg off (8.6 mm rms)."""
+    the gap placed at gear 2's theta0 instead, this profile was 43 deg off (8.6 mm rms).
+    At any module: at 1.5 mm (83 tips, pitch 0.066 rad) the outline reader once found a
+    tooth 0.04 mm high in the middle of the 0.72 rad locking arc, which split the gap
+    (0.617 rad against theta1 - pitch = 0.720); the teeth found are now all on the rolling
+    arc, the gap 0.728 rad."""
+    gear_dir = toothless_gear_dir
     from plantmech.contact.outlines import read_gear_dxf
     from plantmech.design import load_design
     from plantmech.mechanisms.seeder_forward import simulate

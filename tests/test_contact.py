@@ -81,6 +81,26 @@ def test_outline_teeth_found():
     assert (g.tooth_at(want) == np.arange(23) + 1).all() or len(set(g.tooth_at(want))) == 23
 
 
+@pytest.mark.parametrize("missing", [range(5, 11), range(5, 14)])
+def test_no_tooth_found_on_a_toothless_arc(missing):
+    """Teeth cut down to the root leave an arc of constant radius (a partial gear's
+    locking arc): its radius equals its running mean there, and a dent of 0.01 mm on it
+    once made it a "tooth" (6 teeth missing: 18 found for 17; 9 missing and the dent:
+    15 for 14). Every tip found is a real tooth's centre, one per tooth."""
+    z, m = 23, 3.0
+    ring = involute_gear(z, m, 0.1, tuple(missing))
+    dented = ring.copy()
+    r, a = np.hypot(*ring.T), np.arctan2(ring[:, 1], ring[:, 0])
+    near = np.abs(np.angle(np.exp(1j * (a - 2 * np.pi * (missing[-1] - 0.6) / z)))) < 0.01
+    assert near.any() and np.allclose(r[near], m * z / 2 - 1.25 * m)  # on the root arc
+    dented[near] *= (1 - 0.01 / r[near])[:, None]
+    want = 2 * np.pi * np.array([k for k in range(z) if k not in missing]) / z
+    for g in (outline_from_rings("g", [ring]), outline_from_rings("g", [dented])):
+        assert g.teeth == z - len(missing)
+        d = np.abs(np.angle(np.exp(1j * (np.sort(g.tip_angles)[:, None] - want[None, :]))))
+        assert d.min(axis=1).max() < 0.01  # rad: each tip on a tooth (pitch 0.27 rad)
+
+
 def test_circular_involute_pair_transmission_error_and_backlash():
     m, z1, z2, j = 2.0, 20, 30, 0.2
     fp, *_ = _pair(z1, z2, m, j)

@@ -99,7 +99,14 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
     above the 5th (the slow change of the radius around a non-circular gear lies below it,
     and weighs less in the slope), the radius
     is smoothed over one tooth pitch, and each run above the smooth curve (below, for an
-    internal gear) is a tooth whose middle is halfway along the run."""
+    internal gear) is a tooth whose middle is halfway along the run.
+
+    A run is a tooth only where it rises above the smooth curve by at least a quarter of
+    the median run's rise: on an arc without teeth (a partial gear's locking arc, teeth
+    cut down to the root) the radius and its running mean are equal, so float rounding
+    or a dent of 0.01 mm there makes runs of any length "above" it (the seeder's sun at
+    module 1.5 showed a tooth 0.04 mm high in the middle of its 40 deg locking arc, where
+    its real teeth rise 1.8 mm)."""
     seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
     s = np.r_[0.0, np.cumsum(seg)]
     length = s[-1]
@@ -120,12 +127,19 @@ def _tip_vertices(ring: np.ndarray, internal: bool, m: int = 4096) -> np.ndarray
     if len(edges) == 0:
         return np.zeros((0, 2))
     starts = [e for e in edges if above[e]]
-    tips = []
+    runs, rise = [], []
     for a in starts:
         b = a
         while above[b % m] and b - a < m:
             b += 1
         if b - a < w / 4:
+            continue
+        runs.append((a, b))
+        rise.append(float(np.max((ru - smooth)[np.arange(a, b) % m])))
+    tips = []
+    floor = 0.25 * float(np.median(rise)) if rise else 0.0
+    for (a, b), h in zip(runs, rise, strict=True):
+        if h < floor:
             continue
         # the tooth's middle: halfway along the run (a symmetric tooth's centre line)
         mid = su[a % m] + 0.5 * (b - a) * length / m
