@@ -966,8 +966,11 @@ def _in_chunks(lines, size: int = 8):
     hi = np.minimum(lo + size, first[chunk_part] + n[chunk_part] - 1)
     cnt = hi - lo + 1
     idx = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    pieces = shapely.linestrings(xy[idx], indices=np.repeat(np.arange(len(lo)), cnt))
-    out[np.nonzero(ok)[0]] = shapely.multilinestrings(pieces, indices=station[chunk_part])
+    # (built from the flat coordinates and offsets in one call: pieces per station)
+    per_station = np.bincount(station[chunk_part], minlength=int(ok.sum()))
+    out[np.nonzero(ok)[0]] = shapely.from_ragged_array(
+        shapely.GeometryType.MULTILINESTRING, xy[idx],
+        (np.r_[0, np.cumsum(cnt)], np.r_[0, np.cumsum(per_station)]))
     return out
 
 
