@@ -1035,11 +1035,16 @@ class _ContactSplit:
         np.maximum.at(self.rho_max, owner, np.hypot(xy[:, 0] - centre_x, xy[:, 1]))
         ga, gb = np.asarray(ga, dtype=object), np.asarray(gb, dtype=object)
         shapely.prepare(ga)
+        # B's parts more than 1 mm left of every A (an internal pair's planet: its far
+        # side) are outer parts too
+        x0 = float(shapely.bounds(ga)[:, 0].min()) - 1.0
+        if not x0 > shapely.bounds(gb)[:, 0].min():
+            x0 = None
         for p in pitches:
             k = np.flatnonzero(~self.certain)
             if len(k) == 0:
                 break
-            a_in, b_in, certain = self._cut(ga[k], gb[k], p * np.pi * module)
+            a_in, b_in, certain = self._cut(ga[k], gb[k], p * np.pi * module, x0)
             k = k[certain]
             self.ga_in[k], self.gb_in[k] = a_in[certain], b_in[certain]
             self.certain[k] = True
@@ -1049,19 +1054,21 @@ class _ContactSplit:
         self.ga_core = shapely.clip_by_rect(self.ga_in, -big, -w, big, w)
         self.gb_core = shapely.clip_by_rect(self.gb_in, -big, -w, big, w)
 
-    def _cut(self, ga, gb, h: float):
+    def _cut(self, ga, gb, h: float, x0: float | None = None):
         """(A's inner parts, B's inner parts, certain) of the stations ``ga``, ``gb``
-        (A's prepared) cut at y = +-``h`` (mm)."""
+        (A's prepared) cut at y = +-``h`` (mm) and, when given, at x = ``x0`` (mm; the
+        inner parts on its right)."""
         import shapely
 
         n, big = len(ga), 1e7
-        strip = shapely.box(-big, -h, big, h)
+        left = -big if x0 is None else x0
+        strip = shapely.box(left, -h, big, h)
         # the inner parts exactly (a robust overlay, near the strip only); a station where
         # it fails keeps its whole outlines
         a_in, b_in = np.empty(n, dtype=object), np.empty(n, dtype=object)
         cut = np.ones(n, bool)
         for src, dst in ((ga, a_in), (gb, b_in)):
-            near = shapely.clip_by_rect(src, -big, -h - 1, big, h + 1)
+            near = shapely.clip_by_rect(src, left - 1, -h - 1, big, h + 1)
             try:
                 dst[:] = shapely.intersection(near, strip)
             except shapely.errors.GEOSException:
@@ -1074,9 +1081,12 @@ class _ContactSplit:
         # the outline beyond the lines (it may add edges along them: a smaller distance,
         # never a larger one). Distances to prepared geometries (indexed facets)
         near = np.zeros(n, bool)
-        for y0, y1 in ((h, big), (-big, -h)):
-            a_out = shapely.clip_by_rect(ga, -big, y0, big, y1)
-            b_out = shapely.clip_by_rect(gb, -big, y0, big, y1)
+        outer = [(-big, h, big, big), (-big, -big, big, -h)]
+        if x0 is not None:
+            outer.append((-big, -big, x0, big))
+        for rect in outer:
+            a_out = shapely.clip_by_rect(ga, *rect)
+            b_out = shapely.clip_by_rect(gb, *rect)
             shapely.prepare(a_out)
             near |= shapely.dwithin(ga, b_out, self.tau)
             near[cut] |= shapely.dwithin(a_out[cut], b_in[cut], self.tau)
