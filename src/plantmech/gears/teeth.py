@@ -1130,8 +1130,9 @@ def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
     arc at B's pitch radius ``r_b`` (mm, per station); capped at one pitch of arc.
 
     Each bisection step asks whether A and the turned B meet. With ``split``
-    (``_ContactSplit`` of the same outlines) it asks the inner parts near the contact
-    first: a meeting there is a meeting of the whole; no meeting there is the answer
+    (``_ContactSplit`` of the same outlines) it asks the cores (the tooth pair at the
+    contact), then the inner parts near the contact where the cores do not meet: a
+    meeting there is a meeting of the whole; no meeting there is the answer
     where the turn moves no point of B farther than the other parts' clearance; the
     remaining stations are asked on the whole outlines. The answers, hence the angles,
     are the whole outlines'."""
