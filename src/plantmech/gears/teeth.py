@@ -802,6 +802,18 @@ def _turn_each(geoms, angles, dx: float = 0.0):
     return shapely.transform(geoms, f)
 
 
+def _turned_bounds(geom, angles):
+    """The bounds (4, T): (xmin, ymin, xmax, ymax) of ``geom`` turned about the origin by
+    each of ``angles`` (T,), as ``_turn_each`` would place it (the same arithmetic) without
+    making the T geometries."""
+    import shapely
+
+    x, y = shapely.get_coordinates(geom).T
+    c, s_ = np.cos(angles)[:, None], np.sin(angles)[:, None]
+    px, py = c * x - s_ * y + 0.0, s_ * x + c * y
+    return np.array([px.min(1), py.min(1), px.max(1), py.max(1)])
+
+
 def _safe_intersection(a, b, grid):
     import shapely
 
@@ -846,11 +858,18 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
     body_a, body_b = shapely.buffer(pair.gear_a, 0), shapely.buffer(pair.gear_b, 0)
     if pair.internal:
         wa = _turn_each(np.full(T, window), pa)
-        wb = _turn_each(np.full(T, shapely.affinity.translate(window, xoff=-pair.a)),
-                        -turn_b)
         ga = _turn_each(shapely.buffer(_clip_to_windows(body_a, wa, grid), 0), -pa)
-        gb = _turn_each(shapely.buffer(_clip_to_windows(body_b, wb, grid), 0), turn_b,
-                        dx=pair.a)
+        # the window is a polygon about B's centre: every turned copy of it holds the disc
+        # of its inradius, so a gear within that disc is its own clipped part at every
+        # station (no overlay to make, one repair)
+        inradius = shapely.distance(shapely.Point(pair.a, 0.0), shapely.boundary(window))
+        if np.hypot(*shapely.get_coordinates(body_b).T).max() < inradius - 1e-6:
+            gb = _turn_each(np.full(T, shapely.buffer(body_b, 0)), turn_b, dx=pair.a)
+        else:
+            wb = _turn_each(np.full(T, shapely.affinity.translate(window, xoff=-pair.a)),
+                            -turn_b)
+            gb = _turn_each(shapely.buffer(_clip_to_windows(body_b, wb, grid), 0), turn_b,
+                            dx=pair.a)
     else:
         # the window is a rectangle in the mesh frame: place the whole outlines (one
         # vectorised coordinate transform) and clip them by it (GEOS rectangle clipping,
@@ -858,9 +877,8 @@ def mesh_check(pair: GearPair, steps: int = 720, window_pitches: float = 5.0) ->
         # (first by the window's bounding box in each body frame, so that only the small
         # parts near the window are placed)
         box = shapely.bounds(window)
-        wa = shapely.bounds(_turn_each(np.full(T, window), pa)).T
-        wb = shapely.bounds(_turn_each(np.full(T, shapely.affinity.translate(
-            window, xoff=-pair.a)), -turn_b)).T
+        wa = _turned_bounds(window, pa)
+        wb = _turned_bounds(shapely.affinity.translate(window, xoff=-pair.a), -turn_b)
         ga = shapely.buffer(shapely.clip_by_rect(
             _turn_each(_clip_each(body_a, wa), -pa), *box), 0)
         gb = shapely.buffer(shapely.clip_by_rect(
@@ -948,8 +966,11 @@ def _in_chunks(lines, size: int = 8):
     hi = np.minimum(lo + size, first[chunk_part] + n[chunk_part] - 1)
     cnt = hi - lo + 1
     idx = np.repeat(lo, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    pieces = shapely.linestrings(xy[idx], indices=np.repeat(np.arange(len(lo)), cnt))
-    out[np.nonzero(ok)[0]] = shapely.multilinestrings(pieces, indices=station[chunk_part])
+    # (built from the flat coordinates and offsets in one call: pieces per station)
+    per_station = np.bincount(station[chunk_part], minlength=int(ok.sum()))
+    out[np.nonzero(ok)[0]] = shapely.from_ragged_array(
+        shapely.GeometryType.MULTILINESTRING, xy[idx],
+        (np.r_[0, np.cumsum(cnt)], np.r_[0, np.cumsum(per_station)]))
     return out
 
 
@@ -984,38 +1005,70 @@ def _clip_to_windows(body, windows, grid: float):
 
 class _ContactSplit:
     """The placed outlines of a pair (mesh frame, per station) cut at the lines
-    y = +-1.5 pitches about the line of centres: the inner parts (the teeth in mesh and
-    their neighbours, about a third of the window's outline) and, per station, whether
-    every other part stays more than ``tau`` = 0.1 module (mm) from the other gear
-    (``certain``). B (centre at (centre_x, 0)) turned by theta moves no point farther than
-    rho_max x theta (rho_max: B's farthest point from its centre, mm), so while
-    rho_max x theta <= tau, A and the turned B meet exactly when their inner parts do
-    (``_turn_to_contact``). A station where the cut fails keeps its whole outlines as
-    "inner" parts (not ``certain``: every answer is then the whole outlines')."""
+    y = +-h about the line of centres: the inner parts (the teeth in mesh and their
+    neighbours) and, per station, whether every other part stays more than ``tau`` = 0.1
+    module (mm) from the other gear (``certain``). B (centre at (centre_x, 0)) turned by
+    theta moves no point farther than rho_max x theta (rho_max: B's farthest point from
+    its centre, mm), so while rho_max x theta <= tau, A and the turned B meet exactly when
+    their inner parts do (``_turn_to_contact``). h is the first of ``pitches`` (x the
+    circular pitch) that makes a station certain: 1.5 pitches (about a third of an
+    external pair's window) suffice for most; the longer contact of an internal pair needs
+    more. A station where no h does, or where the cut fails, keeps its whole outlines as
+    "inner" parts (not ``certain``: every answer is then the whole outlines'). The cores
+    (``ga_core``, ``gb_core``): the inner parts within y = +-``core`` pitches."""
 
-    def __init__(self, ga, gb, centre_x: float, module: float):
+    def __init__(self, ga, gb, centre_x: float, module: float,
+                 pitches: tuple[float, ...] = (1.5, 2.5, 4.0), core: float = 0.5):
         import shapely
 
         self.tau = 0.1 * module
-        h = 1.5 * np.pi * module
-        n, big = len(ga), 1e7
+        n = len(ga)
         self.ga_in = np.asarray(ga, dtype=object).copy()
         self.gb_in = np.asarray(gb, dtype=object).copy()
         self.certain = np.zeros(n, bool)
         self.rho_max = np.zeros(n)
+        self.ga_core, self.gb_core = self.ga_in.copy(), self.gb_in.copy()
         if n == 0:
             return
         xy = shapely.get_coordinates(gb)
         owner = np.repeat(np.arange(n), shapely.get_num_coordinates(gb))
         np.maximum.at(self.rho_max, owner, np.hypot(xy[:, 0] - centre_x, xy[:, 1]))
-        strip = shapely.box(-big, -h, big, h)
         ga, gb = np.asarray(ga, dtype=object), np.asarray(gb, dtype=object)
+        shapely.prepare(ga)
+        # B's parts more than 1 mm left of every A (an internal pair's planet: its far
+        # side) are outer parts too
+        x0 = float(shapely.bounds(ga)[:, 0].min()) - 1.0
+        if not x0 > shapely.bounds(gb)[:, 0].min():
+            x0 = None
+        for p in pitches:
+            k = np.flatnonzero(~self.certain)
+            if len(k) == 0:
+                break
+            a_in, b_in, certain = self._cut(ga[k], gb[k], p * np.pi * module, x0)
+            k = k[certain]
+            self.ga_in[k], self.gb_in[k] = a_in[certain], b_in[certain]
+            self.certain[k] = True
+        # the cores: the inner parts within y = +-``core`` pitches (the tooth pair at the
+        # contact), subsets whose meeting is a meeting of the whole (``_turn_to_contact``)
+        w, big = core * np.pi * module, 1e7
+        self.ga_core = shapely.clip_by_rect(self.ga_in, -big, -w, big, w)
+        self.gb_core = shapely.clip_by_rect(self.gb_in, -big, -w, big, w)
+
+    def _cut(self, ga, gb, h: float, x0: float | None = None):
+        """(A's inner parts, B's inner parts, certain) of the stations ``ga``, ``gb``
+        (A's prepared) cut at y = +-``h`` (mm) and, when given, at x = ``x0`` (mm; the
+        inner parts on its right)."""
+        import shapely
+
+        n, big = len(ga), 1e7
+        left = -big if x0 is None else x0
+        strip = shapely.box(left, -h, big, h)
         # the inner parts exactly (a robust overlay, near the strip only); a station where
         # it fails keeps its whole outlines
         a_in, b_in = np.empty(n, dtype=object), np.empty(n, dtype=object)
         cut = np.ones(n, bool)
         for src, dst in ((ga, a_in), (gb, b_in)):
-            near = shapely.clip_by_rect(src, -big, -h - 1, big, h + 1)
+            near = shapely.clip_by_rect(src, left - 1, -h - 1, big, h + 1)
             try:
                 dst[:] = shapely.intersection(near, strip)
             except shapely.errors.GEOSException:
@@ -1027,17 +1080,17 @@ class _ContactSplit:
         # the outer parts only bound distances: rectangle clipping keeps every piece of
         # the outline beyond the lines (it may add edges along them: a smaller distance,
         # never a larger one). Distances to prepared geometries (indexed facets)
-        shapely.prepare(ga)
         near = np.zeros(n, bool)
-        for y0, y1 in ((h, big), (-big, -h)):
-            a_out = shapely.clip_by_rect(ga, -big, y0, big, y1)
-            b_out = shapely.clip_by_rect(gb, -big, y0, big, y1)
+        outer = [(-big, h, big, big), (-big, -big, big, -h)]
+        if x0 is not None:
+            outer.append((-big, -big, x0, big))
+        for rect in outer:
+            a_out = shapely.clip_by_rect(ga, *rect)
+            b_out = shapely.clip_by_rect(gb, *rect)
             shapely.prepare(a_out)
             near |= shapely.dwithin(ga, b_out, self.tau)
             near[cut] |= shapely.dwithin(a_out[cut], b_in[cut], self.tau)
-        self.certain = cut & ~near
-        self.ga_in[self.certain] = a_in[self.certain]
-        self.gb_in[self.certain] = b_in[self.certain]
+        return a_in, b_in, cut & ~near
 
 
 class _Turner:
@@ -1049,22 +1102,24 @@ class _Turner:
 
         self.geoms = np.asarray(geoms, dtype=object)
         self.cx = centre_x
-        counts = shapely.get_num_coordinates(self.geoms)
-        self.owner = np.repeat(np.arange(len(self.geoms)), counts)
-        self.xy = shapely.get_coordinates(self.geoms) - [centre_x, 0.0]
+        self.counts = shapely.get_num_coordinates(self.geoms)
+        xy = shapely.get_coordinates(self.geoms)
+        self.x, self.y = xy[:, 0] - centre_x, xy[:, 1] - 0.0
+        self.out = np.empty((len(xy), 2))
 
     def turned(self, angles, which=None):
         """The geometries (those where ``which``, a mask) turned by ``angles`` (T,) rad."""
         import shapely
 
-        owner, xy, geoms = self.owner, self.xy, self.geoms
+        x, y, geoms, counts, out = self.x, self.y, self.geoms, self.counts, self.out
         if which is not None:
-            keep = which[owner]
-            owner, xy, geoms = owner[keep], xy[keep], geoms[which]
-        c, s_ = np.cos(angles)[owner], np.sin(angles)[owner]
-        x, y = xy[:, 0], xy[:, 1]
-        return shapely.set_coordinates(geoms.copy(), np.c_[c * x - s_ * y + self.cx,
-                                                           s_ * x + c * y])
+            keep = np.repeat(which, counts)
+            x, y, geoms, counts = x[keep], y[keep], geoms[which], counts[which]
+            out, angles = out[: len(x)], angles[which]
+        c, s_ = np.repeat(np.cos(angles), counts), np.repeat(np.sin(angles), counts)
+        out[:, 0] = c * x - s_ * y + self.cx
+        out[:, 1] = s_ * x + c * y
+        return shapely.set_coordinates(geoms.copy(), out)
 
 
 def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
@@ -1075,8 +1130,9 @@ def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
     arc at B's pitch radius ``r_b`` (mm, per station); capped at one pitch of arc.
 
     Each bisection step asks whether A and the turned B meet. With ``split``
-    (``_ContactSplit`` of the same outlines) it asks the inner parts near the contact
-    first: a meeting there is a meeting of the whole; no meeting there is the answer
+    (``_ContactSplit`` of the same outlines) it asks the cores (the tooth pair at the
+    contact), then the inner parts near the contact where the cores do not meet: a
+    meeting there is a meeting of the whole; no meeting there is the answer
     where the turn moves no point of B farther than the other parts' clearance; the
     remaining stations are asked on the whole outlines. The answers, hence the angles,
     are the whole outlines'."""
@@ -1089,6 +1145,8 @@ def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
         ga_in = split.ga_in
         shapely.prepare(ga_in)
         inner_b = _Turner(split.gb_in, centre_x)
+        shapely.prepare(split.ga_core)
+        core_b = _Turner(split.gb_core, centre_x)
     lo = np.zeros(len(ga))
     hi = np.full(len(ga), np.pi * module) / r_b
     for _ in range(int(np.ceil(np.log2(np.pi * module / resolution)))):
@@ -1096,7 +1154,13 @@ def _turn_to_contact(ga, gb, centre_x: float, r_b, module: float, sense: int,
         if split is None:
             hit = shapely.intersects(ga, whole_b.turned(sense * mid))
         else:
-            hit = shapely.intersects(ga_in, inner_b.turned(sense * mid))
+            # the cores first (parts of the inner parts: a meeting of theirs is one of the
+            # whole; they answer most meetings at a third of the vertices)
+            hit = shapely.intersects(split.ga_core, core_b.turned(sense * mid))
+            rest = ~hit
+            if rest.any():
+                hit[rest] = shapely.intersects(ga_in[rest],
+                                               inner_b.turned(sense * mid, rest))
             # (an uncertain station's inner parts are its whole outlines: answered)
             whole = ~hit & split.certain & (split.rho_max * mid > split.tau)
             if whole.any():
