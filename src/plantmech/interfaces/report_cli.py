@@ -59,15 +59,9 @@ def planetary_report(args, out: Path, design, motion, summary, figures, run=None
 
 def forward_report(args, out: Path, job, figures, run=None) -> list[Path]:
     """Report of ``plantmech forward`` (seeder or transplanter job)."""
-    from plantmech.outputs.report import (
-        seeder_forward_animation,
-        transplanter_animation,
-        write_report,
-    )
+    from plantmech.outputs.report import job_animation, write_report
 
-    anim = (transplanter_animation(job) if hasattr(job, "motion")
-            else seeder_forward_animation(job))
-    return _finish(write_report(out / REPORT_NAME, job.summary, figures, anim,
+    return _finish(write_report(out / REPORT_NAME, job.summary, figures, job_animation(job),
                                 command=_command(args)), run=run)
 
 
