@@ -103,6 +103,14 @@ def module_finding(gear: str, m: float, manufacturing=None) -> dict | None:
 TEETH_RANGE = (6, 500)
 
 
+def odd_neighbours(x: float) -> tuple[int, int]:
+    """The odd whole numbers (>= 1) nearest ``x`` from below and from above: the tooth
+    counts, in multiples of the lobes, that make two mates on the same pitch curve the same
+    gear (a tooth meets a space)."""
+    f = int(np.floor(x))
+    return max(1, f if f % 2 else f - 1), f + 1 if f % 2 == 0 else f + 2
+
+
 def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int = 1,
                  modules=None, mates: dict | None = None, gear: str = "gear",
                  binding: str = "", odd: bool = False) -> dict:
@@ -139,9 +147,8 @@ def choose_teeth(perimeter: float, high: float, low: float = 0.0, multiple: int 
         x = perimeter / (np.pi * s * q)
         best = None
         ks = {max(1, int(np.floor(x))), max(1, int(np.ceil(x)))}
-        if odd:  # the nearest odd k below and above x
-            f = int(np.floor(x))
-            ks = {max(1, f if f % 2 else f - 1), f + 1 if f % 2 == 0 else f + 2}
+        if odd:
+            ks = set(odd_neighbours(x))
         for k in ks:
             z = k * q
             m = perimeter / (np.pi * z)

@@ -125,6 +125,13 @@ def _cut_first(built, k: int) -> tuple[Curve, bool]:
     return built.drivers[k], kind == "internal"
 
 
+def _odd_note(k: int, z: int) -> str:
+    """What pair k's odd tooth count z, chosen for two mates on the same pitch curve, says."""
+    return (f"pair {k + 1}: {z} teeth (odd) chosen: the two gears have the same pitch curve, "
+            "and an odd count makes them identical and interchangeable (a tooth meets a "
+            "space)")
+
+
 def pair_modules(design, built, module: float | None = None, samples: int = 3000,
                  min_teeth: int = 20) -> list[dict]:
     """Per pair: {module_mm, teeth_a, teeth_driver, source, perimeter_a_mm}: the module of
@@ -135,7 +142,7 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
     the gear cut first and of the driver. Raises ValueError naming the field or option
     when a gear would get fewer than 6 or more than 500 teeth."""
     from plantmech.gears.manufacturability import binding
-    from plantmech.gears.modules import choose_teeth
+    from plantmech.gears.modules import choose_teeth, odd_neighbours
     from plantmech.gears.teeth import check_tooth_counts, teeth_count
 
     pairs = design.train.pairs
@@ -179,12 +186,10 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
                 check_tooth_counts(module, {names[k][0]: driver_perimeter}, source)
                 z, m = teeth_count(driver_perimeter, module, multiple)
                 if twins and z % 2 == 0 and multiple % 2:  # the nearest odd count
-                    exact = driver_perimeter / (np.pi * module)
-                    z = z + multiple if exact > z else max(z - multiple, multiple)
+                    x = driver_perimeter / (np.pi * module * multiple)
+                    z = multiple * min(odd_neighbours(x), key=lambda c: (abs(c - x), c))
                     m = driver_perimeter / (np.pi * z)
-                    notes[k] = (f"pair {k + 1}: {z} teeth (odd) chosen: the two gears have "
-                                "the same pitch curve, and an odd count makes them identical "
-                                "and interchangeable (a tooth meets a space)")
+                    notes[k] = _odd_note(k, z)
             else:  # the workshop's choice (gears.modules.choose_teeth) in the group's window
                 source = f"the default module of train.pairs.{k}"
                 if verdicts is None:
@@ -200,9 +205,7 @@ def pair_modules(design, built, module: float | None = None, samples: int = 3000
                 m = choice["module_mm"]
                 choices[g] = choice
                 if odd:
-                    notes[k] = (f"pair {k + 1}: {choice['teeth']} teeth (odd) chosen: the two "
-                                "gears have the same pitch curve, and an odd count makes them "
-                                "identical and interchangeable (a tooth meets a space)")
+                    notes[k] = _odd_note(k, choice["teeth"])
             chosen[g] = (m, source)
         m, source = chosen[g]
         check_tooth_counts(m, {names[k][0]: perims[k][0], names[k][1]: perims[k][1]}, source)
